@@ -26,7 +26,7 @@ pub struct CoordPort<const W: usize> {
     pub decimate: Signal<In, Bit>,
     /// The last complete set was invalid and was refused.
     pub coord_error: Signal<Out, Bit>,
-    /// A valid set is being latched on this clock edge (the thesis's AC pulse that sets START).
+    /// A valid set is latched on this clock edge (the thesis's AC pulse that sets START).
     pub loaded: Signal<Out, Bit>,
     /// Pending window, thesis XN0-XN7 (minimum column).
     pub xn: Signal<Out, Bits<W>>,
@@ -43,9 +43,18 @@ pub struct CoordPort<const W: usize> {
     ready: DFF<Bit>,
     /// Which byte of the set comes next (0 = xmin ... 3 = ymax).
     index: DFF<Bits<2>>,
+    /// The bytes of the set being written.
     sh_xn: DFF<Bits<W>>,
     sh_xx: DFF<Bits<W>>,
     sh_yn: DFF<Bits<W>>,
+    sh_yx: DFF<Bits<W>>,
+    sh_dec: DFF<Bit>,
+    /// xmin < xmax for the set being written, compared as xmax arrives.
+    xok: DFF<Bit>,
+    /// ymin < ymax, compared as ymax arrives.
+    yok: DFF<Bit>,
+    /// The fourth byte arrived on the last edge: judge the set on this one.
+    check: DFF<Bit>,
     set_xn: DFF<Bits<W>>,
     set_xx: DFF<Bits<W>>,
     set_yn: DFF<Bits<W>>,
@@ -58,8 +67,8 @@ impl<const W: usize> Logic for CoordPort<W> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, ready, index, sh_xn, sh_xx, sh_yn, set_xn, set_xx, set_yn, set_yx,
-            set_dec, error
+            self, clock, ready, index, sh_xn, sh_xx, sh_yn, sh_yx, sh_dec, xok, yok, check,
+            set_xn, set_xx, set_yn, set_yx, set_dec, error
         );
         self.coord_ready.next = self.ready.q.val();
         self.coord_error.next = self.error.q.val();
@@ -68,8 +77,12 @@ impl<const W: usize> Logic for CoordPort<W> {
         self.yn.next = self.set_yn.q.val();
         self.yx.next = self.set_yx.q.val();
         self.dec.next = self.set_dec.q.val();
-        self.loaded.next = false;
+
+        // Four-phase handshake: take an offered byte, release CRDY1 once CSTRB1 falls.
+        // The comparisons are registered as their second operand arrives, so the set is judged
+        // one clock after its last byte from flip-flops alone (short paths at 150 MHz).
         self.take.next = self.coord_strobe.val() & !self.ready.q.val();
+        self.check.d.next = false;
         if self.take.val() {
             self.ready.d.next = true;
             self.index.d.next = self.index.q.val() + 1;
@@ -77,24 +90,30 @@ impl<const W: usize> Logic for CoordPort<W> {
                 self.sh_xn.d.next = self.coord_data.val();
             } else if self.index.q.val() == 1 {
                 self.sh_xx.d.next = self.coord_data.val();
+                self.xok.d.next = self.sh_xn.q.val() < self.coord_data.val();
             } else if self.index.q.val() == 2 {
                 self.sh_yn.d.next = self.coord_data.val();
-            } else if (self.sh_xn.q.val() < self.sh_xx.q.val())
-                & (self.sh_yn.q.val() < self.coord_data.val())
-            {
-                self.set_xn.d.next = self.sh_xn.q.val();
-                self.set_xx.d.next = self.sh_xx.q.val();
-                self.set_yn.d.next = self.sh_yn.q.val();
-                self.set_yx.d.next = self.coord_data.val();
-                self.set_dec.d.next = self.decimate.val();
-                self.error.d.next = false;
-                self.loaded.next = true;
             } else {
-                self.error.d.next = true;
+                self.sh_yx.d.next = self.coord_data.val();
+                self.sh_dec.d.next = self.decimate.val();
+                self.yok.d.next = self.sh_yn.q.val() < self.coord_data.val();
+                self.check.d.next = true;
             }
         }
         if !self.coord_strobe.val() & self.ready.q.val() {
             self.ready.d.next = false;
+        }
+
+        self.loaded.next = self.check.q.val() & self.xok.q.val() & self.yok.q.val();
+        if self.loaded.val() {
+            self.set_xn.d.next = self.sh_xn.q.val();
+            self.set_xx.d.next = self.sh_xx.q.val();
+            self.set_yn.d.next = self.sh_yn.q.val();
+            self.set_yx.d.next = self.sh_yx.q.val();
+            self.set_dec.d.next = self.sh_dec.q.val();
+        }
+        if self.check.q.val() {
+            self.error.d.next = !self.loaded.val();
         }
     }
 }

@@ -4,7 +4,8 @@
 //!
 //! Pipeline, all on the rising edge of `clock`:
 //! - edge k: the camera's `fval`, `lval`, `pixel` are registered (thesis FVC, LVC and the first
-//!   octal data flip-flop); `xcount` becomes the column of that registered pixel;
+//!   octal data flip-flop); `xcount` becomes the column of that registered pixel; frame and
+//!   line transitions (FVLH, FVHL, LVHL) are seen one clock later, from flip-flops;
 //! - edge k+1: the window test runs on the registered pixel and `pixel_strobe`/`pixel_out` are
 //!   registered (the second data flip-flop), so a pixel leaves one clock after it was sampled.
 //!
@@ -47,6 +48,10 @@ pub struct WindowUnit<const W: usize> {
     lvc: DFF<Bit>,
     /// First data delay stage: the pixel sampled with `lvc`.
     pxc: DFF<Bits<8>>,
+    /// FVC one clock later, to find its transitions from flip-flops alone.
+    fvd: DFF<Bit>,
+    /// LVC one clock later.
+    lvd: DFF<Bit>,
     /// Thesis FVLH: frame valid low-to-high transition (a frame starts).
     fvlh: Signal<Local, Bit>,
     /// Thesis FVHL: frame valid high-to-low transition (a frame ends).
@@ -59,8 +64,11 @@ pub struct WindowUnit<const W: usize> {
     ycount: DFF<Bits<W>>,
     /// Thesis START: a valid set is pending for a coming frame.
     start: DFF<Bit>,
-    /// Thesis WLEN: window logic enabled, a set pending while between frames (NFV & START).
+    /// Thesis WLEN: window logic enabled, a set pending while between frames (START & NFV).
     wlen: Signal<Local, Bit>,
+    /// A pending set becomes the active window at this frame start (registered as FVAL rises,
+    /// so its fan-out to the active registers starts at a flip-flop).
+    arm: DFF<Bit>,
     /// Thesis STRBEN: strobes enabled for the frame in progress.
     strben: DFF<Bit>,
     /// Thesis WLRST: the window logic is reset (end of frame, or last window line done).
@@ -79,10 +87,10 @@ pub struct WindowUnit<const W: usize> {
     xmin: Signal<Local, Bit>,
     /// Thesis XMAX: the X count equals xmax.
     xmax: Signal<Local, Bit>,
-    /// Thesis YMIN: the Y count equals ymin.
-    ymin: Signal<Local, Bit>,
-    /// Thesis YMAX: the Y count equals ymax.
-    ymax: Signal<Local, Bit>,
+    /// Thesis YMIN flag: the Y count equals ymin (registered, as the Y count holds a line long).
+    ymin: DFF<Bit>,
+    /// Thesis YMAX flag: the Y count equals ymax (registered).
+    ymax: DFF<Bit>,
     /// Columns from xmin on have been reached in this line, xmax not yet passed.
     xrun: DFF<Bit>,
     /// Thesis YVAL flip-flop: rows from ymin on reached in this frame, ymax not yet passed.
@@ -100,8 +108,8 @@ impl<const W: usize> Logic for WindowUnit<W> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, fvc, lvc, pxc, xcount, ycount, start, strben, xn, xx, yn, yx, dec,
-            xrun, yval, strobe, data
+            self, clock, fvc, lvc, pxc, fvd, lvd, xcount, ycount, start, strben, xn, xx, yn, yx, dec,
+            arm, ymin, ymax, xrun, yval, strobe, data
         );
         self.port.clock.next = self.clock.val();
         self.port.coord_strobe.next = self.coord_strobe.val();
@@ -112,13 +120,16 @@ impl<const W: usize> Logic for WindowUnit<W> {
         self.pixel_strobe.next = self.strobe.q.val();
         self.pixel_out.next = self.data.q.val();
 
-        // Synchronise the camera (FVC, LVC, data delay) and find its transitions.
+        // Synchronise the camera (FVC, LVC, data delay) and find its transitions one clock on,
+        // as the thesis's transition flags are (B1.2 step 9).
         self.fvc.d.next = self.fval.val();
         self.lvc.d.next = self.lval.val();
         self.pxc.d.next = self.pixel.val();
-        self.fvlh.next = self.fval.val() & !self.fvc.q.val();
-        self.fvhl.next = !self.fval.val() & self.fvc.q.val();
-        self.lvhl.next = !self.lval.val() & self.lvc.q.val() & self.fvc.q.val();
+        self.fvd.d.next = self.fvc.q.val();
+        self.lvd.d.next = self.lvc.q.val();
+        self.fvlh.next = self.fvc.q.val() & !self.fvd.q.val();
+        self.fvhl.next = !self.fvc.q.val() & self.fvd.q.val();
+        self.lvhl.next = !self.lvc.q.val() & self.lvd.q.val() & self.fvc.q.val();
 
         // Position counters.
         self.xcount.d.next = 0.into();
@@ -132,44 +143,39 @@ impl<const W: usize> Logic for WindowUnit<W> {
         // Magnitude (equality) comparators and the window test on the pixel in `pxc`.
         self.xmin.next = self.xcount.q.val() == self.xn.q.val();
         self.xmax.next = self.xcount.q.val() == self.xx.q.val();
-        self.ymin.next = self.ycount.q.val() == self.yn.q.val();
-        self.ymax.next = self.ycount.q.val() == self.yx.q.val();
+        self.ymin.d.next = self.ycount.q.val() == self.yn.q.val();
+        self.ymax.d.next = self.ycount.q.val() == self.yx.q.val();
         self.xyval.next = self.strben.q.val()
             & self.lvc.q.val()
             & (self.xrun.q.val() | self.xmin.val())
-            & (self.yval.q.val() | self.ymin.val());
+            & (self.yval.q.val() | self.ymin.q.val());
         self.decok.next = !self.dec.q.val()
             | ((self.xcount.q.val().get_bit(0) == self.xn.q.val().get_bit(0))
                 & (self.ycount.q.val().get_bit(0) == self.yn.q.val().get_bit(0)));
         self.xrun.d.next =
             self.lvc.q.val() & (self.xrun.q.val() | self.xmin.val()) & !self.xmax.val();
         if self.lvhl.val() {
-            self.yval.d.next = (self.yval.q.val() | self.ymin.val()) & !self.ymax.val();
+            self.yval.d.next = (self.yval.q.val() | self.ymin.q.val()) & !self.ymax.q.val();
         }
         self.strobe.d.next = self.xyval.val() & self.decok.val();
         self.data.d.next = self.pxc.q.val();
 
-        // START -> WLEN -> STRBEN -> WLRST (Appendix B), with the active set swapped in at FVLH.
+        // START -> WLEN -> STRBEN -> WLRST (Appendix B), the active set swapped in at FVLH.
         self.wlen.next = self.start.q.val() & !self.fvc.q.val();
-        if self.fvlh.val() & self.wlen.val() {
-            self.start.d.next = false;
-            self.strben.d.next = true;
+        self.arm.d.next = self.fval.val() & self.wlen.val();
+        self.wlrst.next = self.fvhl.val() | (self.lvhl.val() & self.ymax.q.val() & self.yval.q.val());
+        self.start.d.next = self.port.loaded.val() | (self.start.q.val() & !self.arm.q.val());
+        self.strben.d.next = self.arm.q.val() | (self.strben.q.val() & !self.wlrst.val());
+        if self.arm.q.val() {
             self.xn.d.next = self.port.xn.val();
             self.xx.d.next = self.port.xx.val();
             self.yn.d.next = self.port.yn.val();
             self.yx.d.next = self.port.yx.val();
             self.dec.d.next = self.port.dec.val();
         }
-        if self.port.loaded.val() {
-            self.start.d.next = true;
-        }
         if self.fvlh.val() {
             self.ycount.d.next = 0.into();
             self.yval.d.next = false;
-        }
-        self.wlrst.next = self.fvhl.val() | (self.lvhl.val() & self.ymax.val() & self.yval.q.val());
-        if self.wlrst.val() {
-            self.strben.d.next = false;
         }
     }
 }

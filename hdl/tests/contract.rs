@@ -1,0 +1,179 @@
+//! The window unit against the exported module's contract (issue #2), driven clock by clock
+//! with the direct-stepping driver. Reference: the software crop of each frame
+//! (`Window::crop`), an independent model of what must be delivered.
+use coopwin_hdl::camera::{RasterTiming, Window};
+use coopwin_hdl::run::{run_unit, Request};
+use proptest::prelude::*;
+
+const CA_D1: RasterTiming = RasterTiming::CA_D1;
+
+/// Distinct pseudo-random frames, so a pixel from the wrong place or frame cannot match.
+fn frames(n: usize, t: &RasterTiming, seed: u64) -> Vec<Vec<u8>> {
+    let mut s = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+    (0..n)
+        .map(|_| {
+            (0..t.width * t.height)
+                .map(|_| {
+                    s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                    (s >> 56) as u8
+                })
+                .collect()
+        })
+        .collect()
+}
+
+fn win(xmin: u32, xmax: u32, ymin: u32, ymax: u32) -> Window {
+    Window { xmin, xmax, ymin, ymax }
+}
+
+fn at(at: usize, window: Window, decimate: bool) -> Request {
+    Request { at, window, decimate }
+}
+
+#[test]
+fn one_set_arms_exactly_one_frame() {
+    let f = frames(4, &CA_D1, 1);
+    let w = win(100, 123, 40, 63);
+    let rec = run_unit::<8>(&CA_D1, &f, &[at(500, w, false)]);
+    let got = rec.delivered_per_frame(&CA_D1);
+    // Written during frame 0 (fval rose at clock 0): it arms frame 1 only.
+    assert!(got[0].is_empty());
+    assert_eq!(got[1], w.crop(&f[1], 256, false));
+    assert!(got[2].is_empty() && got[3].is_empty());
+}
+
+#[test]
+fn full_frame_and_corner_windows() {
+    let f = frames(2, &CA_D1, 2);
+    for w in [win(0, 255, 0, 255), win(0, 1, 0, 1), win(254, 255, 254, 255), win(0, 255, 255, 255)] {
+        if !w.is_valid() {
+            continue;
+        }
+        let rec = run_unit::<8>(&CA_D1, &f, &[at(10, w, false)]);
+        let got = rec.delivered_per_frame(&CA_D1);
+        assert_eq!(got[1], w.crop(&f[1], 256, false), "{w:?}");
+    }
+}
+
+#[test]
+fn set_written_mid_window_does_not_disturb_it() {
+    let f = frames(3, &CA_D1, 3);
+    let w1 = win(10, 200, 10, 200);
+    let w2 = win(50, 60, 70, 80);
+    // w2 is written while frame 1 delivers w1 (line ~100 of frame 1).
+    let mid = CA_D1.frame_clocks() + CA_D1.h_blank + 100 * CA_D1.line_clocks();
+    let rec = run_unit::<8>(&CA_D1, &f, &[at(10, w1, false), at(mid, w2, false)]);
+    let got = rec.delivered_per_frame(&CA_D1);
+    assert_eq!(got[1], w1.crop(&f[1], 256, false));
+    assert_eq!(got[2], w2.crop(&f[2], 256, false));
+}
+
+#[test]
+fn later_of_two_sets_wins() {
+    let f = frames(3, &CA_D1, 4);
+    let w1 = win(10, 20, 10, 20);
+    let w2 = win(30, 45, 5, 9);
+    let rec = run_unit::<8>(&CA_D1, &f, &[at(10, w1, false), at(2000, w2, true)]);
+    let got = rec.delivered_per_frame(&CA_D1);
+    assert_eq!(got[1], w2.crop(&f[1], 256, true));
+    assert!(got[2].is_empty());
+}
+
+#[test]
+fn invalid_set_is_refused_and_keeps_the_armed_one() {
+    let f = frames(3, &CA_D1, 5);
+    let good = win(10, 20, 30, 40);
+    let bad = win(20, 20, 30, 40); // xmin == xmax
+    let rec = run_unit::<8>(&CA_D1, &f, &[at(10, good, false), at(3000, bad, false)]);
+    let got = rec.delivered_per_frame(&CA_D1);
+    assert_eq!(got[1], good.crop(&f[1], 256, false));
+    let bad_done = rec.completed[1];
+    assert!(rec.outputs[bad_done + 2..].iter().all(|o| o.coord_error), "error held");
+    assert!(!rec.outputs[bad_done - 1].coord_error, "no error before the bad set");
+}
+
+#[test]
+fn error_clears_when_a_valid_set_completes() {
+    let f = frames(2, &CA_D1, 6);
+    let bad = win(5, 9, 9, 3);
+    let good = win(1, 2, 3, 4);
+    let rec = run_unit::<8>(&CA_D1, &f, &[at(0, bad, false), at(40, good, false)]);
+    let done = rec.completed[1];
+    assert!(rec.outputs[rec.completed[0] + 2].coord_error);
+    assert!(rec.outputs[done + 2..].iter().all(|o| !o.coord_error));
+    assert_eq!(rec.delivered_per_frame(&CA_D1)[1], good.crop(&f[1], 256, false));
+}
+
+#[test]
+fn set_completed_two_clocks_before_fval_rises_arms_that_frame() {
+    // Find the completion clock of a set started at clock s, then start it so that it
+    // completes exactly 2 clocks before frame 1's fval rises.
+    let f = frames(2, &CA_D1, 7);
+    let w = win(3, 9, 0, 4);
+    let probe = run_unit::<8>(&CA_D1, &f[..1], &[at(100, w, false)]);
+    let latency = probe.completed[0] - 100;
+    let start = CA_D1.frame_clocks() - 2 - latency;
+    let rec = run_unit::<8>(&CA_D1, &f, &[at(start, w, false)]);
+    assert_eq!(rec.completed[0] + 2, CA_D1.frame_clocks());
+    assert_eq!(rec.delivered_per_frame(&CA_D1)[1], w.crop(&f[1], 256, false));
+}
+
+#[test]
+fn handshake_is_four_phase_and_answers_within_four_clocks() {
+    let f = frames(1, &CA_D1, 8);
+    let rec = run_unit::<8>(&CA_D1, &f, &[at(5, win(1, 2, 3, 4), false)]);
+    let mut rises = 0;
+    for t in 1..rec.outputs.len() {
+        let (strobe, ready) = (rec.inputs[t].1.strobe, rec.outputs[t].coord_ready);
+        let was_ready = rec.outputs[t - 1].coord_ready;
+        if ready && !was_ready {
+            rises += 1;
+            assert!(strobe, "CRDY1 rises only for an offered byte");
+            let offered = (0..=t).rev().take_while(|&u| rec.inputs[u].1.strobe).count();
+            assert!(offered <= 4, "taken within 4 clocks");
+        }
+        if !ready && was_ready {
+            assert!(!strobe, "CRDY1 falls only once CSTRB1 is low");
+        }
+    }
+    assert_eq!(rises, 4);
+}
+
+#[test]
+fn pixels_leave_within_four_clocks() {
+    let f = frames(2, &CA_D1, 9);
+    let w = win(7, 17, 2, 5);
+    let rec = run_unit::<8>(&CA_D1, &f, &[at(0, w, false)]);
+    // Pair each strobe with the camera clocks of the window's pixels in frame 1, in order.
+    let period = CA_D1.frame_clocks();
+    let active = (period..2 * period).filter(|&t| rec.inputs[t].0.fval && rec.inputs[t].0.lval);
+    let camera: Vec<usize> = active
+        .enumerate()
+        .filter(|(k, _)| (7..=17).contains(&(k % 256)) && (2..=5).contains(&(k / 256)))
+        .map(|(_, t)| t)
+        .collect();
+    let strobes: Vec<usize> = (0..rec.outputs.len()).filter(|&t| rec.outputs[t].pixel_strobe).collect();
+    assert_eq!(camera.len(), strobes.len());
+    for (c, s) in camera.iter().zip(&strobes) {
+        assert!(s > c && s - c <= 4, "pixel at clock {c} strobed at {s}");
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+
+    /// Random windows, decimation and blanking: the strobed sequence is the software crop.
+    #[test]
+    fn strobes_equal_the_software_crop(
+        x0 in 0u32..255, dx in 1u32..256, y0 in 0u32..255, dy in 1u32..256,
+        decimate: bool, h_blank in 2usize..=64, v_blank in 1usize..=8, seed: u64,
+    ) {
+        let w = win(x0, (x0 + dx).min(255), y0, (y0 + dy).min(255));
+        let t = RasterTiming { width: 256, height: 256, h_blank, v_blank_lines: v_blank };
+        let f = frames(2, &t, seed);
+        let rec = run_unit::<8>(&t, &f, &[at(0, w, decimate)]);
+        let got = rec.delivered_per_frame(&t);
+        prop_assert!(got[0].is_empty());
+        prop_assert_eq!(&got[1], &w.crop(&f[1], 256, decimate));
+    }
+}
