@@ -77,3 +77,15 @@ pub fn window_network(units: usize, w: usize) -> String {
     v.push_str("endmodule // window_network\n");
     v
 }
+
+/// Units in the thesis's experimental system (2.2.2), the exported network's default.
+pub const DEFAULT_UNITS: usize = 4;
+
+/// The exported files as (file name, text): `window_unit.v` and `window_network.v` with
+/// `units` units, for the CA-D1's 8-bit counters.
+pub fn exported(units: usize) -> Result<[(&'static str, String); 2], String> {
+    Ok([
+        ("window_unit.v", window_unit::<{ crate::CA_D1_BITS }>()?),
+        ("window_network.v", window_network(units, crate::CA_D1_BITS)),
+    ])
+}
