@@ -193,8 +193,7 @@ pub struct VcdTrace<T: Write> {
 impl<T: Write> VcdTrace<T> {
     /// A trace of `unit`'s signals into `out`, one pixel clock every `period_ps` picoseconds.
     pub fn new<const W: usize>(out: T, unit: &UnitDriver<W>, period_ps: u64) -> Self {
-        let error = Rc::new(RefCell::new(None));
-        let latch = Latch { inner: out, error: error.clone() };
+        let (latch, error) = Latch::new(out);
         let probe = write_vcd_header(latch, &unit.uut);
         Self { probe: Some(probe), error, period_ps, clocks: 0 }
     }
@@ -221,12 +220,18 @@ impl<T: Write> VcdTrace<T> {
 
 /// A writer that never fails: rust-hdl's VCD writer unwraps every write, so errors are held
 /// here instead and reported when the trace finishes.
-struct Latch<T: Write> {
+pub(crate) struct Latch<T: Write> {
     inner: T,
     error: Rc<RefCell<Option<io::Error>>>,
 }
 
 impl<T: Write> Latch<T> {
+    /// The writer, and the cell where its first error will be.
+    pub(crate) fn new(inner: T) -> (Self, Rc<RefCell<Option<io::Error>>>) {
+        let error = Rc::new(RefCell::new(None));
+        (Latch { inner, error: error.clone() }, error)
+    }
+
     fn keep(&self, r: io::Result<()>) {
         let mut slot = self.error.borrow_mut();
         if let (Err(e), None) = (r, slot.as_ref()) {

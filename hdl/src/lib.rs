@@ -4,6 +4,7 @@
 //! Data flows camera -> [`WindowUnit`] -> processor: [`camera`] produces the CA-D1's raster,
 //! [`driver`] steps the rust-hdl blocks clock by clock, [`verilog`] exports `window_unit` and
 //! `window_network`.
+pub mod appendix_b;
 pub mod camera;
 pub mod coord_port;
 pub mod driver;

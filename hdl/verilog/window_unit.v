@@ -83,9 +83,9 @@ module window_unit(clock,fval,lval,pixel,coord_strobe,coord_data,coord_ready,dec
     reg  xrun$d;
     wire  xrun$q;
     reg  xrun$clock;
-    reg  yval$d;
-    wire  yval$q;
-    reg  yval$clock;
+    reg  yrun$d;
+    wire  yrun$q;
+    reg  yrun$clock;
     reg  strobe$d;
     wire  strobe$q;
     reg  strobe$clock;
@@ -101,6 +101,7 @@ module window_unit(clock,fval,lval,pixel,coord_strobe,coord_data,coord_ready,dec
     reg  wlrst;
     reg  xmin;
     reg  xmax;
+    reg  yval;
     reg  xyval;
     reg  decok;
     
@@ -209,10 +210,10 @@ module window_unit(clock,fval,lval,pixel,coord_strobe,coord_data,coord_ready,dec
         .q(xrun$q),
         .clock(xrun$clock)
     );
-    window_unit$yval yval(
-        .d(yval$d),
-        .q(yval$q),
-        .clock(yval$clock)
+    window_unit$yrun yrun(
+        .d(yrun$d),
+        .q(yrun$q),
+        .clock(yrun$clock)
     );
     window_unit$strobe strobe(
         .d(strobe$d),
@@ -245,7 +246,7 @@ module window_unit(clock,fval,lval,pixel,coord_strobe,coord_data,coord_ready,dec
         ymin$clock = clock;
         ymax$clock = clock;
         xrun$clock = clock;
-        yval$clock = clock;
+        yrun$clock = clock;
         strobe$clock = clock;
         data$clock = clock;
         fvc$d = fvc$q;
@@ -266,7 +267,7 @@ module window_unit(clock,fval,lval,pixel,coord_strobe,coord_data,coord_ready,dec
         ymin$d = ymin$q;
         ymax$d = ymax$q;
         xrun$d = xrun$q;
-        yval$d = yval$q;
+        yrun$d = yrun$q;
         strobe$d = strobe$q;
         data$d = data$q;
         port$clock = clock;
@@ -296,17 +297,18 @@ module window_unit(clock,fval,lval,pixel,coord_strobe,coord_data,coord_ready,dec
         xmax = xcount$q == xx$q;
         ymin$d = ycount$q == yn$q;
         ymax$d = ycount$q == yx$q;
-        xyval = strben$q & lvc$q & (xrun$q | xmin) & (yval$q | ymin$q);
+        yval = strben$q & (yrun$q | ymin$q);
+        xyval = lvc$q & (xrun$q | xmin) & yval;
         decok = ~dec$q | ((xcount$q[32'h0] == xn$q[32'h0]) & (ycount$q[32'h0] == yn$q[32'h0]));
         xrun$d = lvc$q & (xrun$q | xmin) & ~xmax;
         if (lvhl) begin
-            yval$d = (yval$q | ymin$q) & ~ymax$q;
+            yrun$d = yval & ~ymax$q;
         end
         strobe$d = xyval & decok;
         data$d = pxc$q;
         wlen = start$q & ~fvc$q;
         arm$d = fval & wlen;
-        wlrst = fvhl | (lvhl & ymax$q & yval$q);
+        wlrst = fvhl | (lvhl & ymax$q & yval);
         start$d = port$loaded | (start$q & ~arm$q);
         strben$d = arm$q | (strben$q & ~wlrst);
         if (arm$q) begin
@@ -318,7 +320,7 @@ module window_unit(clock,fval,lval,pixel,coord_strobe,coord_data,coord_ready,dec
         end
         if (fvlh) begin
             ycount$d = 32'h0;
-            yval$d = 1'b0;
+            yrun$d = 1'b0;
         end
     end
     
@@ -1223,7 +1225,7 @@ module window_unit$yn(d,q,clock);
 endmodule // window_unit$yn
 
 
-module window_unit$yval(d,q,clock);
+module window_unit$yrun(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -1239,7 +1241,7 @@ module window_unit$yval(d,q,clock);
        q <= d;
     end
           
-endmodule // window_unit$yval
+endmodule // window_unit$yrun
 
 
 module window_unit$yx(d,q,clock);

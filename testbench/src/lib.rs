@@ -1,0 +1,4 @@
+//! The coopwin testbench: the camera, the window units and the processors simulated together,
+//! and the `coopwin` command that runs them.
+pub mod commands;
+pub mod timing_svg;
