@@ -65,7 +65,9 @@ impl Sequence {
             }
             Sequence::LineValidRising => {
                 let first = rise(|f| f.pixel_strobe, 0)?;
-                let l = (1..first).rev().find(|&t| rec[t].lval && !rec[t - 1].lval)?;
+                let l = (1..first)
+                    .rev()
+                    .find(|&t| rec[t].lval && !rec[t - 1].lval)?;
                 Some(around(l, first + 2))
             }
             Sequence::LineValidFalling => {
@@ -111,7 +113,9 @@ pub fn simulate_acquisition(
     uut.connect_all();
     let mut sim = Simulation::new();
     // 125 000 ps: the CA-D1's 8 MHz pixel clock, toggled every half period.
-    sim.add_clock(62_500, |x: &mut Box<WindowUnit<8>>| x.clock.next = !x.clock.val());
+    sim.add_clock(62_500, |x: &mut Box<WindowUnit<8>>| {
+        x.clock.next = !x.clock.val()
+    });
     sim.add_testbench(move |mut sim: Sim<WindowUnit<8>>| {
         let mut x = sim.init()?;
         let bytes = window.bytes();
@@ -120,7 +124,10 @@ pub fn simulate_acquisition(
             if write {
                 next_byte = 0;
             }
-            drive(&mut x, timing.bus_at(c, |px, py| image[py * timing.width + px]));
+            drive(
+                &mut x,
+                timing.bus_at(c, |px, py| image[py * timing.width + px]),
+            );
             // Four-phase writer: offer the next byte, drop the strobe once it is taken.
             let ready = x.coord_ready.val();
             if x.coord_strobe.val() && ready {

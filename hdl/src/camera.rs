@@ -37,8 +37,12 @@ pub const CA_D1_PIXEL_CLOCK_HZ: f64 = 8.0e6;
 impl RasterTiming {
     /// The CA-D1 at 114 frames/s: 256x256, 16 clocks of line blanking and 2 blanking lines give
     /// 70 176 clocks a frame, i.e. 114.0 frames/s at 8 MHz.
-    pub const CA_D1: RasterTiming =
-        RasterTiming { width: 256, height: 256, h_blank: 16, v_blank_lines: 2 };
+    pub const CA_D1: RasterTiming = RasterTiming {
+        width: 256,
+        height: 256,
+        h_blank: 16,
+        v_blank_lines: 2,
+    };
 
     /// Clocks from one line start to the next.
     pub fn line_clocks(&self) -> usize {
@@ -65,17 +69,29 @@ impl RasterTiming {
         let line = self.line_clocks();
         let active_end = self.h_blank + self.height * line;
         if t < self.h_blank {
-            CameraBus { fval: true, lval: false, pixel: 0 }
+            CameraBus {
+                fval: true,
+                lval: false,
+                pixel: 0,
+            }
         } else if t < active_end {
             let (y, in_line) = ((t - self.h_blank) / line, (t - self.h_blank) % line);
             let lval = in_line < self.width;
             let pixel = if lval { image(in_line, y) } else { 0 };
-            CameraBus { fval: true, lval, pixel }
+            CameraBus {
+                fval: true,
+                lval,
+                pixel,
+            }
         } else {
             // Blanking: lval pulses for `width` clocks after `h_blank` clocks of each line slot.
             let in_line = (t - active_end) % line;
             let lval = in_line >= self.h_blank;
-            CameraBus { fval: false, lval, pixel: 0 }
+            CameraBus {
+                fval: false,
+                lval,
+                pixel: 0,
+            }
         }
     }
 }
@@ -131,14 +147,30 @@ mod tests {
 
     #[test]
     fn raster_has_exact_lines_and_blanking_pulses() {
-        let t = RasterTiming { width: 5, height: 3, h_blank: 2, v_blank_lines: 2 };
-        let buses: Vec<_> =
-            (0..t.frame_clocks()).map(|c| t.bus_at(c, |x, y| (10 * y + x) as u8)).collect();
+        let t = RasterTiming {
+            width: 5,
+            height: 3,
+            h_blank: 2,
+            v_blank_lines: 2,
+        };
+        let buses: Vec<_> = (0..t.frame_clocks())
+            .map(|c| t.bus_at(c, |x, y| (10 * y + x) as u8))
+            .collect();
         // Hand count: 3 lines of 5 pixels inside fval, 2 blanking pulses of 5 outside.
-        let active: Vec<u8> = buses.iter().filter(|b| b.fval && b.lval).map(|b| b.pixel).collect();
-        assert_eq!(active, vec![0, 1, 2, 3, 4, 10, 11, 12, 13, 14, 20, 21, 22, 23, 24]);
+        let active: Vec<u8> = buses
+            .iter()
+            .filter(|b| b.fval && b.lval)
+            .map(|b| b.pixel)
+            .collect();
+        assert_eq!(
+            active,
+            vec![0, 1, 2, 3, 4, 10, 11, 12, 13, 14, 20, 21, 22, 23, 24]
+        );
         assert_eq!(buses.iter().filter(|b| !b.fval && b.lval).count(), 10);
-        assert!(!buses[0].lval && buses[0].fval, "fval rises while lval is low");
+        assert!(
+            !buses[0].lval && buses[0].fval,
+            "fval rises while lval is low"
+        );
         // fval falls h_blank clocks after the last line's lval falls.
         let last_active = buses.iter().rposition(|b| b.fval && b.lval).unwrap();
         let fval_fall = buses.iter().position(|b| !b.fval).unwrap();

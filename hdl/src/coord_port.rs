@@ -6,7 +6,7 @@
 //! - the four-phase handshake is synchronous to the pixel clock, instead of clocking the
 //!   coordinate registers with the C40's strobe (the thesis's AC clock), so the design has one
 //!   clock domain;
-//! - the bytes of an incomplete set are held apart (`sh_*`) and the set is checked when its
+//! - the bytes of an incomplete set are held apart (`sh_*`) and the set is checked after its
 //!   fourth byte arrives: a valid set replaces the pending one, an invalid set is refused and
 //!   raises `coord_error`, leaving the pending set untouched.
 use rust_hdl::prelude::*;
@@ -38,21 +38,28 @@ pub struct CoordPort<const W: usize> {
     pub yx: Signal<Out, Bits<W>>,
     /// Pending window is decimated (every other pixel of every other row).
     pub dec: Signal<Out, Bit>,
+    /// CSTRB1, port 1 data and the decimation bit registered on arrival, so no path runs from
+    /// the processor's pins into the set's register enables.
+    strobe_r: DFF<Bit>,
+    data_r: DFF<Bits<W>>,
+    decimate_r: DFF<Bit>,
     /// Byte offered and not yet taken.
     take: Signal<Local, Bit>,
     ready: DFF<Bit>,
     /// Which byte of the set comes next (0 = xmin ... 3 = ymax).
     index: DFF<Bits<2>>,
-    /// The bytes of the set being written.
+    /// The thesis's shift registers: each byte taken enters at `sh_yx` and moves one on, so
+    /// after the fourth they hold xmin, xmax, ymin, ymax. One enable (`take`) for all.
     sh_xn: DFF<Bits<W>>,
     sh_xx: DFF<Bits<W>>,
     sh_yn: DFF<Bits<W>>,
     sh_yx: DFF<Bits<W>>,
     sh_dec: DFF<Bit>,
-    /// xmin < xmax for the set being written, compared as xmax arrives.
-    xok: DFF<Bit>,
-    /// ymin < ymax, compared as ymax arrives.
-    yok: DFF<Bit>,
+    /// Whether each byte exceeded the one before, shifted like the bytes: after the fourth,
+    /// `lt0` is ymin < ymax and `lt2` is xmin < xmax.
+    lt0: DFF<Bit>,
+    lt1: DFF<Bit>,
+    lt2: DFF<Bit>,
     /// The fourth byte arrived on the last edge: judge the set on this one.
     check: DFF<Bit>,
     set_xn: DFF<Bits<W>>,
@@ -67,8 +74,8 @@ impl<const W: usize> Logic for CoordPort<W> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, ready, index, sh_xn, sh_xx, sh_yn, sh_yx, sh_dec, xok, yok, check,
-            set_xn, set_xx, set_yn, set_yx, set_dec, error
+            self, clock, strobe_r, data_r, decimate_r, ready, index, sh_xn, sh_xx, sh_yn, sh_yx,
+            sh_dec, lt0, lt1, lt2, check, set_xn, set_xx, set_yn, set_yx, set_dec, error
         );
         self.coord_ready.next = self.ready.q.val();
         self.coord_error.next = self.error.q.val();
@@ -79,32 +86,29 @@ impl<const W: usize> Logic for CoordPort<W> {
         self.dec.next = self.set_dec.q.val();
 
         // Four-phase handshake: take an offered byte, release CRDY1 once CSTRB1 falls.
-        // The comparisons are registered as their second operand arrives, so the set is judged
-        // one clock after its last byte from flip-flops alone (short paths at 150 MHz).
-        self.take.next = self.coord_strobe.val() & !self.ready.q.val();
+        self.strobe_r.d.next = self.coord_strobe.val();
+        self.data_r.d.next = self.coord_data.val();
+        self.decimate_r.d.next = self.decimate.val();
+        self.take.next = self.strobe_r.q.val() & !self.ready.q.val();
         self.check.d.next = false;
         if self.take.val() {
             self.ready.d.next = true;
             self.index.d.next = self.index.q.val() + 1;
-            if self.index.q.val() == 0 {
-                self.sh_xn.d.next = self.coord_data.val();
-            } else if self.index.q.val() == 1 {
-                self.sh_xx.d.next = self.coord_data.val();
-                self.xok.d.next = self.sh_xn.q.val() < self.coord_data.val();
-            } else if self.index.q.val() == 2 {
-                self.sh_yn.d.next = self.coord_data.val();
-            } else {
-                self.sh_yx.d.next = self.coord_data.val();
-                self.sh_dec.d.next = self.decimate.val();
-                self.yok.d.next = self.sh_yn.q.val() < self.coord_data.val();
-                self.check.d.next = true;
-            }
+            self.check.d.next = self.index.q.val() == 3;
+            self.sh_xn.d.next = self.sh_xx.q.val();
+            self.sh_xx.d.next = self.sh_yn.q.val();
+            self.sh_yn.d.next = self.sh_yx.q.val();
+            self.sh_yx.d.next = self.data_r.q.val();
+            self.sh_dec.d.next = self.decimate_r.q.val();
+            self.lt2.d.next = self.lt1.q.val();
+            self.lt1.d.next = self.lt0.q.val();
+            self.lt0.d.next = self.sh_yx.q.val() < self.data_r.q.val();
         }
-        if !self.coord_strobe.val() & self.ready.q.val() {
+        if !self.strobe_r.q.val() & self.ready.q.val() {
             self.ready.d.next = false;
         }
 
-        self.loaded.next = self.check.q.val() & self.xok.q.val() & self.yok.q.val();
+        self.loaded.next = self.check.q.val() & self.lt0.q.val() & self.lt2.q.val();
         if self.loaded.val() {
             self.set_xn.d.next = self.sh_xn.q.val();
             self.set_xx.d.next = self.sh_xx.q.val();

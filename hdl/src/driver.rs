@@ -116,7 +116,9 @@ pub struct NetworkDriver<const W: usize> {
 impl<const W: usize> NetworkDriver<W> {
     /// `n` units at power-on.
     pub fn new(n: usize) -> Self {
-        Self { units: (0..n).map(|_| UnitDriver::default()).collect() }
+        Self {
+            units: (0..n).map(|_| UnitDriver::default()).collect(),
+        }
     }
 
     /// Number of units.
@@ -151,7 +153,8 @@ pub struct CoordWriter {
 impl CoordWriter {
     /// Queues the four bytes of `w` (xmin, xmax, ymin, ymax), decimated or not.
     pub fn write(&mut self, w: Window, decimate: bool) {
-        self.queue.extend(w.bytes().into_iter().map(|b| (b, decimate)));
+        self.queue
+            .extend(w.bytes().into_iter().map(|b| (b, decimate)));
     }
 
     /// True while bytes are queued or a handshake is under way.
@@ -174,7 +177,11 @@ impl CoordWriter {
             }
         } else if !self.bus.strobe && !last.coord_ready {
             if let Some((data, decimate)) = self.queue.pop_front() {
-                self.bus = CoordBus { strobe: true, data, decimate };
+                self.bus = CoordBus {
+                    strobe: true,
+                    data,
+                    decimate,
+                };
             }
         }
         self.bus
@@ -195,7 +202,12 @@ impl<T: Write> VcdTrace<T> {
     pub fn new<const W: usize>(out: T, unit: &UnitDriver<W>, period_ps: u64) -> Self {
         let (latch, error) = Latch::new(out);
         let probe = write_vcd_header(latch, &unit.uut);
-        Self { probe: Some(probe), error, period_ps, clocks: 0 }
+        Self {
+            probe: Some(probe),
+            error,
+            period_ps,
+            clocks: 0,
+        }
     }
 
     fn sample<const W: usize>(&mut self, unit: &WindowUnit<W>, half: u64) {
@@ -229,7 +241,13 @@ impl<T: Write> Latch<T> {
     /// The writer, and the cell where its first error will be.
     pub(crate) fn new(inner: T) -> (Self, Rc<RefCell<Option<io::Error>>>) {
         let error = Rc::new(RefCell::new(None));
-        (Latch { inner, error: error.clone() }, error)
+        (
+            Latch {
+                inner,
+                error: error.clone(),
+            },
+            error,
+        )
     }
 
     fn keep(&self, r: io::Result<()>) {

@@ -49,10 +49,17 @@ pub fn window_network(units: usize, w: usize) -> String {
         }
     }
     let mut v = String::from(HEADER);
-    let _ = writeln!(v, "// {units} window units on one camera bus (thesis 2.2.2, Fig. 2.1).");
+    let _ = writeln!(
+        v,
+        "// {units} window units on one camera bus (thesis 2.2.2, Fig. 2.1)."
+    );
     let _ = writeln!(v, "module window_network({});", names.join(","));
     for (name, dir, width) in ports {
-        let range = if width > 1 { format!("[{}:0] ", width - 1) } else { String::new() };
+        let range = if width > 1 {
+            format!("[{}:0] ", width - 1)
+        } else {
+            String::new()
+        };
         if SHARED.contains(&name) {
             let _ = writeln!(v, "    {dir} wire {range}{name};");
         } else {

@@ -110,8 +110,8 @@ impl<const W: usize> Logic for WindowUnit<W> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, fvc, lvc, pxc, fvd, lvd, xcount, ycount, start, strben, xn, xx, yn, yx, dec,
-            arm, ymin, ymax, xrun, yrun, strobe, data
+            self, clock, fvc, lvc, pxc, fvd, lvd, xcount, ycount, start, strben, xn, xx, yn, yx,
+            dec, arm, ymin, ymax, xrun, yrun, strobe, data
         );
         self.port.clock.next = self.clock.val();
         self.port.coord_strobe.next = self.coord_strobe.val();
@@ -148,9 +148,8 @@ impl<const W: usize> Logic for WindowUnit<W> {
         self.ymin.d.next = self.ycount.q.val() == self.yn.q.val();
         self.ymax.d.next = self.ycount.q.val() == self.yx.q.val();
         self.yval.next = self.strben.q.val() & (self.yrun.q.val() | self.ymin.q.val());
-        self.xyval.next = self.lvc.q.val()
-            & (self.xrun.q.val() | self.xmin.val())
-            & self.yval.val();
+        self.xyval.next =
+            self.lvc.q.val() & (self.xrun.q.val() | self.xmin.val()) & self.yval.val();
         self.decok.next = !self.dec.q.val()
             | ((self.xcount.q.val().get_bit(0) == self.xn.q.val().get_bit(0))
                 & (self.ycount.q.val().get_bit(0) == self.yn.q.val().get_bit(0)));
@@ -275,7 +274,12 @@ mod appendix_b_tests {
     use crate::window_unit::Flags;
     use std::sync::{Arc, OnceLock};
 
-    const FULL: Window = Window { xmin: 0, xmax: 255, ymin: 0, ymax: 255 };
+    const FULL: Window = Window {
+        xmin: 0,
+        xmax: 255,
+        ymin: 0,
+        ymax: 255,
+    };
 
     fn image() -> Vec<u8> {
         (0..65536u32).map(|i| (i * 7 + i / 256) as u8).collect()
@@ -291,15 +295,18 @@ mod appendix_b_tests {
     }
 
     fn rise(rec: &[Flags], from: usize, f: impl Fn(&Flags) -> bool) -> usize {
-        (from..rec.len()).find(|&t| f(&rec[t]) && (t == 0 || !f(&rec[t - 1]))).expect("edge found")
+        (from..rec.len())
+            .find(|&t| f(&rec[t]) && (t == 0 || !f(&rec[t - 1])))
+            .expect("edge found")
     }
 
     #[test]
     fn b1_1_start_flag_set_between_frames() {
         let rec = record();
         let s = rise(rec, 0, |f| f.coord_strobe);
-        let taken: Vec<usize> =
-            (0..rec.len()).filter(|&t| rec[t].coord_ready && (t == 0 || !rec[t - 1].coord_ready)).collect();
+        let taken: Vec<usize> = (0..rec.len())
+            .filter(|&t| rec[t].coord_ready && (t == 0 || !rec[t - 1].coord_ready))
+            .collect();
         let t = taken[3];
         // Steps 1-2: the set is stored while FVAL is low; START is set on the next clock,
         // once the set has been checked, and WLEN with it since NFV is high (steps 5-6).
@@ -345,7 +352,7 @@ mod appendix_b_tests {
         let f = rise(rec, 0, |f| f.fval);
         let l = rise(rec, f, |f| f.lval && f.fval);
         let e = l + 255; // the line's last pixel
-        // Step 18: the X count reaches 255 = xmax, XMAX flag set (here on the same clock).
+                         // Step 18: the X count reaches 255 = xmax, XMAX flag set (here on the same clock).
         assert!(rec[e].xcount == 255 && rec[e].xmax && rec[e].xyval);
         // Steps 19-20: LVAL falls, LVC follows, LVHL is set; pixel 256 is strobed.
         assert!(!rec[e + 1].lval && !rec[e + 1].lvc && rec[e + 1].lvhl);
@@ -359,7 +366,10 @@ mod appendix_b_tests {
         let rec = record();
         let f = rise(rec, 0, |f| f.fval);
         let end = rise(rec, f, |f| !f.fval);
-        let last = (f..end).rev().find(|&t| rec[t].lvhl).expect("last line ends");
+        let last = (f..end)
+            .rev()
+            .find(|&t| rec[t].lvhl)
+            .expect("last line ends");
         // Steps 22-23: on the last line YMAX and YVAL are high, LVHL sets WLRST...
         assert!(rec[last].ymax && rec[last].yval && rec[last].wlrst);
         // Step 24: ...which resets STRBEN: the window logic is disabled.
@@ -370,7 +380,11 @@ mod appendix_b_tests {
 
     #[test]
     fn the_whole_frame_is_strobed_in_raster_order() {
-        let got: Vec<u8> = record().iter().filter(|f| f.pixel_strobe).map(|f| f.pixel_out).collect();
+        let got: Vec<u8> = record()
+            .iter()
+            .filter(|f| f.pixel_strobe)
+            .map(|f| f.pixel_out)
+            .collect();
         assert_eq!(got, image());
     }
 

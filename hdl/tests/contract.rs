@@ -9,12 +9,16 @@ const CA_D1: RasterTiming = RasterTiming::CA_D1;
 
 /// Distinct pseudo-random frames, so a pixel from the wrong place or frame cannot match.
 fn frames(n: usize, t: &RasterTiming, seed: u64) -> Vec<Vec<u8>> {
-    let mut s = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+    let mut s = seed
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
     (0..n)
         .map(|_| {
             (0..t.width * t.height)
                 .map(|_| {
-                    s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                    s = s
+                        .wrapping_mul(6364136223846793005)
+                        .wrapping_add(1442695040888963407);
                     (s >> 56) as u8
                 })
                 .collect()
@@ -23,11 +27,20 @@ fn frames(n: usize, t: &RasterTiming, seed: u64) -> Vec<Vec<u8>> {
 }
 
 fn win(xmin: u32, xmax: u32, ymin: u32, ymax: u32) -> Window {
-    Window { xmin, xmax, ymin, ymax }
+    Window {
+        xmin,
+        xmax,
+        ymin,
+        ymax,
+    }
 }
 
 fn at(at: usize, window: Window, decimate: bool) -> Request {
-    Request { at, window, decimate }
+    Request {
+        at,
+        window,
+        decimate,
+    }
 }
 
 #[test]
@@ -45,7 +58,12 @@ fn one_set_arms_exactly_one_frame() {
 #[test]
 fn full_frame_and_corner_windows() {
     let f = frames(2, &CA_D1, 2);
-    for w in [win(0, 255, 0, 255), win(0, 1, 0, 1), win(254, 255, 254, 255), win(0, 255, 255, 255)] {
+    for w in [
+        win(0, 255, 0, 255),
+        win(0, 1, 0, 1),
+        win(254, 255, 254, 255),
+        win(0, 255, 255, 255),
+    ] {
         if !w.is_valid() {
             continue;
         }
@@ -88,8 +106,14 @@ fn invalid_set_is_refused_and_keeps_the_armed_one() {
     let got = rec.delivered_per_frame(&CA_D1);
     assert_eq!(got[1], good.crop(&f[1], 256, false));
     let bad_done = rec.completed[1];
-    assert!(rec.outputs[bad_done + 2..].iter().all(|o| o.coord_error), "error held");
-    assert!(!rec.outputs[bad_done - 1].coord_error, "no error before the bad set");
+    assert!(
+        rec.outputs[bad_done + 2..].iter().all(|o| o.coord_error),
+        "error held"
+    );
+    assert!(
+        !rec.outputs[bad_done - 1].coord_error,
+        "no error before the bad set"
+    );
 }
 
 #[test]
@@ -101,7 +125,10 @@ fn error_clears_when_a_valid_set_completes() {
     let done = rec.completed[1];
     assert!(rec.outputs[rec.completed[0] + 2].coord_error);
     assert!(rec.outputs[done + 2..].iter().all(|o| !o.coord_error));
-    assert_eq!(rec.delivered_per_frame(&CA_D1)[1], good.crop(&f[1], 256, false));
+    assert_eq!(
+        rec.delivered_per_frame(&CA_D1)[1],
+        good.crop(&f[1], 256, false)
+    );
 }
 
 #[test]
@@ -115,7 +142,10 @@ fn set_completed_two_clocks_before_fval_rises_arms_that_frame() {
     let start = CA_D1.frame_clocks() - 2 - latency;
     let rec = run_unit::<8>(&CA_D1, &f, &[at(start, w, false)]);
     assert_eq!(rec.completed[0] + 2, CA_D1.frame_clocks());
-    assert_eq!(rec.delivered_per_frame(&CA_D1)[1], w.crop(&f[1], 256, false));
+    assert_eq!(
+        rec.delivered_per_frame(&CA_D1)[1],
+        w.crop(&f[1], 256, false)
+    );
 }
 
 #[test]
@@ -129,7 +159,10 @@ fn handshake_is_four_phase_and_answers_within_four_clocks() {
         if ready && !was_ready {
             rises += 1;
             assert!(strobe, "CRDY1 rises only for an offered byte");
-            let offered = (0..=t).rev().take_while(|&u| rec.inputs[u].1.strobe).count();
+            let offered = (0..=t)
+                .rev()
+                .take_while(|&u| rec.inputs[u].1.strobe)
+                .count();
             assert!(offered <= 4, "taken within 4 clocks");
         }
         if !ready && was_ready {
@@ -152,7 +185,9 @@ fn pixels_leave_within_four_clocks() {
         .filter(|(k, _)| (7..=17).contains(&(k % 256)) && (2..=5).contains(&(k / 256)))
         .map(|(_, t)| t)
         .collect();
-    let strobes: Vec<usize> = (0..rec.outputs.len()).filter(|&t| rec.outputs[t].pixel_strobe).collect();
+    let strobes: Vec<usize> = (0..rec.outputs.len())
+        .filter(|&t| rec.outputs[t].pixel_strobe)
+        .collect();
     assert_eq!(camera.len(), strobes.len());
     for (c, s) in camera.iter().zip(&strobes) {
         assert!(s > c && s - c <= 4, "pixel at clock {c} strobed at {s}");

@@ -42,16 +42,47 @@ fn icarus_replays_the_rust_hdl_run_clock_for_clock() {
     if !have_tool("iverilog") {
         return;
     }
-    let t = RasterTiming { width: 256, height: 256, h_blank: 5, v_blank_lines: 3 };
-    let frames: Vec<Vec<u8>> =
-        (0..4).map(|f| (0..65536).map(|i| ((i * 31 + f * 97 + i / 256) % 256) as u8).collect()).collect();
-    let w = |xmin, xmax, ymin, ymax| Window { xmin, xmax, ymin, ymax };
+    let t = RasterTiming {
+        width: 256,
+        height: 256,
+        h_blank: 5,
+        v_blank_lines: 3,
+    };
+    let frames: Vec<Vec<u8>> = (0..4)
+        .map(|f| {
+            (0..65536)
+                .map(|i| ((i * 31 + f * 97 + i / 256) % 256) as u8)
+                .collect()
+        })
+        .collect();
+    let w = |xmin, xmax, ymin, ymax| Window {
+        xmin,
+        xmax,
+        ymin,
+        ymax,
+    };
     let mid = t.frame_clocks() + 120 * t.line_clocks();
     let requests = [
-        Request { at: 0, window: w(3, 40, 7, 29), decimate: false },
-        Request { at: mid, window: w(100, 131, 200, 255), decimate: true },
-        Request { at: mid + 400, window: w(9, 9, 0, 5), decimate: false }, // invalid
-        Request { at: 3 * t.frame_clocks() - 2000, window: w(0, 255, 250, 255), decimate: false },
+        Request {
+            at: 0,
+            window: w(3, 40, 7, 29),
+            decimate: false,
+        },
+        Request {
+            at: mid,
+            window: w(100, 131, 200, 255),
+            decimate: true,
+        },
+        Request {
+            at: mid + 400,
+            window: w(9, 9, 0, 5),
+            decimate: false,
+        }, // invalid
+        Request {
+            at: 3 * t.frame_clocks() - 2000,
+            window: w(0, 255, 250, 255),
+            decimate: false,
+        },
     ];
     let rec = run_unit::<8>(&t, &frames, &requests);
     let dir = scratch("icarus_replay");
@@ -71,13 +102,22 @@ fn icarus_replays_the_rust_hdl_run_clock_for_clock() {
     let icarus = parse_outputs(&std::fs::read_to_string(dir.join("out.hex")).unwrap());
     assert_eq!(icarus.len(), rec.outputs.len());
     if let Some(t) = (0..icarus.len()).find(|&i| icarus[i] != rec.outputs[i]) {
-        panic!("clock {t}: icarus {:?} rust-hdl {:?}", icarus[t], rec.outputs[t]);
+        panic!(
+            "clock {t}: icarus {:?} rust-hdl {:?}",
+            icarus[t], rec.outputs[t]
+        );
     }
     // The run exercised what it should: windows delivered, an error raised.
     let delivered = rec.delivered_per_frame(&t);
-    assert_eq!(delivered[1], requests[0].window.crop(&frames[1], 256, false));
+    assert_eq!(
+        delivered[1],
+        requests[0].window.crop(&frames[1], 256, false)
+    );
     assert_eq!(delivered[2], requests[1].window.crop(&frames[2], 256, true));
-    assert_eq!(delivered[3], requests[3].window.crop(&frames[3], 256, false));
+    assert_eq!(
+        delivered[3],
+        requests[3].window.crop(&frames[3], 256, false)
+    );
     assert!(rec.outputs.iter().any(|o| o.coord_error));
 }
 
@@ -91,13 +131,23 @@ fn verilator_lint_is_clean() {
     }
     let dir = verilog_dir();
     let out = Command::new("verilator")
-        .args(["--lint-only", "-Wall", "-Wno-WIDTH", "-Wno-DECLFILENAME", "--top-module", "window_network"])
+        .args([
+            "--lint-only",
+            "-Wall",
+            "-Wno-WIDTH",
+            "-Wno-DECLFILENAME",
+            "--top-module",
+            "window_network",
+        ])
         .arg(dir.join("window_unit.v"))
         .arg(dir.join("window_network.v"))
         .output()
         .expect("run verilator");
     let text = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success() && !text.contains("%Warning"), "verilator:\n{text}");
+    assert!(
+        out.status.success() && !text.contains("%Warning"),
+        "verilator:\n{text}"
+    );
 }
 
 /// Yosys maps one unit onto an iCE40 within the budget of 200 LUTs.

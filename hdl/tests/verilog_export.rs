@@ -4,7 +4,8 @@ mod common;
 
 #[test]
 fn committed_verilog_is_current() {
-    for (name, text) in coopwin_hdl::verilog::exported(coopwin_hdl::verilog::DEFAULT_UNITS).unwrap() {
+    for (name, text) in coopwin_hdl::verilog::exported(coopwin_hdl::verilog::DEFAULT_UNITS).unwrap()
+    {
         let path = common::verilog_dir().join(name);
         let committed = std::fs::read_to_string(&path).unwrap_or_default();
         assert!(
@@ -19,7 +20,15 @@ fn committed_verilog_is_current() {
 fn network_has_the_contract_ports_for_each_unit() {
     let v = coopwin_hdl::verilog::window_network(4, 8);
     for k in 0..4 {
-        for p in ["coord_strobe", "coord_data", "coord_ready", "decimate", "pixel_strobe", "pixel_out", "coord_error"] {
+        for p in [
+            "coord_strobe",
+            "coord_data",
+            "coord_ready",
+            "decimate",
+            "pixel_strobe",
+            "pixel_out",
+            "coord_error",
+        ] {
             assert!(v.contains(&format!("{p}_{k};")), "{p}_{k}");
         }
     }

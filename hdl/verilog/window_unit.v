@@ -477,6 +477,15 @@ module window_unit$port(clock,coord_strobe,coord_data,coord_ready,decimate,coord
     output reg  dec;
     
     // Stub signals
+    reg  strobe_r$d;
+    wire  strobe_r$q;
+    reg  strobe_r$clock;
+    reg  [7:0] data_r$d;
+    wire  [7:0] data_r$q;
+    reg  data_r$clock;
+    reg  decimate_r$d;
+    wire  decimate_r$q;
+    reg  decimate_r$clock;
     reg  ready$d;
     wire  ready$q;
     reg  ready$clock;
@@ -498,12 +507,15 @@ module window_unit$port(clock,coord_strobe,coord_data,coord_ready,decimate,coord
     reg  sh_dec$d;
     wire  sh_dec$q;
     reg  sh_dec$clock;
-    reg  xok$d;
-    wire  xok$q;
-    reg  xok$clock;
-    reg  yok$d;
-    wire  yok$q;
-    reg  yok$clock;
+    reg  lt0$d;
+    wire  lt0$q;
+    reg  lt0$clock;
+    reg  lt1$d;
+    wire  lt1$q;
+    reg  lt1$clock;
+    reg  lt2$d;
+    wire  lt2$q;
+    reg  lt2$clock;
     reg  check$d;
     wire  check$q;
     reg  check$clock;
@@ -530,6 +542,21 @@ module window_unit$port(clock,coord_strobe,coord_data,coord_ready,decimate,coord
     reg  take;
     
     // Sub module instances
+    window_unit$port$strobe_r strobe_r(
+        .d(strobe_r$d),
+        .q(strobe_r$q),
+        .clock(strobe_r$clock)
+    );
+    window_unit$port$data_r data_r(
+        .d(data_r$d),
+        .q(data_r$q),
+        .clock(data_r$clock)
+    );
+    window_unit$port$decimate_r decimate_r(
+        .d(decimate_r$d),
+        .q(decimate_r$q),
+        .clock(decimate_r$clock)
+    );
     window_unit$port$ready ready(
         .d(ready$d),
         .q(ready$q),
@@ -565,15 +592,20 @@ module window_unit$port(clock,coord_strobe,coord_data,coord_ready,decimate,coord
         .q(sh_dec$q),
         .clock(sh_dec$clock)
     );
-    window_unit$port$xok xok(
-        .d(xok$d),
-        .q(xok$q),
-        .clock(xok$clock)
+    window_unit$port$lt0 lt0(
+        .d(lt0$d),
+        .q(lt0$q),
+        .clock(lt0$clock)
     );
-    window_unit$port$yok yok(
-        .d(yok$d),
-        .q(yok$q),
-        .clock(yok$clock)
+    window_unit$port$lt1 lt1(
+        .d(lt1$d),
+        .q(lt1$q),
+        .clock(lt1$clock)
+    );
+    window_unit$port$lt2 lt2(
+        .d(lt2$d),
+        .q(lt2$q),
+        .clock(lt2$clock)
     );
     window_unit$port$check check(
         .d(check$d),
@@ -613,6 +645,9 @@ module window_unit$port(clock,coord_strobe,coord_data,coord_ready,decimate,coord
     
     // Update code
     always @(*) begin
+        strobe_r$clock = clock;
+        data_r$clock = clock;
+        decimate_r$clock = clock;
         ready$clock = clock;
         index$clock = clock;
         sh_xn$clock = clock;
@@ -620,8 +655,9 @@ module window_unit$port(clock,coord_strobe,coord_data,coord_ready,decimate,coord
         sh_yn$clock = clock;
         sh_yx$clock = clock;
         sh_dec$clock = clock;
-        xok$clock = clock;
-        yok$clock = clock;
+        lt0$clock = clock;
+        lt1$clock = clock;
+        lt2$clock = clock;
         check$clock = clock;
         set_xn$clock = clock;
         set_xx$clock = clock;
@@ -629,6 +665,9 @@ module window_unit$port(clock,coord_strobe,coord_data,coord_ready,decimate,coord
         set_yx$clock = clock;
         set_dec$clock = clock;
         error$clock = clock;
+        strobe_r$d = strobe_r$q;
+        data_r$d = data_r$q;
+        decimate_r$d = decimate_r$q;
         ready$d = ready$q;
         index$d = index$q;
         sh_xn$d = sh_xn$q;
@@ -636,8 +675,9 @@ module window_unit$port(clock,coord_strobe,coord_data,coord_ready,decimate,coord
         sh_yn$d = sh_yn$q;
         sh_yx$d = sh_yx$q;
         sh_dec$d = sh_dec$q;
-        xok$d = xok$q;
-        yok$d = yok$q;
+        lt0$d = lt0$q;
+        lt1$d = lt1$q;
+        lt2$d = lt2$q;
         check$d = check$q;
         set_xn$d = set_xn$q;
         set_xx$d = set_xx$q;
@@ -652,32 +692,28 @@ module window_unit$port(clock,coord_strobe,coord_data,coord_ready,decimate,coord
         yn = set_yn$q;
         yx = set_yx$q;
         dec = set_dec$q;
-        take = coord_strobe & ~ready$q;
+        strobe_r$d = coord_strobe;
+        data_r$d = coord_data;
+        decimate_r$d = decimate;
+        take = strobe_r$q & ~ready$q;
         check$d = 1'b0;
         if (take) begin
             ready$d = 1'b1;
             index$d = index$q + 32'h1;
-            if (index$q == 32'h0) begin
-                sh_xn$d = coord_data;
-            end
-            else if (index$q == 32'h1) begin
-                sh_xx$d = coord_data;
-                xok$d = sh_xn$q < coord_data;
-            end
-            else if (index$q == 32'h2) begin
-                sh_yn$d = coord_data;
-            end
-            else begin
-                sh_yx$d = coord_data;
-                sh_dec$d = decimate;
-                yok$d = sh_yn$q < coord_data;
-                check$d = 1'b1;
-            end
+            check$d = index$q == 32'h3;
+            sh_xn$d = sh_xx$q;
+            sh_xx$d = sh_yn$q;
+            sh_yn$d = sh_yx$q;
+            sh_yx$d = data_r$q;
+            sh_dec$d = decimate_r$q;
+            lt2$d = lt1$q;
+            lt1$d = lt0$q;
+            lt0$d = sh_yx$q < data_r$q;
         end
-        if (~coord_strobe & ready$q) begin
+        if (~strobe_r$q & ready$q) begin
             ready$d = 1'b0;
         end
-        loaded = check$q & xok$q & yok$q;
+        loaded = check$q & lt0$q & lt2$q;
         if (loaded) begin
             set_xn$d = sh_xn$q;
             set_xx$d = sh_xx$q;
@@ -710,6 +746,44 @@ module window_unit$port$check(d,q,clock);
     end
           
 endmodule // window_unit$port$check
+
+
+module window_unit$port$data_r(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // window_unit$port$data_r
+
+
+module window_unit$port$decimate_r(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // window_unit$port$decimate_r
 
 
 module window_unit$port$error(d,q,clock);
@@ -748,6 +822,63 @@ module window_unit$port$index(d,q,clock);
     end
           
 endmodule // window_unit$port$index
+
+
+module window_unit$port$lt0(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // window_unit$port$lt0
+
+
+module window_unit$port$lt1(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // window_unit$port$lt1
+
+
+module window_unit$port$lt2(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // window_unit$port$lt2
 
 
 module window_unit$port$ready(d,q,clock);
@@ -959,7 +1090,7 @@ module window_unit$port$sh_yx(d,q,clock);
 endmodule // window_unit$port$sh_yx
 
 
-module window_unit$port$xok(d,q,clock);
+module window_unit$port$strobe_r(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -975,26 +1106,7 @@ module window_unit$port$xok(d,q,clock);
        q <= d;
     end
           
-endmodule // window_unit$port$xok
-
-
-module window_unit$port$yok(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // window_unit$port$yok
+endmodule // window_unit$port$strobe_r
 
 
 module window_unit$pxc(d,q,clock);

@@ -50,7 +50,11 @@ fn run(cli: Cli) -> Result<(), CliError> {
             }
             Ok(())
         }
-        Some(Command::Waves { out, window, frames }) => {
+        Some(Command::Waves {
+            out,
+            window,
+            frames,
+        }) => {
             let svgs = hardware::waves(&out, window, frames)?;
             println!("wrote {}", out.display());
             for p in svgs {

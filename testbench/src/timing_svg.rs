@@ -112,9 +112,17 @@ pub fn diagram(seq: Sequence, rec: &[Flags], span: std::ops::Range<usize>) -> St
                 for (i, t) in span.clone().enumerate() {
                     let y = if f(&rec[t]) { hi } else { lo };
                     let x = LABEL_W + i * CLOCK_W;
-                    let _ = write!(d, "{}{x},{y} L{},{y} ", if i == 0 { "M" } else { "L" }, x + CLOCK_W);
+                    let _ = write!(
+                        d,
+                        "{}{x},{y} L{},{y} ",
+                        if i == 0 { "M" } else { "L" },
+                        x + CLOCK_W
+                    );
                 }
-                let _ = writeln!(s, r#"<path d="{d}" stroke="black" stroke-width="1.5" fill="none"/>"#);
+                let _ = writeln!(
+                    s,
+                    r#"<path d="{d}" stroke="black" stroke-width="1.5" fill="none"/>"#
+                );
             }
             Row::Bus(name, f) => {
                 let _ = writeln!(s, r#"<text x="4" y="{lo}">{name}</text>"#);
@@ -122,7 +130,9 @@ pub fn diagram(seq: Sequence, rec: &[Flags], span: std::ops::Range<usize>) -> St
                 let ts: Vec<usize> = span.clone().collect();
                 while i < ts.len() {
                     let v = f(&rec[ts[i]]);
-                    let j = (i..ts.len()).find(|&k| f(&rec[ts[k]]) != v).unwrap_or(ts.len());
+                    let j = (i..ts.len())
+                        .find(|&k| f(&rec[ts[k]]) != v)
+                        .unwrap_or(ts.len());
                     let (x0, x1) = (LABEL_W + i * CLOCK_W, LABEL_W + j * CLOCK_W);
                     let m = (hi + lo) / 2;
                     let _ = writeln!(

@@ -6,7 +6,9 @@ use std::process::Command;
 pub fn have_tool(tool: &str) -> bool {
     let found = Command::new(tool).arg("-V").output().is_ok();
     if !found {
-        let msg = format!("{tool} not found on PATH (apt-get install -y iverilog verilator yosys nextpnr-ice40)");
+        let msg = format!(
+            "{tool} not found on PATH (apt-get install -y iverilog verilator yosys nextpnr-ice40)"
+        );
         if std::env::var("COOPWIN_REQUIRE_EDA").as_deref() == Ok("1") {
             panic!("COOPWIN_REQUIRE_EDA=1 and {msg}");
         }
@@ -17,8 +19,14 @@ pub fn have_tool(tool: &str) -> bool {
 
 /// Runs a command, failing the test with its output when it does not succeed.
 pub fn run(cmd: &mut Command) -> String {
-    let out = cmd.output().unwrap_or_else(|e| panic!("cannot run {cmd:?}: {e}"));
-    let text = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    let out = cmd
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run {cmd:?}: {e}"));
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
     assert!(out.status.success(), "{cmd:?} failed:\n{text}");
     text
 }

@@ -27,12 +27,24 @@ pub fn verilog(out: &Path, units: usize) -> Result<Vec<PathBuf>, CliError> {
 pub fn parse_window(s: &str) -> Result<Window, String> {
     let v: Vec<u32> = s
         .split(',')
-        .map(|p| p.trim().parse::<u32>().map_err(|_| format!("'{p}' is not a coordinate")))
+        .map(|p| {
+            p.trim()
+                .parse::<u32>()
+                .map_err(|_| format!("'{p}' is not a coordinate"))
+        })
         .collect::<Result<_, _>>()?;
     let [xmin, xmax, ymin, ymax] = v[..] else {
-        return Err(format!("expected XMIN,XMAX,YMIN,YMAX, got {} values", v.len()));
+        return Err(format!(
+            "expected XMIN,XMAX,YMIN,YMAX, got {} values",
+            v.len()
+        ));
     };
-    let w = Window { xmin, xmax, ymin, ymax };
+    let w = Window {
+        xmin,
+        xmax,
+        ymin,
+        ymax,
+    };
     if xmax > 255 || ymax > 255 {
         return Err("coordinates must be 0..255 on the 256x256 camera".into());
     }
@@ -44,7 +56,9 @@ pub fn parse_window(s: &str) -> Result<Window, String> {
 
 /// The test card the waves are simulated on: a gradient, so delivered values are recognisable.
 fn test_card() -> Vec<u8> {
-    (0..65536u32).map(|i| ((i % 256 + i / 256) / 2) as u8).collect()
+    (0..65536u32)
+        .map(|i| ((i % 256 + i / 256) / 2) as u8)
+        .collect()
 }
 
 /// Simulates `frames` acquisitions of `window` in rust-hdl, writes the VCD to `vcd`, and an SVG
@@ -71,7 +85,10 @@ pub fn waves(vcd: &Path, window: Window, frames: usize) -> Result<Vec<PathBuf>, 
     let mut written = Vec::new();
     for (k, seq) in Sequence::ALL.iter().enumerate() {
         let span = seq.span(&rec).ok_or_else(|| {
-            CliError(format!("the simulated run lacks the {} sequence", seq.title()))
+            CliError(format!(
+                "the simulated run lacks the {} sequence",
+                seq.title()
+            ))
         })?;
         let path = PathBuf::from(format!("{}-b1_{}.svg", stem.display(), k + 1));
         std::fs::write(&path, timing_svg::diagram(*seq, &rec, span))
