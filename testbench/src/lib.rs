@@ -1,4 +1,5 @@
 //! The coopwin testbench: the camera, the window units and the processors simulated together,
 //! and the `coopwin` command that runs them.
 pub mod commands;
+pub mod scene;
 pub mod timing_svg;
