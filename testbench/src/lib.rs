@@ -1,5 +1,9 @@
 //! The coopwin testbench: the camera, the window units and the processors simulated together,
 //! and the `coopwin` command that runs them.
 pub mod commands;
+pub mod cost;
+pub mod metrics;
+pub mod report;
 pub mod scene;
+pub mod system;
 pub mod timing_svg;

@@ -1,6 +1,8 @@
 //! `coopwin`: the cooperative-windowing tracker's command line.
 use clap::{Parser, Subcommand};
-use coopwin_testbench::commands::{hardware, scene, CliError};
+use coopwin_testbench::commands::{hardware, scene, track, CliError};
+use coopwin_testbench::cost::CostModel;
+use coopwin_testbench::system::{Strategy, SystemConfig};
 use coopwin_testbench::scene::{PathKind, SceneConfig};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -16,7 +18,8 @@ const EXAMPLES: &str = "Examples:
   coopwin verilog --out hdl/verilog            export window_unit.v and window_network.v
   coopwin waves --out waves/run.vcd            simulate one acquisition, VCD + Appendix B SVGs
   coopwin waves --out w.vcd --window 10,40,20,50 --frames 2
-  coopwin scene --path triangle --speed 100 --frames 300 --lighting ramp --out scenes/tri";
+  coopwin scene --path triangle --speed 100 --frames 300 --lighting ramp --out scenes/tri
+  coopwin track --frames scenes/tri --strategy coop --target 56,56 --out tri.csv";
 
 #[derive(Subcommand)]
 enum Command {
@@ -71,6 +74,50 @@ enum Command {
         #[arg(long)]
         out: PathBuf,
     },
+    /// Track a folder of PNG frames with a windowing strategy, in simulated time
+    Track {
+        /// Folder of PNG frames (8-bit gray or colour, 64x64 to 1024x1024, one size)
+        #[arg(long)]
+        frames: PathBuf,
+        /// Windowing strategy
+        #[arg(long, value_enum, default_value_t = StrategyArg::Coop)]
+        strategy: StrategyArg,
+        /// Template side N
+        #[arg(long, default_value_t = 20)]
+        template: u16,
+        /// Point to track as X,Y (pixel centres at integers); default: lock on to motion
+        #[arg(long, value_parser = parse_point)]
+        target: Option<(f64, f64)>,
+        /// Processor speeds: the thesis's C40, or our kernels on this machine
+        #[arg(long, value_enum, default_value_t = ProfileArg::C40)]
+        profile: ProfileArg,
+        /// COOP's confidence data set size n (3..8)
+        #[arg(long, default_value_t = 4)]
+        coop_n: usize,
+        /// CSV to write (frame,x,y,mode,source,measured_frame)
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum StrategyArg {
+    Spmf,
+    Tpdf,
+    Mpdf,
+    Coop,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum ProfileArg {
+    C40,
+    Native,
+}
+
+fn parse_point(s: &str) -> Result<(f64, f64), String> {
+    let (x, y) = s.split_once(',').ok_or("expected X,Y")?;
+    let p = |v: &str| v.trim().parse::<f64>().map_err(|_| format!("'{v}' is not a number"));
+    Ok((p(x)?, p(y)?))
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -123,6 +170,53 @@ fn run(cli: Cli) -> Result<(), CliError> {
             };
             let n = scene::write_scene(cfg, &out)?;
             println!("wrote {n} frames and groundtruth.csv to {}", out.display());
+            Ok(())
+        }
+        Some(Command::Track { frames, strategy, template, target, profile, coop_n, out }) => {
+            if !(3..=8).contains(&coop_n) {
+                return Err(CliError(format!("--coop-n must be 3..8, got {coop_n}")));
+            }
+            if !(4..=32).contains(&template) {
+                return Err(CliError(format!("--template must be 4..32, got {template}")));
+            }
+            let cfg = SystemConfig {
+                strategy: match strategy {
+                    StrategyArg::Spmf => Strategy::Spmf,
+                    StrategyArg::Tpdf => Strategy::Tpdf,
+                    StrategyArg::Mpdf => Strategy::Mpdf,
+                    StrategyArg::Coop => Strategy::Coop,
+                },
+                cost: match profile {
+                    ProfileArg::C40 => CostModel::C40,
+                    ProfileArg::Native => CostModel::NATIVE,
+                },
+                params: coopwin_firmware::tracker::Params {
+                    template,
+                    foveal: template + 4,
+                    ..Default::default()
+                },
+                coop_n,
+                target,
+                pixel_clock_hz: coopwin_hdl::camera::CA_D1_PIXEL_CLOCK_HZ,
+            };
+            let started = std::time::Instant::now();
+            let (log, summary) = track::track(&frames, &cfg)?;
+            let secs = started.elapsed().as_secs_f64();
+            if let Some(path) = &out {
+                track::write_atomic(path, &track::csv(&log.frames))?;
+                println!("wrote {}", path.display());
+            }
+            let tracked = log.frames.iter().filter(|r| r.point.is_some()).count();
+            println!(
+                "{} frames, {} tracked, {} position reports, {:.0} frames/s simulated",
+                log.frames.len(),
+                tracked,
+                log.reports.len(),
+                log.frames.len() as f64 / secs.max(1e-9)
+            );
+            if let Some(s) = summary {
+                println!("{}", coopwin_testbench::report::summary_table(&[(cfg.strategy.name(), s)]));
+            }
             Ok(())
         }
     }

@@ -1,6 +1,7 @@
 //! One module per `coopwin` subcommand family; each returns a typed error the binary prints.
 pub mod hardware;
 pub mod scene;
+pub mod track;
 
 /// A failure a person can act on: printed as one line, exit code 1.
 #[derive(Debug)]

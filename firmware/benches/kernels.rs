@@ -1,0 +1,94 @@
+//! Criterion benchmarks of the kernels at the thesis' sizes, on the inputs in
+//! `fixtures/bench/` (see its README): Foveal NCC 20x20 in 24x24, Peripheral SSD 16x16 in
+//! 40x40 at 100 % and 25 %, Watch motion on 256x256, the corner detector on 20x20 and
+//! 24x24, and the COOP decision.
+use coopwin_firmware::confidence::{ConfidencePolicy, SseCoop, Source};
+use coopwin_firmware::corner::{CornerDetector, CornerParams};
+use coopwin_firmware::matching::{best_match, best_match_decimated, Method};
+use coopwin_firmware::motion::detect_motion;
+use coopwin_firmware::view::WindowView;
+use criterion::{criterion_group, criterion_main, Criterion};
+use std::hint::black_box;
+
+/// Minimal binary PGM (P5, maxval <= 255) reader: `(width, height, pixels)`.
+fn read_pgm(name: &str) -> (usize, usize, Vec<u8>) {
+    let path = format!("{}/../fixtures/bench/{name}", env!("CARGO_MANIFEST_DIR"));
+    let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
+    // Header: magic, width, height, maxval as whitespace-separated tokens ('#' comments),
+    // then exactly one whitespace byte before the raster.
+    let mut fields = Vec::new();
+    let mut i = 0;
+    while fields.len() < 4 {
+        while bytes[i].is_ascii_whitespace() {
+            i += 1;
+        }
+        if bytes[i] == b'#' {
+            while bytes[i] != b'\n' {
+                i += 1;
+            }
+            continue;
+        }
+        let start = i;
+        while !bytes[i].is_ascii_whitespace() {
+            i += 1;
+        }
+        fields.push(String::from_utf8_lossy(&bytes[start..i]).into_owned());
+    }
+    assert_eq!(fields[0], "P5", "{path}: not a binary PGM");
+    let (w, h): (usize, usize) = (fields[1].parse().unwrap(), fields[2].parse().unwrap());
+    assert!(fields[3].parse::<u32>().unwrap() <= 255, "{path}: 16-bit PGM");
+    let data = bytes[i + 1..i + 1 + w * h].to_vec();
+    (w, h, data)
+}
+
+fn kernels(c: &mut Criterion) {
+    let (ww, wh, fw) = read_pgm("foveal_window.pgm");
+    let (tw, th, ft) = read_pgm("foveal_template.pgm");
+    let win = WindowView::packed(&fw, ww, wh).unwrap();
+    let tpl = WindowView::packed(&ft, tw, th).unwrap();
+    c.bench_function("foveal_ncc_20in24", |b| {
+        b.iter(|| best_match(Method::Ncc, black_box(&win), black_box(&tpl)))
+    });
+
+    let (ww, wh, pw) = read_pgm("peripheral_window.pgm");
+    let (tw, th, pt) = read_pgm("peripheral_template.pgm");
+    let win = WindowView::packed(&pw, ww, wh).unwrap();
+    let tpl = WindowView::packed(&pt, tw, th).unwrap();
+    c.bench_function("peripheral_ssd_16in40", |b| {
+        b.iter(|| best_match(Method::Ssd, black_box(&win), black_box(&tpl)))
+    });
+    c.bench_function("peripheral_ssd_16in40_dec", |b| {
+        b.iter(|| best_match_decimated(Method::Ssd, black_box(&win), black_box(&tpl)))
+    });
+
+    let (w, h, prev) = read_pgm("watch_prev.pgm");
+    let (_, _, next) = read_pgm("watch_next.pgm");
+    let p = WindowView::packed(&prev, w, h).unwrap();
+    let n = WindowView::packed(&next, w, h).unwrap();
+    c.bench_function("watch_motion_256", |b| {
+        b.iter(|| detect_motion(black_box(&p), black_box(&n), black_box(30)))
+    });
+
+    let mut det = Box::new(CornerDetector::new());
+    for (id, file) in [("corner_20", "corner_20.pgm"), ("corner_24", "corner_24.pgm")] {
+        let (w, h, d) = read_pgm(file);
+        let v = WindowView::packed(&d, w, h).unwrap();
+        let params = CornerParams::new(50);
+        c.bench_function(id, |b| b.iter(|| det.detect(black_box(&v), black_box(&params))));
+    }
+
+    // One COOP step: both Foveal results of a frame go in, the decision comes out.
+    let mut coop = SseCoop::new(4).unwrap();
+    let mut t = 0.0f64;
+    c.bench_function("coop_decision", |b| {
+        b.iter(|| {
+            t += 0.0088;
+            let _ = coop.push(Source::Ncc, t, black_box(100.0 + t), black_box(50.0));
+            let _ = coop.push(Source::Cd, t, black_box(100.5 + t), black_box(50.2));
+            coop.choose()
+        })
+    });
+}
+
+criterion_group!(benches, kernels);
+criterion_main!(benches);

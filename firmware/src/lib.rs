@@ -1,0 +1,29 @@
+//! Tracking firmware of the cooperative-windowing tracker (thesis ch. 2.3-4).
+//!
+//! `no_std`, no allocator, fixed capacities, and no panic on any input: every kernel is a
+//! pure function over borrowed pixel views ([`view::WindowView`]) that returns a typed
+//! error instead of failing. One module per algorithm family:
+//!
+//! * [`view`]: window views, including the 25 % (decimated) view;
+//! * [`motion`]: image differencing for the Watch window (2.4);
+//! * [`matching`]: SSD / SAD / NCC (2.4) and zero-mean NCC, with sub-pixel refinement;
+//! * [`corner`]: the window-based corner detector (ch. 3);
+//! * [`info`]: information content measures (3.4.1);
+//! * [`confidence`]: the least-squares window confidence measure and COOP decision (4.3),
+//!   and a Kalman-filter policy (5.2);
+//! * [`ports`]: hardware traits and framed byte encodings over `embedded-io`.
+#![no_std]
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+#[cfg(test)]
+extern crate std;
+
+pub mod confidence;
+pub mod corner;
+pub mod info;
+pub mod matching;
+pub mod motion;
+pub mod ports;
+pub mod tracker;
+pub mod view;

@@ -1,0 +1,742 @@
+//! Template matching (thesis 2.4): SSD, SAD, NCC and, beyond the thesis, zero-mean NCC.
+//!
+//! For a template `R` of `ulen x vlen` pixels and a search window `I`, each placement
+//! `(x, y)` of the template's top-left pixel with the template fully inside the window
+//! is scored (sums over `0 <= u < ulen`, `0 <= v < vlen`):
+//!
+//! * `SSD(x,y) = Σ (R(u,v) - I(x+u,y+v))²` (difference, best = minimum; Peripheral);
+//! * `SAD(x,y) = Σ |R(u,v) - I(x+u,y+v)|` (difference, best = minimum);
+//! * `NCC(x,y) = P/Q`, `P = Σ R(u,v)·I(x+u,y+v)`, `Q = sqrt(Σ R² · Σ I²(x+u,y+v))`
+//!   (similarity, best = maximum; Foveal). This is OpenCV's `TM_CCORR_NORMED`.
+//! * `ZNCC(x,y)` = NCC of the mean-free template and window patch,
+//!   `(nΣRI - ΣRΣI) / sqrt((nΣR² - (ΣR)²)(nΣI² - (ΣI)²))`, `n = ulen·vlen`
+//!   (option beyond the thesis: invariant to gain and offset of the illumination).
+//!
+//! ## How it is fast
+//! All sums are exact integers. The window energies `Σ I²` (and `Σ I` for ZNCC) of every
+//! placement come from running column sums, updated by one row in and one row out per
+//! placement row, and a running sum along the row, so each placement costs only the
+//! dot product `Σ R·I`. SSD uses `Σ R² + Σ I² - 2 Σ R·I`, so it costs the same dot
+//! product. Dot products are `u8 x u8 -> u32` over zipped row slices, which LLVM turns
+//! into SIMD multiply-accumulate (`pmaddwd` on x86).
+//!
+//! ## Sub-pixel refinement
+//! Around the best placement `s0` with neighbours `s-` and `s+` along x (then y), the
+//! parabola through the three scores has its vertex at
+//! `d = (s- - s+) / (2 (s- - 2 s0 + s+))`. The offset is used only when the parabola
+//! opens the right way (downwards for NCC/ZNCC, upwards for SSD/SAD) and is clamped to
+//! `[-0.5, 0.5]`; at the window border or for a flat neighbourhood it is 0.
+//!
+//! ## Zero energy
+//! An NCC template with `Σ R² = 0` (or a ZNCC template with no variance) is rejected with
+//! [`MatchError::ZeroEnergy`]. A placement whose window patch has zero energy (variance
+//! for ZNCC) scores 0, as in OpenCV, and if no placement has energy the result is
+//! [`MatchError::NoMatch`]. No score is ever NaN.
+
+use crate::view::WindowView;
+use heapless::Vec;
+
+/// Maximum number of placements along x (window width - template width + 1) and of
+/// window columns: the running-sum buffers have this fixed capacity.
+pub const MAX_SEARCH_WIDTH: usize = 256;
+
+/// Capacity, in pixels, of the buffers that pack a decimated (or otherwise strided)
+/// view before matching: a 128x128 Peripheral window at 25 % is 64x64 = 4096 pixels.
+pub const MAX_PACKED_PIXELS: usize = 4096;
+
+/// Row dot products accumulate in `u32` in chunks of this many pixels:
+/// `16384 · 255² < 2³²`, so no chunk can overflow.
+const DOT_CHUNK: usize = 16384;
+
+/// A matching measure of thesis 2.4 (or ZNCC beyond it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// Sum of squared differences (minimise).
+    Ssd,
+    /// Sum of absolute differences (minimise).
+    Sad,
+    /// Normalised cross-correlation (maximise), thesis form (not mean-free).
+    Ncc,
+    /// Zero-mean normalised cross-correlation (maximise).
+    Zncc,
+}
+
+impl Method {
+    /// True for similarity measures (best = maximum).
+    pub fn maximises(self) -> bool {
+        matches!(self, Method::Ncc | Method::Zncc)
+    }
+}
+
+/// Why no match could be computed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MatchError {
+    /// Window or template has no pixel.
+    Empty,
+    /// The template is wider or taller than the window: there is no placement.
+    TemplateLarger,
+    /// The window is wider than [`MAX_SEARCH_WIDTH`], or a strided view does not fit
+    /// [`MAX_PACKED_PIXELS`].
+    TooLarge,
+    /// NCC template with zero energy, or ZNCC template with zero variance.
+    ZeroEnergy,
+    /// Every placement has a zero-energy (NCC) or zero-variance (ZNCC) window patch.
+    NoMatch,
+    /// The output map slice is shorter than the number of placements.
+    MapTooSmall,
+}
+
+/// The best placement of a template in a window.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Match {
+    /// Column of the template's top-left pixel, in full-resolution window pixels
+    /// (decimated matches are scaled by the view's step).
+    pub x: usize,
+    /// Row of the template's top-left pixel, in full-resolution window pixels.
+    pub y: usize,
+    /// Score at the best placement (never NaN).
+    pub score: f64,
+    /// Sub-pixel refined column of the top-left pixel (parabola fit), window pixels.
+    pub sub_x: f32,
+    /// Sub-pixel refined row of the top-left pixel, window pixels.
+    pub sub_y: f32,
+    /// `sub_x` in frame coordinates (window origin added).
+    pub frame_x: f32,
+    /// `sub_y` in frame coordinates.
+    pub frame_y: f32,
+}
+
+#[inline(always)]
+fn dot_row(a: &[u8], b: &[u8]) -> u64 {
+    let mut s = 0u64;
+    for (ca, cb) in a.chunks(DOT_CHUNK).zip(b.chunks(DOT_CHUNK)) {
+        let d = ca.iter().zip(cb).fold(0u32, |acc, (&x, &y)| {
+            acc.wrapping_add(u32::from(u16::from(x) * u16::from(y)))
+        });
+        s += u64::from(d);
+    }
+    s
+}
+
+#[inline(always)]
+fn sad_row(a: &[u8], b: &[u8]) -> u64 {
+    let mut s = 0u64;
+    for (ca, cb) in a.chunks(DOT_CHUNK).zip(b.chunks(DOT_CHUNK)) {
+        let d = ca.iter().zip(cb).fold(0u32, |acc, (&x, &y)| {
+            acc.wrapping_add(u32::from(x.abs_diff(y)))
+        });
+        s += u64::from(d);
+    }
+    s
+}
+
+/// Placements whose scores [`best_match`] keeps for the sub-pixel fit (a 40x40 window
+/// with a 16x16 template has 625).
+const SCORE_CACHE: usize = 1024;
+
+/// Capacity of the lane-padded template copy used by the fast dot product.
+const TPL_PAD_CAP: usize = 4096;
+
+/// The template rearranged for [`dot_placement`]: each row is its first
+/// `body = tw - tw % lanes` pixels followed, if `tw` is not a multiple of `lanes`, by a
+/// `lanes`-pixel "tail" chunk holding the last `tw % lanes` pixels right-aligned after
+/// zeros. The tail chunk is multiplied with the window's last `lanes` pixels under the
+/// template, so every row is whole SIMD chunks and no scalar remainder loop is needed
+/// (the zeros cancel the overlap). `lanes` is 16 for templates at least 16 wide, else 8.
+struct PaddedTemplate {
+    buf: [u8; TPL_PAD_CAP],
+    row_len: usize,
+    body: usize,
+    lanes: usize,
+}
+
+impl PaddedTemplate {
+    /// `None` when the template is narrower than 8 pixels or does not fit the buffer
+    /// (the generic row-by-row dot product is used then).
+    fn new(tpl: &WindowView<'_>) -> Option<Self> {
+        let tw = tpl.width();
+        let lanes = if tw >= 16 { 16 } else { 8 };
+        if tw < lanes {
+            return None;
+        }
+        let body = tw - tw % lanes;
+        let rem = tw - body;
+        let row_len = body + if rem > 0 { lanes } else { 0 };
+        if row_len.checked_mul(tpl.height())? > TPL_PAD_CAP {
+            return None;
+        }
+        let mut buf = [0u8; TPL_PAD_CAP];
+        for (v, dst) in buf.chunks_exact_mut(row_len).take(tpl.height()).enumerate() {
+            let src = tpl.row(v)?;
+            dst.get_mut(..body)?.copy_from_slice(src.get(..body)?);
+            if rem > 0 {
+                dst.get_mut(row_len - rem..)?.copy_from_slice(src.get(body..)?);
+            }
+        }
+        Some(Self { buf, row_len, body, lanes })
+    }
+}
+
+/// `Σ R·I` of placement `(px, py)` with the padded template: `N`-pixel chunks accumulate
+/// into `N` `u32` lanes (SIMD multiply-adds), reduced once per placement. Lanes cannot
+/// overflow: each gains at most 255² per chunk and a template holds at most
+/// `TPL_PAD_CAP / 8 = 512` chunks.
+#[inline(always)]
+fn dot_placement<const N: usize>(
+    t: &PaddedTemplate,
+    win: &WindowView<'_>,
+    tw: usize,
+    th: usize,
+    px: usize,
+    py: usize,
+) -> u64 {
+    let mut lanes = [0u32; N];
+    let mut mac = |tc: &[u8], wc: &[u8]| {
+        if let (Ok(tc), Ok(wc)) = (<&[u8; N]>::try_from(tc), <&[u8; N]>::try_from(wc)) {
+            for ((l, &a), &b) in lanes.iter_mut().zip(tc).zip(wc) {
+                *l = l.wrapping_add(u32::from(u16::from(a) * u16::from(b)));
+            }
+        }
+    };
+    let tail = t.row_len > t.body;
+    let Some((data, stride)) = win.raw() else { return 0 };
+    let base = py * stride + px;
+    for (v, trow) in t.buf.chunks_exact(t.row_len).take(th).enumerate() {
+        // Row py+v of the window from offset px, `tw` pixels (inside the view because
+        // the placement is valid).
+        let start = base + v * stride;
+        let Some(wrow) = data.get(start..start + tw) else { continue };
+        let (tbody, ttail) = trow.split_at(t.body.min(trow.len()));
+        if let Some(wbody) = wrow.get(..t.body) {
+            for (tc, wc) in tbody.chunks_exact(N).zip(wbody.chunks_exact(N)) {
+                mac(tc, wc);
+            }
+        }
+        if tail {
+            if let Some(wtail) = wrow.get(tw - N..) {
+                mac(ttail, wtail);
+            }
+        }
+    }
+    lanes.iter().map(|&l| u64::from(l)).sum()
+}
+
+/// Capacity of the column strip of [`strip_dot_products`] (window height x template
+/// width pixels).
+const STRIP_CAP: usize = 4096;
+
+/// `Σ R·I` of every placement, row-major, computed strip by strip: for each placement
+/// column `px` the window columns `px..px+tw` are copied into a contiguous strip, in
+/// which the patch of every placement `(px, py)` is one contiguous run of `tw·th` pixels
+/// laid out exactly like the packed template. Each dot product is then a single long
+/// `u8·u8` reduction that LLVM vectorises with `pmaddwd`, with one horizontal sum per
+/// placement instead of one per template row. The copy costs `tw` bytes per window row
+/// and placement column, far less than the `tw·th` multiply-adds per placement.
+///
+/// `None` (use the other paths) when the template is not packed, the strip or the
+/// placement count exceed their capacities, or `tw·th > 65536` (u32 sums could overflow).
+fn strip_dot_products(win: &WindowView<'_>, tpl: &WindowView<'_>) -> Option<Vec<u32, SCORE_CACHE>> {
+    let (tw, th, ww, wh) = (tpl.width(), tpl.height(), win.width(), win.height());
+    let nx = ww.checked_sub(tw)? + 1;
+    let ny = wh.checked_sub(th)? + 1;
+    let n = tw.checked_mul(th)?;
+    if nx * ny > SCORE_CACHE || tw.checked_mul(wh)? > STRIP_CAP || n > 65536 {
+        return None;
+    }
+    let (tdata, tstride) = tpl.raw()?;
+    if tstride != tw {
+        return None;
+    }
+    let t = tdata.get(..n)?;
+    let mut dots: Vec<u32, SCORE_CACHE> = Vec::new();
+    dots.resize(nx * ny, 0).ok()?;
+    let mut strip = [0u8; STRIP_CAP];
+    for px in 0..nx {
+        for (y, dst) in strip.chunks_exact_mut(tw).take(wh).enumerate() {
+            dst.copy_from_slice(win.row(y)?.get(px..px + tw)?);
+        }
+        for py in 0..ny {
+            let patch = strip.get(py * tw..py * tw + n)?;
+            *dots.get_mut(py * nx + px)? = dot_long(t, patch);
+        }
+    }
+    Some(dots)
+}
+
+/// `Σ a·b` of two equally long runs (`len <= 65536`, so `u32` cannot overflow). Written
+/// as 16 explicit lanes: the loop vectoriser alone picks 4-pixel vectors for a
+/// `u8·u8 -> u32` reduction on baseline x86-64, the 16-lane form gets full registers.
+#[inline(always)]
+fn dot_long(a: &[u8], b: &[u8]) -> u32 {
+    let mut lanes = [0u32; 16];
+    let (ca, cb) = (a.chunks_exact(16), b.chunks_exact(16));
+    let (ra, rb) = (ca.remainder(), cb.remainder());
+    for (x, y) in ca.zip(cb) {
+        if let (Ok(x), Ok(y)) = (<&[u8; 16]>::try_from(x), <&[u8; 16]>::try_from(y)) {
+            for ((l, &p), &q) in lanes.iter_mut().zip(x).zip(y) {
+                *l = l.wrapping_add(u32::from(u16::from(p) * u16::from(q)));
+            }
+        }
+    }
+    let tail = ra.iter().zip(rb).fold(0u32, |s, (&p, &q)| s.wrapping_add(u32::from(p) * u32::from(q)));
+    lanes.iter().fold(tail, |s, &l| s.wrapping_add(l))
+}
+
+/// Template statistics that do not depend on the placement.
+struct TemplateStats {
+    energy: u64,
+    sum: u64,
+    n: u64,
+}
+
+fn template_stats(tpl: &WindowView<'_>) -> TemplateStats {
+    let mut energy = 0u64;
+    let mut sum = 0u64;
+    for v in 0..tpl.height() {
+        let r = tpl.row(v).unwrap_or(&[]);
+        energy += dot_row(r, r);
+        sum += r.iter().map(|&p| u64::from(p)).sum::<u64>();
+    }
+    TemplateStats {
+        energy,
+        sum,
+        n: (tpl.width() * tpl.height()) as u64,
+    }
+}
+
+/// Score of one placement from its integer sums (see the module formulas).
+#[inline(always)]
+fn score(method: Method, t: &TemplateStats, dot_or_sad: u64, e: u64, s: u64) -> Option<f64> {
+    match method {
+        Method::Sad => Some(dot_or_sad as f64),
+        // Σ(R-I)² = ΣR² + ΣI² - 2ΣRI >= 0 exactly in integers.
+        Method::Ssd => Some((t.energy + e).saturating_sub(2 * dot_or_sad) as f64),
+        Method::Ncc => {
+            if e == 0 {
+                return None;
+            }
+            let q = libm::sqrt(t.energy as f64 * e as f64);
+            Some((dot_or_sad as f64 / q).min(1.0))
+        }
+        Method::Zncc => {
+            let n = i128::from(t.n);
+            let num = n * i128::from(dot_or_sad) - i128::from(t.sum) * i128::from(s);
+            let vt = n * i128::from(t.energy) - i128::from(t.sum) * i128::from(t.sum);
+            let vw = n * i128::from(e) - i128::from(s) * i128::from(s);
+            if vw <= 0 || vt <= 0 {
+                return None;
+            }
+            let q = libm::sqrt(vt as f64 * vw as f64);
+            Some((num as f64 / q).clamp(-1.0, 1.0))
+        }
+    }
+}
+
+/// Validates sizes and returns `(placements_x, placements_y)`.
+fn placements(win: &WindowView<'_>, tpl: &WindowView<'_>) -> Result<(usize, usize), MatchError> {
+    if win.is_empty() || tpl.is_empty() {
+        return Err(MatchError::Empty);
+    }
+    if tpl.width() > win.width() || tpl.height() > win.height() {
+        return Err(MatchError::TemplateLarger);
+    }
+    if win.width() > MAX_SEARCH_WIDTH {
+        return Err(MatchError::TooLarge);
+    }
+    Ok((
+        win.width() - tpl.width() + 1,
+        win.height() - tpl.height() + 1,
+    ))
+}
+
+/// Visits every placement in raster order with its score (`None` = no energy) over two
+/// full-resolution (step 1) views. The visitor sees placement `(px, py)`.
+fn for_each_score(
+    method: Method,
+    win: &WindowView<'_>,
+    tpl: &WindowView<'_>,
+    mut visit: impl FnMut(usize, usize, Option<f64>),
+) -> Result<(), MatchError> {
+    let (nx, ny) = placements(win, tpl)?;
+    let (tw, th, ww) = (tpl.width(), tpl.height(), win.width());
+    let t = template_stats(tpl);
+    match method {
+        Method::Ncc if t.energy == 0 => return Err(MatchError::ZeroEnergy),
+        Method::Zncc if (t.n as u128) * (t.energy as u128) == (t.sum as u128).pow(2) => {
+            return Err(MatchError::ZeroEnergy)
+        }
+        _ => {}
+    }
+    let needs_energy = method != Method::Sad;
+    let strip_dots = if needs_energy { strip_dot_products(win, tpl) } else { None };
+    let padded = if needs_energy && strip_dots.is_none() { PaddedTemplate::new(tpl) } else { None };
+    // Column sums of I² and I over the `th` rows of the current placement row.
+    let mut col_sq: Vec<u64, MAX_SEARCH_WIDTH> = Vec::new();
+    let mut col_sum: Vec<u64, MAX_SEARCH_WIDTH> = Vec::new();
+    let mut acc: Vec<u64, MAX_SEARCH_WIDTH> = Vec::new();
+    // Capacity checked in `placements` (ww <= MAX_SEARCH_WIDTH, nx <= ww).
+    let _ = col_sq.resize(ww, 0);
+    let _ = col_sum.resize(ww, 0);
+    let _ = acc.resize(nx, 0);
+    if needs_energy {
+        for v in 0..th {
+            add_row(&mut col_sq, &mut col_sum, win.row(v).unwrap_or(&[]));
+        }
+    }
+    for py in 0..ny {
+        if needs_energy && py > 0 {
+            sub_row(&mut col_sq, &mut col_sum, win.row(py - 1).unwrap_or(&[]));
+            add_row(
+                &mut col_sq,
+                &mut col_sum,
+                win.row(py + th - 1).unwrap_or(&[]),
+            );
+        }
+        if let Some(d) = strip_dots.as_ref() {
+            for (a, &v) in acc.iter_mut().zip(d.iter().skip(py * nx)) {
+                *a = u64::from(v);
+            }
+        } else if let Some(pt) = padded.as_ref() {
+            for (px, a) in acc.iter_mut().enumerate() {
+                *a = if pt.lanes == 16 {
+                    dot_placement::<16>(pt, win, tw, th, px, py)
+                } else {
+                    dot_placement::<8>(pt, win, tw, th, px, py)
+                };
+            }
+        } else {
+            acc.iter_mut().for_each(|a| *a = 0);
+        }
+        for v in (0..th).filter(|_| padded.is_none() && strip_dots.is_none()) {
+            let trow = tpl.row(v).unwrap_or(&[]);
+            let wrow = win.row(py + v).unwrap_or(&[]);
+            if method == Method::Sad {
+                for (a, w) in acc.iter_mut().zip(wrow.windows(tw)) {
+                    *a += sad_row(trow, w);
+                }
+            } else {
+                for (a, w) in acc.iter_mut().zip(wrow.windows(tw)) {
+                    *a += dot_row(trow, w);
+                }
+            }
+        }
+        // Running sums along the row of the column sums give each placement's energy.
+        let mut e: u64 = col_sq.iter().take(tw).sum();
+        let mut s: u64 = col_sum.iter().take(tw).sum();
+        for (px, &a) in acc.iter().enumerate() {
+            if px > 0 && needs_energy {
+                e = e + col_sq.get(px + tw - 1).copied().unwrap_or(0)
+                    - col_sq.get(px - 1).copied().unwrap_or(0);
+                s = s + col_sum.get(px + tw - 1).copied().unwrap_or(0)
+                    - col_sum.get(px - 1).copied().unwrap_or(0);
+            }
+            visit(px, py, score(method, &t, a, e, s));
+        }
+    }
+    Ok(())
+}
+
+#[inline(always)]
+fn add_row(sq: &mut [u64], sum: &mut [u64], row: &[u8]) {
+    for ((q, s), &p) in sq.iter_mut().zip(sum.iter_mut()).zip(row) {
+        *q += u64::from(p) * u64::from(p);
+        *s += u64::from(p);
+    }
+}
+
+#[inline(always)]
+fn sub_row(sq: &mut [u64], sum: &mut [u64], row: &[u8]) {
+    for ((q, s), &p) in sq.iter_mut().zip(sum.iter_mut()).zip(row) {
+        *q -= u64::from(p) * u64::from(p);
+        *s -= u64::from(p);
+    }
+}
+
+/// Score of the single placement `(px, py)` computed directly (used for the sub-pixel
+/// neighbours of the peak); `None` outside or without energy.
+fn score_at(
+    method: Method,
+    win: &WindowView<'_>,
+    tpl: &WindowView<'_>,
+    px: usize,
+    py: usize,
+) -> Option<f64> {
+    let (tw, th) = (tpl.width(), tpl.height());
+    if px + tw > win.width() || py + th > win.height() {
+        return None;
+    }
+    let t = template_stats(tpl);
+    let (mut a, mut e, mut s) = (0u64, 0u64, 0u64);
+    for v in 0..th {
+        let trow = tpl.row(v)?;
+        let w = win.row(py + v)?.get(px..px + tw)?;
+        a += if method == Method::Sad {
+            sad_row(trow, w)
+        } else {
+            dot_row(trow, w)
+        };
+        e += dot_row(w, w);
+        s += w.iter().map(|&p| u64::from(p)).sum::<u64>();
+    }
+    score(method, &t, a, e, s)
+}
+
+/// Writes the score of every placement, row-major with `placements_x` columns, into
+/// `out` (placements without energy score 0, like OpenCV) and returns
+/// `(placements_x, placements_y)`.
+///
+/// Both views must be full resolution; a strided view is packed first (see
+/// [`MAX_PACKED_PIXELS`]) and the map is then in decimated pixels.
+pub fn score_map(
+    method: Method,
+    win: &WindowView<'_>,
+    tpl: &WindowView<'_>,
+    out: &mut [f64],
+) -> Result<(usize, usize), MatchError> {
+    with_packed(win, tpl, |win, tpl| {
+        let (nx, ny) = placements(win, tpl)?;
+        let out = out.get_mut(..nx * ny).ok_or(MatchError::MapTooSmall)?;
+        for_each_score(method, win, tpl, |px, py, s| {
+            if let Some(o) = out.get_mut(py * nx + px) {
+                *o = s.unwrap_or(0.0);
+            }
+        })?;
+        Ok((nx, ny))
+    })
+}
+
+/// Runs `f` on step-1 versions of both views, packing strided views into fixed buffers.
+fn with_packed<R>(
+    win: &WindowView<'_>,
+    tpl: &WindowView<'_>,
+    f: impl FnOnce(&WindowView<'_>, &WindowView<'_>) -> Result<R, MatchError>,
+) -> Result<R, MatchError> {
+    if win.step() == 1 && tpl.step() == 1 {
+        return f(win, tpl);
+    }
+    let mut wbuf = [0u8; MAX_PACKED_PIXELS];
+    let mut tbuf = [0u8; MAX_PACKED_PIXELS];
+    let pw = win.pack_into(&mut wbuf).ok_or(MatchError::TooLarge)?;
+    let pt = tpl.pack_into(&mut tbuf).ok_or(MatchError::TooLarge)?;
+    f(&pw, &pt)
+}
+
+/// Parabola vertex offset through `(−1, l), (0, c), (1, r)`, or 0 when the parabola
+/// does not open towards the optimum or a neighbour is missing.
+fn parabola(l: Option<f64>, c: f64, r: Option<f64>, maximise: bool) -> f64 {
+    let (Some(l), Some(r)) = (l, r) else {
+        return 0.0;
+    };
+    let curv = l - 2.0 * c + r;
+    let opens_right = if maximise { curv < 0.0 } else { curv > 0.0 };
+    if !opens_right {
+        return 0.0;
+    }
+    let d = (l - r) / (2.0 * curv);
+    if d.is_finite() {
+        d.clamp(-0.5, 0.5)
+    } else {
+        0.0
+    }
+}
+
+/// The best placement of `tpl` in `win` under `method` (minimum SSD/SAD, maximum
+/// NCC/ZNCC; ties go to the first placement in raster order, as `cv::minMaxLoc`), with
+/// its score and a parabola-fit sub-pixel position (see the module docs).
+///
+/// Decimated views are matched at their resolution and the position is scaled back by
+/// the window's step, so `best_match(m, &w.decimated(), &t.decimated())` is the 25 %
+/// variant of the Peripheral window (also available as [`best_match_decimated`]).
+pub fn best_match(
+    method: Method,
+    win: &WindowView<'_>,
+    tpl: &WindowView<'_>,
+) -> Result<Match, MatchError> {
+    let step = win.step();
+    let (origin_x, origin_y) = win.origin();
+    with_packed(win, tpl, |win, tpl| {
+        let maximise = method.maximises();
+        let mut best: Option<(usize, usize, f64)> = None;
+        // Scores kept for the sub-pixel fit (no-energy placements as -inf); maps larger
+        // than the cache recompute the four neighbours instead.
+        let nx = win.width().saturating_sub(tpl.width()) + 1;
+        let mut cache: Vec<f64, SCORE_CACHE> = Vec::new();
+        let mut cached = true;
+        for_each_score(method, win, tpl, |px, py, s| {
+            if cached {
+                cached = cache.push(s.unwrap_or(f64::NEG_INFINITY)).is_ok();
+            }
+            if let Some(s) = s {
+                let better = match best {
+                    None => true,
+                    Some((_, _, b)) => {
+                        if maximise {
+                            s > b
+                        } else {
+                            s < b
+                        }
+                    }
+                };
+                if better {
+                    best = Some((px, py, s));
+                }
+            }
+        })?;
+        let (bx, by, bs) = best.ok_or(MatchError::NoMatch)?;
+        let at = |x: Option<usize>, y: Option<usize>| {
+            let (x, y) = (x?, y?);
+            if !cached {
+                return score_at(method, win, tpl, x, y);
+            }
+            if x >= nx {
+                return None;
+            }
+            cache.get(y * nx + x).copied().filter(|v| v.is_finite())
+        };
+        let dx = parabola(
+            at(bx.checked_sub(1), Some(by)),
+            bs,
+            at(Some(bx + 1), Some(by)),
+            maximise,
+        );
+        let dy = parabola(
+            at(Some(bx), by.checked_sub(1)),
+            bs,
+            at(Some(bx), Some(by + 1)),
+            maximise,
+        );
+        let sub_x = ((bx as f64 + dx) * step as f64) as f32;
+        let sub_y = ((by as f64 + dy) * step as f64) as f32;
+        Ok(Match {
+            x: bx * step,
+            y: by * step,
+            score: bs,
+            sub_x,
+            sub_y,
+            frame_x: origin_x as f32 + sub_x,
+            frame_y: origin_y as f32 + sub_y,
+        })
+    })
+}
+
+/// The 25 %-resolution match of the Peripheral window (thesis 2.3): both views are
+/// decimated (every other pixel of every other row) and the result is in full-resolution
+/// window pixels.
+pub fn best_match_decimated(
+    method: Method,
+    win: &WindowView<'_>,
+    tpl: &WindowView<'_>,
+) -> Result<Match, MatchError> {
+    best_match(method, &win.decimated(), &tpl.decimated())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn v<'a>(d: &'a [u8], w: usize, h: usize) -> WindowView<'a> {
+        WindowView::packed(d, w, h).unwrap()
+    }
+
+    // Window 3x2 = [1 2 3; 4 5 6], template 2x1 = [1 2]. Placements 2x2.
+    const W: [u8; 6] = [1, 2, 3, 4, 5, 6];
+    const T: [u8; 2] = [1, 2];
+
+    #[test]
+    fn hand_computed_maps() {
+        let (w, t) = (v(&W, 3, 2), v(&T, 2, 1));
+        let mut m = [0f64; 4];
+        // SSD: (0,0): 0; (1,0): (1-2)²+(2-3)²=2; (0,1): 9+9=18; (1,1): 16+16=32.
+        assert_eq!(score_map(Method::Ssd, &w, &t, &mut m), Ok((2, 2)));
+        assert_eq!(m, [0.0, 2.0, 18.0, 32.0]);
+        // SAD: 0, 2, 6, 8.
+        score_map(Method::Sad, &w, &t, &mut m).unwrap();
+        assert_eq!(m, [0.0, 2.0, 6.0, 8.0]);
+        // NCC (0,1): P = 4+10 = 14, Q = sqrt(5 * 41).
+        score_map(Method::Ncc, &w, &t, &mut m).unwrap();
+        assert!((m[0] - 1.0).abs() < 1e-12);
+        assert!((m[1] - 8.0 / (5.0f64 * 13.0).sqrt()).abs() < 1e-12);
+        assert!((m[2] - 14.0 / (5.0f64 * 41.0).sqrt()).abs() < 1e-12);
+        // ZNCC of two increasing pairs is exactly 1 everywhere.
+        score_map(Method::Zncc, &w, &t, &mut m).unwrap();
+        assert!(m.iter().all(|s| (s - 1.0).abs() < 1e-12));
+        let b = best_match(Method::Ssd, &w, &t).unwrap();
+        assert_eq!((b.x, b.y, b.score), (0, 0, 0.0));
+    }
+
+    #[test]
+    fn zero_energy_is_typed() {
+        let z = [0u8; 6];
+        let (w, t) = (v(&W, 3, 2), v(&T, 2, 1));
+        assert_eq!(
+            best_match(Method::Ncc, &w, &v(&z, 2, 1)),
+            Err(MatchError::ZeroEnergy)
+        );
+        assert_eq!(
+            best_match(Method::Ncc, &v(&z, 3, 2), &t),
+            Err(MatchError::NoMatch)
+        );
+        let flat = [7u8; 2];
+        assert_eq!(
+            best_match(Method::Zncc, &w, &v(&flat, 2, 1)),
+            Err(MatchError::ZeroEnergy)
+        );
+        // A zero window is still fine for difference measures.
+        assert_eq!(
+            best_match(Method::Ssd, &v(&z, 3, 2), &t).unwrap().score,
+            5.0
+        );
+        assert_eq!(
+            best_match(Method::Ssd, &t, &w),
+            Err(MatchError::TemplateLarger)
+        );
+        assert_eq!(
+            best_match(Method::Ssd, &v(&[], 0, 0), &t),
+            Err(MatchError::Empty)
+        );
+    }
+
+    #[test]
+    fn parabola_vertex() {
+        // Scores 1, 3, 2 along x: vertex at (1-2)/(2(1-6+2)) = 1/6.
+        assert!((parabola(Some(1.0), 3.0, Some(2.0), true) - 1.0 / 6.0).abs() < 1e-12);
+        assert_eq!(parabola(Some(1.0), 3.0, Some(2.0), false), 0.0);
+        assert_eq!(parabola(None, 3.0, Some(2.0), true), 0.0);
+        assert_eq!(parabola(Some(3.0), 3.0, Some(3.0), true), 0.0);
+    }
+
+    #[test]
+    fn subpixel_of_symmetric_peak_is_between_placements() {
+        // A bright bar at columns 2 and 3 and a template that is one column of the bar:
+        // placements 1 and 2 tie (first wins), SSD at 0, 1, 2 is 2c, c, c, so the
+        // parabola vertex is at (2c - c) / (2 (2c - 2c + c)) = +0.5: exactly between.
+        let mut d = [10u8; 6 * 3];
+        for y in 0..3 {
+            d[y * 6 + 2] = 200;
+            d[y * 6 + 3] = 200;
+        }
+        let t = [10u8, 200, 10, 10, 200, 10, 10, 200, 10];
+        let m = best_match(Method::Ssd, &v(&d, 6, 3), &v(&t, 3, 3)).unwrap();
+        assert_eq!((m.x, m.y), (1, 0));
+        assert_eq!(m.sub_x, 1.5);
+    }
+
+    #[test]
+    fn decimated_scales_back() {
+        // 8x8 window with a single bright 2x2 block at (4,4); template 4x4 with the block
+        // at (2,2): at 25 % the match is at decimated (1,1) = full (2,2).
+        let mut w = [0u8; 64];
+        let mut t = [0u8; 16];
+        for (y, x) in [(4, 4), (4, 5), (5, 4), (5, 5)] {
+            w[y * 8 + x] = 255;
+        }
+        for (y, x) in [(2, 2), (2, 3), (3, 2), (3, 3)] {
+            t[y * 4 + x] = 255;
+        }
+        let m = best_match_decimated(Method::Ssd, &v(&w, 8, 8), &v(&t, 4, 4)).unwrap();
+        assert_eq!((m.x, m.y, m.score), (2, 2, 0.0));
+        let full = best_match(Method::Ncc, &v(&w, 8, 8), &v(&t, 4, 4)).unwrap();
+        assert_eq!((full.x, full.y), (2, 2));
+        assert!((full.score - 1.0).abs() < 1e-12);
+    }
+}

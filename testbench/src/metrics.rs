@@ -1,0 +1,122 @@
+//! Tracking figures against ground truth, as the thesis defines them: RMS position error
+//! (Figs. 2.9, 4.4-4.6), rate of loss-of-tracking (RLT, 3.4), and the lock-on, tracking and
+//! recovery times of equations 2.1-2.3 (Table 2.3).
+use crate::commands::CliError;
+use crate::scene::Truth;
+use crate::system::RunLog;
+
+/// Errors beyond this many pixels count as lost (for RLT).
+pub const LOST_PX: f64 = 3.0;
+
+/// The figures of one run.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Summary {
+    /// Frames in the run.
+    pub frames: usize,
+    /// Frames with the tracked point inside the image.
+    pub visible: usize,
+    /// Position reports compared with the truth.
+    pub reports: usize,
+    /// RMS of the reports' position error, pixels.
+    pub rms: f64,
+    /// Mean error along x and y (signed), pixels.
+    pub mean_x: f64,
+    /// Mean error along y.
+    pub mean_y: f64,
+    /// Share of visible frames not tracked, or tracked more than [`LOST_PX`] off.
+    pub rlt: f64,
+    /// Eq. 2.1: from the first frame with the target visible to the first report, seconds.
+    pub lock_on: Option<f64>,
+    /// Eq. 2.2: mean interval between consecutive reports while tracking, seconds.
+    pub tracking: Option<f64>,
+    /// Eq. 2.3: mean time from a loss to the next report, seconds.
+    pub recovery: Option<f64>,
+}
+
+/// Reads a `groundtruth.csv` written by `coopwin scene`.
+pub fn read_truth(path: &std::path::Path) -> Result<Vec<Truth>, CliError> {
+    let text = std::fs::read_to_string(path).map_err(|e| crate::commands::io_error("read", path, e))?;
+    let mut out = Vec::new();
+    for (i, line) in text.lines().enumerate().skip(1) {
+        let f: Vec<&str> = line.split(',').collect();
+        let num = |k: usize| -> Result<f64, CliError> {
+            f.get(k)
+                .and_then(|s| s.trim().parse::<f64>().ok())
+                .ok_or_else(|| CliError(format!("{}: line {}: bad field {}", path.display(), i + 1, k + 1)))
+        };
+        out.push(Truth {
+            frame: num(0)? as usize,
+            centre: (num(1)?, num(2)?),
+            corner: (num(3)?, num(4)?),
+            visible: num(5)? != 0.0,
+        });
+    }
+    Ok(out)
+}
+
+/// Compares a run with the truth. The tracked point is a fixed point of the rigid part: with
+/// a given target its offset from the corner is known from frame 0; otherwise it is taken
+/// from the first report (the figures then measure jitter and drift, not absolute position).
+pub fn summarise(log: &RunLog, truth: &[Truth], target_given: bool) -> Summary {
+    let period = log.frame_period;
+    let offset = initial_offset(log, truth, target_given);
+    let err = |frame: usize, x: f64, y: f64| -> Option<(f64, f64)> {
+        let t = truth.get(frame)?;
+        Some((x - t.corner.0 - offset.0, y - t.corner.1 - offset.1))
+    };
+    let errs: Vec<(f64, f64)> = log
+        .reports
+        .iter()
+        .filter_map(|r| err(r.frame, f64::from(r.point.x), f64::from(r.point.y)))
+        .collect();
+    let n = errs.len().max(1) as f64;
+    let rms = (errs.iter().map(|e| e.0 * e.0 + e.1 * e.1).sum::<f64>() / n).sqrt();
+    let visible: Vec<usize> = (0..log.frames.len()).filter(|&k| truth.get(k).is_some_and(|t| t.visible)).collect();
+    let lost = visible
+        .iter()
+        .filter(|&&k| {
+            let r = &log.frames[k];
+            match (r.point, r.measured_frame) {
+                (Some((x, y)), Some(m)) => err(m, x, y).is_none_or(|e| e.0.hypot(e.1) > LOST_PX),
+                _ => true,
+            }
+        })
+        .count();
+    let first_visible = visible.first().map(|&k| k as f64 * period);
+    let lock_on = match (first_visible, log.reports.first()) {
+        (Some(v), Some(r)) => Some((r.t - v).max(0.0)),
+        _ => None,
+    };
+    let gaps: Vec<f64> = log.reports.windows(2).map(|w| w[1].t - w[0].t).filter(|&g| g < 4.0 * period).collect();
+    let recoveries: Vec<f64> = log
+        .losses
+        .iter()
+        .filter_map(|&l| log.reports.iter().find(|r| r.t > l).map(|r| r.t - l))
+        .collect();
+    let mean = |v: &[f64]| (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64);
+    Summary {
+        frames: log.frames.len(),
+        visible: visible.len(),
+        reports: errs.len(),
+        rms,
+        mean_x: errs.iter().map(|e| e.0).sum::<f64>() / n,
+        mean_y: errs.iter().map(|e| e.1).sum::<f64>() / n,
+        rlt: if visible.is_empty() { 0.0 } else { lost as f64 / visible.len() as f64 },
+        lock_on,
+        tracking: mean(&gaps),
+        recovery: mean(&recoveries),
+    }
+}
+
+/// The tracked point's offset from the part's corner (see [`summarise`]).
+fn initial_offset(log: &RunLog, truth: &[Truth], target_given: bool) -> (f64, f64) {
+    let first = log.reports.first();
+    match (target_given, first, truth.first()) {
+        (true, _, Some(t0)) => log.target.map(|(x, y)| (x - t0.corner.0, y - t0.corner.1)).unwrap_or_default(),
+        (false, Some(r), _) => truth
+            .get(r.frame)
+            .map(|t| (f64::from(r.point.x) - t.corner.0, f64::from(r.point.y) - t.corner.1))
+            .unwrap_or_default(),
+        _ => (0.0, 0.0),
+    }
+}
