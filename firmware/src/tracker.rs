@@ -678,7 +678,8 @@ impl<'b> Spmf<'b> {
         self.mode
     }
 
-    /// The window of the current mode arrived.
+    /// The window of the current mode arrived. The sub-processors' messages are handed over
+    /// at once; the mode follows the window finally requested.
     pub fn on_window(&mut self, win: &WindowView<'_>, t: f64) -> Step {
         let step = match self.mode {
             Mode::Watch => self.watch.on_window(win),
@@ -688,31 +689,36 @@ impl<'b> Spmf<'b> {
         let mut out = Step::new(step.work);
         out.report = step.report;
         out.request = step.request;
-        for (_, m) in &step.sends {
-            let inner = match m {
+        let mut mode = self.mode;
+        let mut queue: heapless::Deque<Msg, 8> = heapless::Deque::new();
+        for (_, m) in step.sends {
+            let _ = queue.push_back(m);
+        }
+        while let Some(m) = queue.pop_front() {
+            let (inner, inner_mode) = match &m {
                 Msg::Template(_) => {
-                    let _ = self.foveal.on_message(m, t);
-                    self.peripheral.on_message(m)
+                    let _ = self.foveal.on_message(&m, t);
+                    (self.peripheral.on_message(&m), None)
                 }
-                Msg::Motion { .. } | Msg::Lost(_) => {
-                    self.mode = Mode::Detect;
-                    self.peripheral.on_message(m)
-                }
-                Msg::Approx(_) => {
-                    self.mode = Mode::Track;
-                    self.foveal.on_message(m, t)
-                }
-                _ => Step::new(Work::None),
+                Msg::Motion { .. } | Msg::Lost(_) => (self.peripheral.on_message(&m), Some(Mode::Detect)),
+                Msg::Approx(_) => (self.foveal.on_message(&m, t), Some(Mode::Track)),
+                _ => (Step::new(Work::None), None),
             };
-            if inner.request.is_some() {
-                out.request = inner.request;
+            if let (Some(r), Some(im)) = (inner.request, inner_mode) {
+                out.request = Some(r);
+                mode = im;
+            }
+            for (_, m2) in inner.sends {
+                let _ = queue.push_back(m2);
             }
         }
-        if self.mode == Mode::Detect && out.request.is_none() {
-            // Detection gave up: back to the whole frame.
-            self.mode = Mode::Watch;
+        if out.request.is_none() {
+            // Nothing to locate or track: back to watching the whole frame.
+            mode = Mode::Watch;
+            self.peripheral.state = PState::Idle;
             out.request = self.watch.start().request;
         }
+        self.mode = mode;
         out
     }
 }

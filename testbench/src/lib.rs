@@ -2,7 +2,9 @@
 //! and the `coopwin` command that runs them.
 pub mod commands;
 pub mod cost;
+pub mod experiments;
 pub mod metrics;
+pub mod plot;
 pub mod report;
 pub mod scene;
 pub mod system;

@@ -19,7 +19,9 @@ const EXAMPLES: &str = "Examples:
   coopwin waves --out waves/run.vcd            simulate one acquisition, VCD + Appendix B SVGs
   coopwin waves --out w.vcd --window 10,40,20,50 --frames 2
   coopwin scene --path triangle --speed 100 --frames 300 --lighting ramp --out scenes/tri
-  coopwin track --frames scenes/tri --strategy coop --target 56,56 --out tri.csv";
+  coopwin track --frames scenes/tri --strategy coop --target 56,56 --out tri.csv
+  coopwin experiment table-4.1 --out results
+  coopwin                                      the main job: COOP on the built-in scene";
 
 #[derive(Subcommand)]
 enum Command {
@@ -98,6 +100,17 @@ enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+    /// Reproduce a table or figure of the thesis (CSV, SVG/PNG chart, markdown)
+    Experiment {
+        /// table-2.3, fig-2.9, fig-2.10, fig-3.5, fig-3.7, fig-3.10, table-4.1, or all
+        name: String,
+        /// Output folder
+        #[arg(long)]
+        out: PathBuf,
+        /// Processor speeds
+        #[arg(long, value_enum, default_value_t = ProfileArg::C40)]
+        profile: ProfileArg,
+    },
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -134,7 +147,30 @@ enum LightingArg {
 
 fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
-        None => Err(CliError("no command given; see `coopwin --help`".into())),
+        None => coopwin_testbench::commands::main_job::run(&PathBuf::from("report")),
+        Some(Command::Experiment { name, out, profile }) => {
+            let cost = match profile {
+                ProfileArg::C40 => CostModel::C40,
+                ProfileArg::Native => CostModel::NATIVE,
+            };
+            let names: Vec<&str> = if name == "all" {
+                coopwin_testbench::experiments::NAMES.to_vec()
+            } else {
+                vec![name.as_str()]
+            };
+            let mut all = String::from("# Experiments\n\n");
+            for n in names {
+                eprintln!("experiment {n}");
+                let o = coopwin_testbench::experiments::run(n, &out, cost, &mut |s| eprintln!("  {s}"))
+                    .map_err(CliError)?;
+                println!("{}", o.markdown);
+                all.push_str(&o.markdown);
+            }
+            let p = out.join("results.md");
+            std::fs::write(&p, all).map_err(|e| coopwin_testbench::commands::io_error("write", &p, e))?;
+            println!("wrote {}", p.display());
+            Ok(())
+        }
         Some(Command::Verilog { out, units }) => {
             for p in hardware::verilog(&out, units)? {
                 println!("wrote {}", p.display());
@@ -197,6 +233,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 },
                 coop_n,
                 target,
+                model: None,
                 pixel_clock_hz: coopwin_hdl::camera::CA_D1_PIXEL_CLOCK_HZ,
             };
             let started = std::time::Instant::now();

@@ -25,7 +25,8 @@ pub struct Summary {
     pub mean_y: f64,
     /// Share of visible frames not tracked, or tracked more than [`LOST_PX`] off.
     pub rlt: f64,
-    /// Eq. 2.1: from the first frame with the target visible to the first report, seconds.
+    /// Eq. 2.1: from the target entering the field of view to the first report after it,
+    /// seconds, averaged over every entry.
     pub lock_on: Option<f64>,
     /// Eq. 2.2: mean interval between consecutive reports while tracking, seconds.
     pub tracking: Option<f64>,
@@ -54,12 +55,13 @@ pub fn read_truth(path: &std::path::Path) -> Result<Vec<Truth>, CliError> {
     Ok(out)
 }
 
-/// Compares a run with the truth. The tracked point is a fixed point of the rigid part: with
-/// a given target its offset from the corner is known from frame 0; otherwise it is taken
-/// from the first report (the figures then measure jitter and drift, not absolute position).
-pub fn summarise(log: &RunLog, truth: &[Truth], target_given: bool) -> Summary {
+/// Compares a run with the truth. The tracked point is a fixed point of the rigid part: when
+/// the template's point was known before the run, its offset from the corner is known;
+/// otherwise it is taken from the first report (the figures then measure jitter and drift,
+/// not absolute position).
+pub fn summarise(log: &RunLog, truth: &[Truth]) -> Summary {
     let period = log.frame_period;
-    let offset = initial_offset(log, truth, target_given);
+    let offset = initial_offset(log, truth);
     let err = |frame: usize, x: f64, y: f64| -> Option<(f64, f64)> {
         let t = truth.get(frame)?;
         Some((x - t.corner.0 - offset.0, y - t.corner.1 - offset.1))
@@ -82,11 +84,12 @@ pub fn summarise(log: &RunLog, truth: &[Truth], target_given: bool) -> Summary {
             }
         })
         .count();
-    let first_visible = visible.first().map(|&k| k as f64 * period);
-    let lock_on = match (first_visible, log.reports.first()) {
-        (Some(v), Some(r)) => Some((r.t - v).max(0.0)),
-        _ => None,
-    };
+    let entries: Vec<f64> = (0..truth.len().min(log.frames.len()))
+        .filter(|&k| truth[k].visible && (k == 0 || !truth[k - 1].visible))
+        .map(|k| k as f64 * period)
+        .collect();
+    let locks: Vec<f64> =
+        entries.iter().filter_map(|&e| log.reports.iter().find(|r| r.t >= e).map(|r| r.t - e)).collect();
     let gaps: Vec<f64> = log.reports.windows(2).map(|w| w[1].t - w[0].t).filter(|&g| g < 4.0 * period).collect();
     let recoveries: Vec<f64> = log
         .losses
@@ -102,21 +105,19 @@ pub fn summarise(log: &RunLog, truth: &[Truth], target_given: bool) -> Summary {
         mean_x: errs.iter().map(|e| e.0).sum::<f64>() / n,
         mean_y: errs.iter().map(|e| e.1).sum::<f64>() / n,
         rlt: if visible.is_empty() { 0.0 } else { lost as f64 / visible.len() as f64 },
-        lock_on,
+        lock_on: mean(&locks),
         tracking: mean(&gaps),
         recovery: mean(&recoveries),
     }
 }
 
 /// The tracked point's offset from the part's corner (see [`summarise`]).
-fn initial_offset(log: &RunLog, truth: &[Truth], target_given: bool) -> (f64, f64) {
-    let first = log.reports.first();
-    match (target_given, first, truth.first()) {
-        (true, _, Some(t0)) => log.target.map(|(x, y)| (x - t0.corner.0, y - t0.corner.1)).unwrap_or_default(),
-        (false, Some(r), _) => truth
-            .get(r.frame)
-            .map(|t| (f64::from(r.point.x) - t.corner.0, f64::from(r.point.y) - t.corner.1))
-            .unwrap_or_default(),
-        _ => (0.0, 0.0),
-    }
+fn initial_offset(log: &RunLog, truth: &[Truth]) -> (f64, f64) {
+    let known = log.reference.and_then(|(k, (x, y))| truth.get(k).map(|t| (x - t.corner.0, y - t.corner.1)));
+    let first = || {
+        let r = log.reports.first()?;
+        let t = truth.get(r.frame)?;
+        Some((f64::from(r.point.x) - t.corner.0, f64::from(r.point.y) - t.corner.1))
+    };
+    known.or_else(first).unwrap_or_default()
 }

@@ -26,6 +26,9 @@ pub enum Strategy {
     Coop,
     /// TPDF with the corner detector as the Foveal algorithm (Table 4.1's CD).
     TpdfCd,
+    /// The corner detector's Foveal window alone, with nothing to recover a loss (Fig. 3.7's
+    /// single-window approach).
+    SingleCd,
 }
 
 impl Strategy {
@@ -37,6 +40,7 @@ impl Strategy {
             Strategy::Mpdf => "mpdf",
             Strategy::Coop => "coop",
             Strategy::TpdfCd => "cd",
+            Strategy::SingleCd => "single-cd",
         }
     }
 }
@@ -52,8 +56,13 @@ pub struct SystemConfig {
     pub params: Params,
     /// COOP's data set size n.
     pub coop_n: usize,
-    /// The point to track, given; otherwise the Watch mode finds the moving object.
+    /// The point to track, given (its template is cut from frame 0); otherwise the Watch
+    /// mode finds the moving object.
     pub target: Option<(f64, f64)>,
+    /// Without a target: the template as a stored model of the part, cut from this frame at
+    /// this point; the Watch mode still has to find where the part is. Without either, the
+    /// Watch processor cuts the template where it first sees motion.
+    pub model: Option<(usize, (f64, f64))>,
     /// Pixel clock in Hz.
     pub pixel_clock_hz: f64,
 }
@@ -99,8 +108,9 @@ pub struct RunLog {
     pub windows: Vec<usize>,
     /// Frame period in seconds.
     pub frame_period: f64,
-    /// The target given at the start, if any.
-    pub target: Option<(f64, f64)>,
+    /// The frame and point the template was cut at, if known before the run: the tracked
+    /// point is that point of the part.
+    pub reference: Option<(usize, (f64, f64))>,
 }
 
 /// Frames by index, as the run needs them (in nearly increasing order).
@@ -155,14 +165,16 @@ pub fn run(cfg: &SystemConfig, source: &mut dyn FrameSource, progress: &mut dyn 
     let clock = 1.0 / cfg.pixel_clock_hz;
     let params = Params { frame_w: w as u16, frame_h: h as u16, ..cfg.params };
 
-    // The template, when the target is given: the N x N block of frame 0 nearest it.
+    // The template: the N x N block nearest the target in frame 0, or the stored model.
     let target = cfg.target.map(|(x, y)| Point { x: x as f32, y: y as f32 });
-    let template = match target {
-        Some(p) => {
-            let f0 = source.frame(0)?;
-            let view = WindowView::packed(f0, w, h).map_err(|e| format!("frame 0: {e:?}"))?;
+    let reference = cfg.target.map(|t| (0, t)).or(cfg.model);
+    let template = match reference {
+        Some((k, (x, y))) => {
+            let f = source.frame(k)?;
+            let view = WindowView::packed(f, w, h).map_err(|e| format!("frame {k}: {e:?}"))?;
+            let p = Point { x: x as f32, y: y as f32 };
             Some(Template::capture(&view, p, params.template as usize).ok_or_else(|| {
-                format!("the {0}x{0} template around the target does not fit in the frame", params.template)
+                format!("the {0}x{0} template around ({x}, {y}) does not fit in the frame", params.template)
             })?)
         }
         None => None,
@@ -195,6 +207,7 @@ pub fn run(cfg: &SystemConfig, source: &mut dyn FrameSource, progress: &mut dyn 
             }
             v
         }
+        Strategy::SingleCd => vec![Proc::Foveal(foveal(FovealKind::Cd)?)],
         Strategy::Mpdf => vec![
             Proc::Watch(Watch::new(top, &mut b0[0], params, known)),
             Proc::Watch(Watch::new(bottom, &mut b1[0], params, known)),
@@ -212,7 +225,7 @@ pub fn run(cfg: &SystemConfig, source: &mut dyn FrameSource, progress: &mut dyn 
     let np = procs.len();
     let mut pending: Vec<Option<(WindowRequest, f64)>> = vec![None; np];
     let mut free_at = vec![f64::MIN; np];
-    let mut log = RunLog { windows: vec![0; np], frame_period: period, target: cfg.target, ..RunLog::default() };
+    let mut log = RunLog { windows: vec![0; np], frame_period: period, reference, ..RunLog::default() };
     let mut q = Queue { heap: BinaryHeap::new(), events: Vec::new(), seq: 0 };
     let t_start = -period / 2.0;
     // Writing a set: four bytes at about five clocks each (the handshake of hdl/coord_port).

@@ -153,7 +153,7 @@ pub fn track(dir: &Path, cfg: &SystemConfig) -> Result<(RunLog, Option<Summary>)
     let truth_path = dir.join("groundtruth.csv");
     let summary = if truth_path.exists() {
         let truth = metrics::read_truth(&truth_path)?;
-        Some(metrics::summarise(&log, &truth, cfg.target.is_some()))
+        Some(metrics::summarise(&log, &truth))
     } else {
         None
     };

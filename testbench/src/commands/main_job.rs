@@ -1,0 +1,65 @@
+//! The main job (`coopwin` with no arguments): COOP on the built-in default scene, the
+//! thesis's cooperative-windowing experiment (4.4), next to NCC and CD alone.
+use super::CliError;
+use crate::cost::CostModel;
+use crate::experiments::{run_scene, system, triangle};
+use crate::plot::{self, Chart, Series};
+use crate::report::summary_table;
+use crate::scene::{Scene, SceneConfig};
+use crate::system::Strategy;
+use std::path::Path;
+
+/// The built-in scene: the triangular path at 40 px/s under the lamp change of Fig. 4.2.
+pub fn default_scene() -> SceneConfig {
+    SceneConfig { lighting_ramp: true, ..triangle(40.0, 4) }
+}
+
+/// Runs COOP (and NCC, CD for comparison) on the default scene, prints the summary and
+/// writes `out/` with the per-frame CSV, the summary and the error plot.
+pub fn run(out: &Path) -> Result<(), CliError> {
+    let scene = default_scene();
+    let target = Scene::new(scene.clone()).truth(0).corner;
+    println!(
+        "coopwin: COOP on the built-in scene ({} frames, triangle path at {} px/s, lamp ramp), c40 timing",
+        scene.frames, scene.speed
+    );
+    std::fs::create_dir_all(out).map_err(|e| super::io_error("create", out, e))?;
+    let mut rows = Vec::new();
+    let mut logs = Vec::new();
+    for (label, strategy) in [("COOP", Strategy::Coop), ("NCC (TPDF)", Strategy::Tpdf), ("CD (TPDF)", Strategy::TpdfCd)] {
+        let started = std::time::Instant::now();
+        let (log, m) = run_scene(&system(strategy, CostModel::C40, Some(target)), scene.clone()).map_err(CliError)?;
+        let fps = log.frames.len() as f64 / started.elapsed().as_secs_f64().max(1e-9);
+        rows.push((label, m, fps));
+        logs.push((label, log));
+    }
+    let table = summary_table(&rows.iter().map(|(l, m, _)| (*l, *m)).collect::<Vec<_>>());
+    println!("{table}");
+    for (label, _, fps) in &rows {
+        println!("{label}: {fps:.0} frames/s of simulation");
+    }
+    let truth: Vec<_> = (0..scene.frames).map(|k| Scene::new(scene.clone()).truth(k)).collect();
+    let err_series = |label: &str, log: &crate::system::RunLog| Series {
+        label: label.to_string(),
+        points: log
+            .reports
+            .iter()
+            .filter_map(|r| {
+                let t = truth.get(r.frame)?;
+                Some((r.frame as f64, Some((f64::from(r.point.x) - t.corner.0).hypot(f64::from(r.point.y) - t.corner.1))))
+            })
+            .collect(),
+    };
+    let chart = Chart {
+        title: "Position error per update on the default scene".into(),
+        x_label: "frame".into(),
+        y_label: "error (px)".into(),
+        series: logs.iter().map(|(l, log)| err_series(l, log)).collect(),
+        y_range: None,
+    };
+    plot::write(&chart, out, "error").map_err(CliError)?;
+    super::track::write_atomic(&out.join("coop.csv"), &super::track::csv(&logs[0].1.frames))?;
+    std::fs::write(out.join("summary.md"), &table).map_err(|e| super::io_error("write", &out.join("summary.md"), e))?;
+    println!("wrote {0}/coop.csv, {0}/summary.md, {0}/error.svg, {0}/error.png", out.display());
+    Ok(())
+}

@@ -1,0 +1,86 @@
+//! The `coopwin` binary's error paths and outputs, run as a user would.
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn coopwin(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_coopwin")).args(args).output().expect("run coopwin");
+    (out.status.success(), String::from_utf8_lossy(&out.stdout).into(), String::from_utf8_lossy(&out.stderr).into())
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn one_error_line(stderr: &str) {
+    let lines: Vec<&str> = stderr.lines().filter(|l| !l.trim().is_empty()).collect();
+    assert_eq!(lines.len(), 1, "{stderr}");
+    assert!(lines[0].starts_with("error: "), "{stderr}");
+    assert!(!stderr.contains("panicked"));
+}
+
+fn track_fails(dir: &Path, expect: &str) {
+    let out = dir.join("out.csv");
+    let (ok, _, err) = coopwin(&["track", "--frames", dir.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert!(!ok);
+    one_error_line(&err);
+    assert!(err.contains(expect), "{err}");
+    assert!(!out.exists(), "nothing half-written");
+}
+
+#[test]
+fn track_refuses_bad_folders_with_one_clear_line() {
+    let d = scratch("cli_missing");
+    track_fails(&d.join("nope"), "cannot read the frames folder");
+    track_fails(&d, "no PNG frames");
+    let mixed = scratch("cli_mixed");
+    image::GrayImage::new(64, 64).save(mixed.join("a.png")).unwrap();
+    image::GrayImage::new(80, 64).save(mixed.join("b.png")).unwrap();
+    track_fails(&mixed, "mixed frame sizes");
+    let corrupt = scratch("cli_corrupt");
+    image::GrayImage::new(64, 64).save(corrupt.join("a.png")).unwrap();
+    std::fs::write(corrupt.join("b.png"), b"not a png").unwrap();
+    track_fails(&corrupt, "not a readable PNG");
+    let tiny = scratch("cli_tiny");
+    image::GrayImage::new(32, 32).save(tiny.join("a.png")).unwrap();
+    track_fails(&tiny, "64x64 to 1024x1024");
+}
+
+#[test]
+fn scene_then_track_writes_the_csv_with_the_documented_columns() {
+    let d = scratch("cli_scene");
+    let frames = d.join("frames");
+    let (ok, _, err) = coopwin(&["scene", "--path", "triangle", "--frames", "40", "--speed", "50", "--out", frames.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    let truth = std::fs::read_to_string(frames.join("groundtruth.csv")).unwrap();
+    let first: Vec<f64> = truth.lines().nth(1).unwrap().split(',').map(|v| v.parse().unwrap()).collect();
+    let target = format!("{},{}", first[3], first[4]);
+    let csv = d.join("t.csv");
+    let (ok, out, err) = coopwin(&[
+        "track", "--frames", frames.to_str().unwrap(), "--strategy", "tpdf", "--target", &target, "--out", csv.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(out.contains("| tpdf |"), "summary printed: {out}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next().unwrap(), "frame,x,y,mode,source,measured_frame");
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 40);
+    assert!(rows.iter().any(|r| r[3] == "track" && r[4] == "ncc" && !r[1].is_empty()));
+}
+
+#[test]
+fn bad_arguments_exit_non_zero() {
+    for args in [
+        vec!["waves", "--out", "x.vcd", "--window", "5,5,1,2"],
+        vec!["verilog", "--out", "/tmp/x", "--units", "0"],
+        vec!["experiment", "fig-9.9", "--out", "/tmp/x"],
+        vec!["track", "--frames", "/tmp", "--coop-n", "12"],
+    ] {
+        let (ok, _, err) = coopwin(&args);
+        assert!(!ok, "{args:?}");
+        assert!(!err.contains("panicked"), "{err}");
+    }
+}
