@@ -27,6 +27,8 @@ use crate::view::WindowView;
 /// 24x24).
 pub const MAX_DIM: usize = 64;
 const CAP: usize = MAX_DIM * MAX_DIM;
+/// Pixels of a window padded by one pixel on each side (labelling frame).
+const PCAP: usize = (MAX_DIM + 2) * (MAX_DIM + 2);
 
 /// Golden ratio conjugate used by the Golden Section Search (thesis 3.3: the middle
 /// point sits 0.38 from one end and 0.62 from the other).
@@ -213,8 +215,9 @@ pub struct Components {
 
 /// Pixel labelling (thesis 3.2.1): labels the non-zero pixels of the `w x h` binary
 /// `map` by 8-connectivity and clears every pixel not in the most populous component
-/// (ties: first in raster order). `labels` and `stack` are scratch of at least `w*h`
-/// entries; `None` if they are too short, `map` is too short, or `w*h > 65535`.
+/// (ties: first in raster order). `labels` and `stack` are scratch of at least
+/// `(w+2)·(h+2)` entries (a padded frame); `None` if they or `map` are too short, or
+/// `(w+2)·(h+2) > 65535`.
 pub fn keep_largest_component(
     map: &mut [u8],
     w: usize,
@@ -222,20 +225,33 @@ pub fn keep_largest_component(
     labels: &mut [u16],
     stack: &mut [u16],
 ) -> Option<Components> {
-    let n = w.checked_mul(h)?;
-    if n > usize::from(u16::MAX) {
+    // Labels live in a frame padded by one background pixel on every side, so the eight
+    // neighbours of any pixel are at fixed offsets and need no border tests.
+    let pw = w.checked_add(2)?;
+    let pn = pw.checked_mul(h.checked_add(2)?)?;
+    if pn > usize::from(u16::MAX) {
         return None;
     }
-    let map = map.get_mut(..n)?;
-    let labels = labels.get_mut(..n)?;
-    let stack = stack.get_mut(..n)?;
+    let map = map.get_mut(..w * h)?;
+    let labels = labels.get_mut(..pn)?;
+    let stack = stack.get_mut(..pn)?;
+    // Background 0, unvisited foreground UNSEEN, then component labels 1, 2, ...
+    const UNSEEN: u16 = u16::MAX;
     labels.iter_mut().for_each(|l| *l = 0);
-    let recip = (1u64 << 32) / (w.max(1) as u64) + 1;
+    if w > 0 {
+        for (src, dst) in map.chunks_exact(w).zip(labels.chunks_exact_mut(pw).skip(1)) {
+            for (d, &v) in dst.iter_mut().skip(1).zip(src) {
+                *d = if v != 0 { UNSEEN } else { 0 };
+            }
+        }
+    }
+    let offsets = [pw + 1, pw, pw - 1, 1];
     let (mut next, mut best, mut best_area) = (0u16, 0u16, 0u32);
-    for start in 0..n {
-        if map[start] == 0 || labels[start] != 0 {
+    for start in pw..pn - pw {
+        if labels.get(start) != Some(&UNSEEN) {
             continue;
         }
+        // At most (w·h + 1) / 2 components, so labels stay below UNSEEN.
         next += 1;
         labels[start] = next;
         stack[0] = start as u16;
@@ -244,17 +260,12 @@ pub fn keep_largest_component(
             sp -= 1;
             let i = usize::from(stack[sp]);
             area += 1;
-            // i / w by multiply-shift (a hardware divide per pixel dominated the fill):
-            // with m = floor(2³²/w) + 1 the quotient is exact for i·w < 2³², which holds
-            // as i < n <= 65535 and w <= n.
-            let y = ((i as u64 * recip) >> 32) as usize;
-            let x = i - y * w;
-            for ny in y.saturating_sub(1)..(y + 2).min(h) {
-                for nx in x.saturating_sub(1)..(x + 2).min(w) {
-                    let j = ny * w + nx;
-                    if map[j] != 0 && labels[j] == 0 {
-                        labels[j] = next;
-                        // Each pixel is pushed once, so sp < n always.
+            // i is an interior pixel of the padded frame: i ± (pw + 1) is inside it.
+            for j in offsets.iter().flat_map(|&o| [i - o, i + o]) {
+                if let Some(l) = labels.get_mut(j) {
+                    if *l == UNSEEN {
+                        *l = next;
+                        // Each pixel is pushed once, so sp < pn always.
                         if let Some(s) = stack.get_mut(sp) {
                             *s = j as u16;
                             sp += 1;
@@ -268,13 +279,14 @@ pub fn keep_largest_component(
             best_area = area;
         }
     }
-    for (m, &l) in map.iter_mut().zip(labels.iter()) {
-        *m = u8::from(l != 0 && l == best);
+    if w > 0 {
+        for (dst, src) in map.chunks_exact_mut(w).zip(labels.chunks_exact(pw).skip(1)) {
+            for (m, &l) in dst.iter_mut().zip(src.iter().skip(1)) {
+                *m = u8::from(l != 0 && l == best);
+            }
+        }
     }
-    Some(Components {
-        num_labels: u32::from(next) + 1,
-        largest_area: best_area,
-    })
+    Some(Components { num_labels: u32::from(next) + 1, largest_area: best_area })
 }
 
 /// Morphological opening (thesis 3.2.2) of the `w x h` binary `map` with the 3x3
@@ -520,8 +532,8 @@ fn gss_corner(
 pub struct CornerDetector {
     edges: [u8; CAP],
     tmp: [u8; CAP],
-    labels: [u16; CAP],
-    stack: [u16; CAP],
+    labels: [u16; PCAP],
+    stack: [u16; PCAP],
     w: usize,
     h: usize,
     edge_pixels: u32,
@@ -539,8 +551,8 @@ impl CornerDetector {
         Self {
             edges: [0; CAP],
             tmp: [0; CAP],
-            labels: [0; CAP],
-            stack: [0; CAP],
+            labels: [0; PCAP],
+            stack: [0; PCAP],
             w: 0,
             h: 0,
             edge_pixels: 0,
@@ -698,7 +710,7 @@ mod tests {
     #[test]
     fn largest_component_8_connected() {
         let (mut m, w, h) = map(&["#..##", ".#..#", "....#", "##..."]);
-        let (mut l, mut s) = ([0u16; 64], [0u16; 64]);
+        let (mut l, mut s) = ([0u16; 64], [0u16; 64]); // (5+2)·(4+2) = 42 entries
         let c = keep_largest_component(&mut m, w, h, &mut l, &mut s).unwrap();
         // Components: {(0,0),(1,1)} (diagonal), {(3,0),(4,0),(4,1),(4,2)}, {(0,3),(1,3)}.
         assert_eq!(

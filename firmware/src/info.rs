@@ -1,7 +1,7 @@
 //! Information content measures for the corner detector (thesis 3.4.1).
 //!
 //! The thesis defines the edge-pixel information content `I = -log2 P` (eq. 3.2, after
-//! [Bhanu86]) with `P` "the probability of possible pictures made up of edge pixels",
+//! \[Bhanu86\]) with `P` "the probability of possible pictures made up of edge pixels",
 //! without saying how `P` is computed. This module makes it explicit:
 //!
 //! * each of the `N` window pixels is independently an edge with probability `p`;

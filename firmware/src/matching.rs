@@ -233,14 +233,15 @@ const STRIP_CAP: usize = 4096;
 /// placement instead of one per template row. The copy costs `tw` bytes per window row
 /// and placement column, far less than the `tw·th` multiply-adds per placement.
 ///
-/// `None` (use the other paths) when the template is not packed, the strip or the
-/// placement count exceed their capacities, or `tw·th > 65536` (u32 sums could overflow).
+/// `None` (use the other paths) when the template is not packed, or the strip or the
+/// placement count exceed their capacities.
 fn strip_dot_products(win: &WindowView<'_>, tpl: &WindowView<'_>) -> Option<Vec<u32, SCORE_CACHE>> {
     let (tw, th, ww, wh) = (tpl.width(), tpl.height(), win.width(), win.height());
     let nx = ww.checked_sub(tw)? + 1;
     let ny = wh.checked_sub(th)? + 1;
     let n = tw.checked_mul(th)?;
-    if nx * ny > SCORE_CACHE || tw.checked_mul(wh)? > STRIP_CAP || n > 65536 {
+    // n = tw·th <= tw·wh <= STRIP_CAP, so the u32 sums of dot_long cannot overflow.
+    if nx * ny > SCORE_CACHE || tw.checked_mul(wh)? > STRIP_CAP {
         return None;
     }
     let (tdata, tstride) = tpl.raw()?;
@@ -263,9 +264,10 @@ fn strip_dot_products(win: &WindowView<'_>, tpl: &WindowView<'_>) -> Option<Vec<
     Some(dots)
 }
 
-/// `Σ a·b` of two equally long runs (`len <= 65536`, so `u32` cannot overflow). Written
-/// as 16 explicit lanes: the loop vectoriser alone picks 4-pixel vectors for a
-/// `u8·u8 -> u32` reduction on baseline x86-64, the 16-lane form gets full registers.
+/// `Σ a·b` of two equally long runs (`len <= STRIP_CAP`, so `u32` cannot overflow).
+/// Written as 16 explicit lanes: the loop vectoriser alone picks 4-pixel vectors for a
+/// `u8·u8 -> u32` reduction on baseline x86-64; the 16-lane form gets full registers
+/// and `pmaddwd`.
 #[inline(always)]
 fn dot_long(a: &[u8], b: &[u8]) -> u32 {
     let mut lanes = [0u32; 16];

@@ -84,6 +84,9 @@ pub enum Work {
 }
 
 /// A message between processors (thesis 2.3.2: "exchanging coordinates").
+// The template variant is large by nature (its pixels travel with it, as on the C40 link);
+// it is sent once per lock-on, so the enum's size costs nothing that matters.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq)]
 pub enum Msg {
     /// Watch -> Peripheral: the bounding box of the motion area, inclusive.
