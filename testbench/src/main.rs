@@ -1,6 +1,6 @@
 //! `coopwin`: the cooperative-windowing tracker's command line.
 use clap::{Parser, Subcommand};
-use coopwin_testbench::commands::{hardware, scene, track, CliError};
+use coopwin_testbench::commands::{hardware, kernels, scene, track, CliError};
 use coopwin_testbench::cost::CostModel;
 use coopwin_testbench::system::{Strategy, SystemConfig};
 use coopwin_testbench::scene::{PathKind, SceneConfig};
@@ -21,6 +21,9 @@ const EXAMPLES: &str = "Examples:
   coopwin scene --path triangle --speed 100 --frames 300 --lighting ramp --out scenes/tri
   coopwin track --frames scenes/tri --strategy coop --target 56,56 --out tri.csv
   coopwin experiment table-4.1 --out results
+  coopwin match --image window.png --template tpl.png --method ncc
+  coopwin corner --image window.png --threshold 50
+  coopwin motion --prev a.png --next b.png --threshold 30
   coopwin                                      the main job: COOP on the built-in scene";
 
 #[derive(Subcommand)]
@@ -100,6 +103,42 @@ enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+    /// Best placement of a template in an image (JSON: x, y, score, subpixel_x, subpixel_y)
+    Match {
+        /// The search image
+        #[arg(long)]
+        image: PathBuf,
+        /// The template (no larger than the image)
+        #[arg(long)]
+        template: PathBuf,
+        /// Measure: ncc and ssd as in the thesis, sad, or zero-mean ncc
+        #[arg(long, value_enum, default_value_t = MethodArg::Ncc)]
+        method: MethodArg,
+        /// Match at 25% resolution (every other pixel of every other row), as the Peripheral window
+        #[arg(long)]
+        decimate: bool,
+    },
+    /// The corner detector of chapter 3 on a window image (JSON)
+    Corner {
+        /// The window (up to 64x64)
+        #[arg(long)]
+        image: PathBuf,
+        /// Sobel magnitude threshold TH
+        #[arg(long, default_value_t = 50, value_parser = clap::value_parser!(u16).range(1..=1442))]
+        threshold: u16,
+    },
+    /// Image differencing between two frames: the motion area (JSON)
+    Motion {
+        /// Earlier frame
+        #[arg(long)]
+        prev: PathBuf,
+        /// Later frame
+        #[arg(long)]
+        next: PathBuf,
+        /// Difference threshold (a pixel moves when |next - prev| > threshold)
+        #[arg(long, default_value_t = 30)]
+        threshold: u8,
+    },
     /// Reproduce a table or figure of the thesis (CSV, SVG/PNG chart, markdown)
     Experiment {
         /// table-2.3, fig-2.9, fig-2.10, fig-3.5, fig-3.7, fig-3.10, table-4.1, or all
@@ -119,6 +158,14 @@ enum StrategyArg {
     Tpdf,
     Mpdf,
     Coop,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum MethodArg {
+    Ncc,
+    Zncc,
+    Ssd,
+    Sad,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -148,11 +195,36 @@ enum LightingArg {
 fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         None => coopwin_testbench::commands::main_job::run(&PathBuf::from("report")),
+        Some(Command::Match { image, template, method, decimate }) => {
+            use coopwin_firmware::matching::Method;
+            let m = match method {
+                MethodArg::Ncc => Method::Ncc,
+                MethodArg::Zncc => Method::Zncc,
+                MethodArg::Ssd => Method::Ssd,
+                MethodArg::Sad => Method::Sad,
+            };
+            println!("{}", kernels::match_images(&image, &template, m, decimate)?);
+            Ok(())
+        }
+        Some(Command::Corner { image, threshold }) => {
+            println!("{}", kernels::corner_image(&image, threshold)?);
+            Ok(())
+        }
+        Some(Command::Motion { prev, next, threshold }) => {
+            println!("{}", kernels::motion_images(&prev, &next, threshold)?);
+            Ok(())
+        }
         Some(Command::Experiment { name, out, profile }) => {
             let cost = match profile {
                 ProfileArg::C40 => CostModel::C40,
                 ProfileArg::Native => CostModel::NATIVE,
             };
+            if name != "all" && !coopwin_testbench::experiments::NAMES.contains(&name.as_str()) {
+                return Err(CliError(format!(
+                    "unknown experiment '{name}'; expected one of {} or all",
+                    coopwin_testbench::experiments::NAMES.join(", ")
+                )));
+            }
             let names: Vec<&str> = if name == "all" {
                 coopwin_testbench::experiments::NAMES.to_vec()
             } else {

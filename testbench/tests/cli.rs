@@ -84,3 +84,41 @@ fn bad_arguments_exit_non_zero() {
         assert!(!err.contains("panicked"), "{err}");
     }
 }
+
+#[test]
+fn kernel_commands_answer_in_json_and_refuse_bad_input() {
+    // Reference: a template cut from the image at a known place must be found there.
+    let d = scratch("cli_kernels");
+    let img = image::GrayImage::from_fn(40, 40, |x, y| image::Luma([((x * 7 + y * 13 + x * y) % 251) as u8]));
+    let tpl = image::imageops::crop_imm(&img, 9, 14, 16, 16).to_image();
+    img.save(d.join("img.png")).unwrap();
+    tpl.save(d.join("tpl.png")).unwrap();
+    for method in ["ncc", "zncc", "ssd", "sad"] {
+        let (ok, out, err) = coopwin(&["match", "--image", d.join("img.png").to_str().unwrap(), "--template", d.join("tpl.png").to_str().unwrap(), "--method", method]);
+        assert!(ok, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert_eq!((v["x"].as_u64(), v["y"].as_u64()), (Some(9), Some(14)), "{method}: {out}");
+    }
+    let (ok, _, err) = coopwin(&["match", "--image", d.join("tpl.png").to_str().unwrap(), "--template", d.join("img.png").to_str().unwrap()]);
+    assert!(!ok);
+    one_error_line(&err);
+    assert!(err.contains("larger than the image"));
+    let (ok, _, err) = coopwin(&["corner", "--image", d.join("missing.png").to_str().unwrap(), "--threshold", "50"]);
+    assert!(!ok);
+    one_error_line(&err);
+    // A bright square's top-left corner in a 24x24 window: the corner is near (8, 8).
+    let sq = image::GrayImage::from_fn(24, 24, |x, y| image::Luma([if x >= 8 && y >= 8 { 200 } else { 40 }]));
+    sq.save(d.join("sq.png")).unwrap();
+    let (ok, out, err) = coopwin(&["corner", "--image", d.join("sq.png").to_str().unwrap(), "--threshold", "50"]);
+    assert!(ok, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(v["edge_pixels"].as_u64().unwrap() > 0, "{out}");
+    // Motion: one pixel changed by more than the threshold.
+    let mut b = img.clone();
+    b.put_pixel(30, 5, image::Luma([img.get_pixel(30, 5)[0].wrapping_add(100)]));
+    b.save(d.join("b.png")).unwrap();
+    let (ok, out, err) = coopwin(&["motion", "--prev", d.join("img.png").to_str().unwrap(), "--next", d.join("b.png").to_str().unwrap(), "--threshold", "30"]);
+    assert!(ok, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!((v["xmin"].as_u64(), v["ymin"].as_u64(), v["count"].as_u64()), (Some(30), Some(5), Some(1)), "{out}");
+}

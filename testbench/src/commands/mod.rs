@@ -1,5 +1,6 @@
 //! One module per `coopwin` subcommand family; each returns a typed error the binary prints.
 pub mod hardware;
+pub mod kernels;
 pub mod main_job;
 pub mod scene;
 pub mod track;
