@@ -221,67 +221,165 @@ fn dot_placement<const N: usize>(
     lanes.iter().map(|&l| u64::from(l)).sum()
 }
 
-/// Capacity of the column strip of [`strip_dot_products`] (window height x template
-/// width pixels).
+/// Capacity, in pixels, of the column strip of [`strip_dot_products`] (window height x
+/// template width) and of its widened template copy.
 const STRIP_CAP: usize = 4096;
 
+/// Widens `src` (`u8`) into `dst` (`i16`, same length). For runs of at least 8 pixels
+/// this copies fixed 8-pixel chunks (the last one overlapping the previous, if the
+/// length is not a multiple of 8), so each chunk is one load, one unpack and one store
+/// instead of a call to a generic loop.
+#[inline(never)]
+fn widen_into(dst: &mut [i16], src: &[u8]) {
+    let n = dst.len().min(src.len());
+    if n < 8 {
+        for (d, &s) in dst.iter_mut().zip(src) {
+            *d = i16::from(s);
+        }
+        return;
+    }
+    let mut widen8 = |at: usize| {
+        if let (Some(d), Some(s)) = (dst.get_mut(at..at + 8), src.get(at..at + 8)) {
+            if let (Ok(d), Ok(s)) = (<&mut [i16; 8]>::try_from(d), <&[u8; 8]>::try_from(s)) {
+                for (d, &s) in d.iter_mut().zip(s) {
+                    *d = i16::from(s);
+                }
+            }
+        }
+    };
+    let mut at = 0;
+    while at + 8 <= n {
+        widen8(at);
+        at += 8;
+    }
+    if at < n {
+        widen8(n - 8);
+    }
+}
+
 /// `Σ R·I` of every placement, row-major, computed strip by strip: for each placement
-/// column `px` the window columns `px..px+tw` are copied into a contiguous strip, in
-/// which the patch of every placement `(px, py)` is one contiguous run of `tw·th` pixels
-/// laid out exactly like the packed template. Each dot product is then a single long
-/// `u8·u8` reduction that LLVM vectorises with `pmaddwd`, with one horizontal sum per
-/// placement instead of one per template row. The copy costs `tw` bytes per window row
-/// and placement column, far less than the `tw·th` multiply-adds per placement.
+/// column `px` the window columns `px..px+tw` are widened to `i16` into a contiguous
+/// strip, in which the patch of every placement `(px, py)` is one contiguous run of
+/// `tw·th` pixels laid out exactly like the (also widened) template. Each dot product is
+/// then a single long `i16·i16 -> i32` reduction, which LLVM turns into `pmaddwd`
+/// (16 lanes, two SSE registers) with no unpacking in the inner loop, and four
+/// placements of a column share every template load. The strip costs `tw` pixels per
+/// window row and placement column, far less than the `tw·th` multiply-adds per
+/// placement.
 ///
-/// `None` (use the other paths) when the template is not packed, or the strip or the
-/// placement count exceed their capacities.
+/// `None` (use the other paths) when the strip or the placement count exceed their
+/// capacities.
 fn strip_dot_products(win: &WindowView<'_>, tpl: &WindowView<'_>) -> Option<Vec<u32, SCORE_CACHE>> {
     let (tw, th, ww, wh) = (tpl.width(), tpl.height(), win.width(), win.height());
     let nx = ww.checked_sub(tw)? + 1;
     let ny = wh.checked_sub(th)? + 1;
     let n = tw.checked_mul(th)?;
-    // n = tw·th <= tw·wh <= STRIP_CAP, so the u32 sums of dot_long cannot overflow.
-    if nx * ny > SCORE_CACHE || tw.checked_mul(wh)? > STRIP_CAP {
+    // n = tw·th <= tw·wh <= STRIP_CAP, so the i32 sums of dot_long cannot overflow
+    // (4096 · 255² < 2³¹).
+    if nx * ny > SCORE_CACHE || tw.checked_mul(wh)? > STRIP_CAP || tw == 0 {
         return None;
     }
-    let (tdata, tstride) = tpl.raw()?;
-    if tstride != tw {
-        return None;
+    let mut tbuf = [0i16; STRIP_CAP];
+    for (v, dst) in tbuf.chunks_exact_mut(tw).take(th).enumerate() {
+        widen_into(dst, tpl.row(v)?);
     }
-    let t = tdata.get(..n)?;
+    let t = tbuf.get(..n)?;
     let mut dots: Vec<u32, SCORE_CACHE> = Vec::new();
     dots.resize(nx * ny, 0).ok()?;
-    let mut strip = [0u8; STRIP_CAP];
+    let mut strip = [0i16; STRIP_CAP];
     for px in 0..nx {
         for (y, dst) in strip.chunks_exact_mut(tw).take(wh).enumerate() {
-            dst.copy_from_slice(win.row(y)?.get(px..px + tw)?);
+            widen_into(dst, win.row(y)?.get(px..px + tw)?);
         }
-        for py in 0..ny {
+        let mut py = 0;
+        while py + 4 <= ny {
+            let s = strip.get(py * tw..(py + 3) * tw + n)?;
+            let d = dot_long4(t, s, tw);
+            for (k, &v) in d.iter().enumerate() {
+                *dots.get_mut((py + k) * nx + px)? = v as u32;
+            }
+            py += 4;
+        }
+        while py < ny {
             let patch = strip.get(py * tw..py * tw + n)?;
-            *dots.get_mut(py * nx + px)? = dot_long(t, patch);
+            *dots.get_mut(py * nx + px)? = dot_long(t, patch) as u32;
+            py += 1;
         }
     }
     Some(dots)
 }
 
-/// `Σ a·b` of two equally long runs (`len <= STRIP_CAP`, so `u32` cannot overflow).
-/// Written as 16 explicit lanes: the loop vectoriser alone picks 4-pixel vectors for a
-/// `u8·u8 -> u32` reduction on baseline x86-64; the 16-lane form gets full registers
-/// and `pmaddwd`.
-#[inline(always)]
-fn dot_long(a: &[u8], b: &[u8]) -> u32 {
-    let mut lanes = [0u32; 16];
+/// `Σ a·b` of two equally long `i16` runs of non-negative pixels (`len <= STRIP_CAP`,
+/// so `i32` cannot overflow). 16 lanes: LLVM folds the pairs into `pmaddwd`.
+#[inline(never)]
+fn dot_long(a: &[i16], b: &[i16]) -> i32 {
+    let mut lanes = [0i32; 16];
     let (ca, cb) = (a.chunks_exact(16), b.chunks_exact(16));
     let (ra, rb) = (ca.remainder(), cb.remainder());
     for (x, y) in ca.zip(cb) {
-        if let (Ok(x), Ok(y)) = (<&[u8; 16]>::try_from(x), <&[u8; 16]>::try_from(y)) {
+        if let (Ok(x), Ok(y)) = (<&[i16; 16]>::try_from(x), <&[i16; 16]>::try_from(y)) {
             for ((l, &p), &q) in lanes.iter_mut().zip(x).zip(y) {
-                *l = l.wrapping_add(u32::from(u16::from(p) * u16::from(q)));
+                *l = l.wrapping_add(i32::from(p) * i32::from(q));
             }
         }
     }
-    let tail = ra.iter().zip(rb).fold(0u32, |s, (&p, &q)| s.wrapping_add(u32::from(p) * u32::from(q)));
+    let tail = ra.iter().zip(rb).fold(0i32, |s, (&p, &q)| s.wrapping_add(i32::from(p) * i32::from(q)));
     lanes.iter().fold(tail, |s, &l| s.wrapping_add(l))
+}
+
+/// `l[k] += t[k]·a[k]` over 16 lanes.
+#[inline(always)]
+fn mac16(l: &mut [i32; 16], t: &[i16; 16], a: &[i16; 16]) {
+    for ((l, &p), &q) in l.iter_mut().zip(t).zip(a) {
+        *l = l.wrapping_add(i32::from(p) * i32::from(q));
+    }
+}
+
+/// The dot products of `t` (length `n`) with the four runs of `s` starting at `0`,
+/// `step`, `2·step` and `3·step` (`s.len() == 3·step + n`): four placements of one strip
+/// column, sharing each template chunk.
+#[inline(never)]
+fn dot_long4(t: &[i16], s: &[i16], step: usize) -> [i32; 4] {
+    let n = t.len();
+    let (Some(s0), Some(s1), Some(s2), Some(s3)) = (
+        s.get(..n),
+        s.get(step..step + n),
+        s.get(2 * step..2 * step + n),
+        s.get(3 * step..3 * step + n),
+    ) else {
+        return [0; 4];
+    };
+    let (mut l0, mut l1, mut l2, mut l3) = ([0i32; 16], [0i32; 16], [0i32; 16], [0i32; 16]);
+    let ct = t.chunks_exact(16);
+    let rem = n - ct.remainder().len();
+    let it = ct
+        .zip(s0.chunks_exact(16))
+        .zip(s1.chunks_exact(16))
+        .zip(s2.chunks_exact(16))
+        .zip(s3.chunks_exact(16));
+    for ((((tc, a), b), c), d) in it {
+        let (Ok(tc), Ok(a), Ok(b), Ok(c), Ok(d)) = (
+            <&[i16; 16]>::try_from(tc),
+            <&[i16; 16]>::try_from(a),
+            <&[i16; 16]>::try_from(b),
+            <&[i16; 16]>::try_from(c),
+            <&[i16; 16]>::try_from(d),
+        ) else {
+            continue;
+        };
+        // Four separate 16-lane accumulators (one array each): this is the shape the
+        // SLP vectoriser turns into eight `pmaddwd` per chunk.
+        mac16(&mut l0, tc, a);
+        mac16(&mut l1, tc, b);
+        mac16(&mut l2, tc, c);
+        mac16(&mut l3, tc, d);
+    }
+    let f = |l: &[i32; 16], run: &[i16]| {
+        let tail = t.get(rem..).unwrap_or(&[]).iter().zip(run.get(rem..).unwrap_or(&[]));
+        let tail = tail.fold(0i32, |s, (&p, &q)| s.wrapping_add(i32::from(p) * i32::from(q)));
+        l.iter().fold(tail, |s, &v| s.wrapping_add(v))
+    };
+    [f(&l0, s0), f(&l1, s1), f(&l2, s2), f(&l3, s3)]
 }
 
 /// Template statistics that do not depend on the placement.

@@ -86,3 +86,25 @@ fn completion_clocks(rec: &Recording) -> Vec<usize> {
     }
     out
 }
+
+/// The coordinate handshake's timing as the processor's [`CoordWriter`] sees it, measured on
+/// the rust-hdl unit itself: `latency`, clocks from queueing a set (writer idle) to the clock
+/// its fourth byte is taken; `repeat`, clocks between the completions of two sets queued
+/// back to back. Behavioural models use these so they agree with the hardware clock for clock.
+pub fn writer_timing() -> (usize, usize) {
+    static T: std::sync::OnceLock<(usize, usize)> = std::sync::OnceLock::new();
+    *T.get_or_init(|| {
+        let t = RasterTiming { width: 8, height: 4, h_blank: 2, v_blank_lines: 40 };
+        let w = Window { xmin: 1, xmax: 2, ymin: 1, ymax: 2 };
+        let frame = vec![vec![0u8; 32]];
+        let rec = run_unit::<{ crate::CA_D1_BITS }>(
+            &t,
+            &frame,
+            &[Request { at: 0, window: w, decimate: false }, Request { at: 0, window: w, decimate: false }],
+        );
+        match rec.completed[..] {
+            [a, b, ..] => (a, b - a),
+            _ => (usize::MAX, usize::MAX),
+        }
+    })
+}

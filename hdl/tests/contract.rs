@@ -212,3 +212,14 @@ proptest! {
         prop_assert_eq!(&got[1], &w.crop(&f[1], 256, decimate));
     }
 }
+
+#[test]
+fn writer_timing_is_what_the_unit_does() {
+    // Hand count of one byte, from the clock the writer raises CSTRB1 (a): the unit registers
+    // it on edge a, takes it and raises CRDY1 on a+1; the writer drops CSTRB1 for a+2, the
+    // unit registers the low strobe on a+2 and drops CRDY1 on a+3; the writer offers the next
+    // byte on a+4. So 4 clocks a byte, and the fourth byte (offered at 12) is taken on 13.
+    let (latency, repeat) = coopwin_hdl::run::writer_timing();
+    assert_eq!(repeat, 16);
+    assert_eq!(latency, 13);
+}

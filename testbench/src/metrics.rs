@@ -30,7 +30,7 @@ pub struct Summary {
     pub lock_on: Option<f64>,
     /// Eq. 2.2: mean interval between consecutive reports while tracking, seconds.
     pub tracking: Option<f64>,
-    /// Eq. 2.3: mean time from a loss to the next report, seconds.
+    /// Eq. 2.3: mean time from a loss (with the part in view) to the next report, seconds.
     pub recovery: Option<f64>,
 }
 
@@ -91,10 +91,17 @@ pub fn summarise(log: &RunLog, truth: &[Truth]) -> Summary {
     let locks: Vec<f64> =
         entries.iter().filter_map(|&e| log.reports.iter().find(|r| r.t >= e).map(|r| r.t - e)).collect();
     let gaps: Vec<f64> = log.reports.windows(2).map(|w| w[1].t - w[0].t).filter(|&g| g < 4.0 * period).collect();
+    // Recovery from a loss inside the field of view: the part stays visible until tracked again
+    // (a part leaving the image is a new lock-on, not a recovery).
+    let seen = |t: f64| truth.get((t / period).max(0.0) as usize).is_some_and(|x| x.visible);
     let recoveries: Vec<f64> = log
         .losses
         .iter()
-        .filter_map(|&l| log.reports.iter().find(|r| r.t > l).map(|r| r.t - l))
+        .filter_map(|&l| {
+            let r = log.reports.iter().find(|r| r.t > l)?;
+            let steps = ((r.t - l) / period).ceil() as usize;
+            (0..=steps).all(|i| seen(l + i as f64 * period)).then_some(r.t - l)
+        })
         .collect();
     let mean = |v: &[f64]| (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64);
     Summary {
