@@ -229,7 +229,7 @@ const STRIP_CAP: usize = 4096;
 /// this copies fixed 8-pixel chunks (the last one overlapping the previous, if the
 /// length is not a multiple of 8), so each chunk is one load, one unpack and one store
 /// instead of a call to a generic loop.
-#[inline(never)]
+#[inline(always)]
 fn widen_into(dst: &mut [i16], src: &[u8]) {
     let n = dst.len().min(src.len());
     if n < 8 {
@@ -257,6 +257,17 @@ fn widen_into(dst: &mut [i16], src: &[u8]) {
     }
 }
 
+/// Widens columns `px..px+tw` of every row of `view` into consecutive `tw`-pixel rows of
+/// `dst`; `None` if `dst` is too short or the columns are outside the view.
+#[inline(never)]
+fn fill_strip(dst: &mut [i16], view: &WindowView<'_>, px: usize, tw: usize) -> Option<()> {
+    let rows = dst.get_mut(..tw.checked_mul(view.height())?)?;
+    for (y, d) in rows.chunks_exact_mut(tw).enumerate() {
+        widen_into(d, view.row(y)?.get(px..px + tw)?);
+    }
+    Some(())
+}
+
 /// `Σ R·I` of every placement, row-major, computed strip by strip: for each placement
 /// column `px` the window columns `px..px+tw` are widened to `i16` into a contiguous
 /// strip, in which the patch of every placement `(px, py)` is one contiguous run of
@@ -270,33 +281,50 @@ fn widen_into(dst: &mut [i16], src: &[u8]) {
 /// `None` (use the other paths) when the strip or the placement count exceed their
 /// capacities.
 fn strip_dot_products(win: &WindowView<'_>, tpl: &WindowView<'_>) -> Option<Vec<u32, SCORE_CACHE>> {
+    // Small windows use small buffers: zeroing two 8 KiB arrays would cost as much as
+    // the whole Foveal match.
+    if tpl.width().checked_mul(win.height())? <= SMALL_STRIP_CAP {
+        strip_dot_products_in::<SMALL_STRIP_CAP>(win, tpl)
+    } else {
+        strip_dot_products_in::<STRIP_CAP>(win, tpl)
+    }
+}
+
+/// Capacity of the strip buffers for small windows (Foveal 20 x 24 = 480 pixels,
+/// Peripheral 16 x 40 = 640).
+const SMALL_STRIP_CAP: usize = 1024;
+
+/// [`strip_dot_products`] with strip buffers of `CAP <= STRIP_CAP` pixels.
+fn strip_dot_products_in<const CAP: usize>(
+    win: &WindowView<'_>,
+    tpl: &WindowView<'_>,
+) -> Option<Vec<u32, SCORE_CACHE>> {
     let (tw, th, ww, wh) = (tpl.width(), tpl.height(), win.width(), win.height());
     let nx = ww.checked_sub(tw)? + 1;
     let ny = wh.checked_sub(th)? + 1;
     let n = tw.checked_mul(th)?;
     // n = tw·th <= tw·wh <= STRIP_CAP, so the i32 sums of dot_long cannot overflow
     // (4096 · 255² < 2³¹).
-    if nx * ny > SCORE_CACHE || tw.checked_mul(wh)? > STRIP_CAP || tw == 0 {
+    if nx * ny > SCORE_CACHE || tw.checked_mul(wh)? > CAP.min(STRIP_CAP) || tw == 0 {
         return None;
     }
-    let mut tbuf = [0i16; STRIP_CAP];
-    for (v, dst) in tbuf.chunks_exact_mut(tw).take(th).enumerate() {
-        widen_into(dst, tpl.row(v)?);
-    }
+    let mut tbuf = [0i16; CAP];
+    fill_strip(&mut tbuf, tpl, 0, tw)?;
     let t = tbuf.get(..n)?;
+    let body = n - n % 16;
     let mut dots: Vec<u32, SCORE_CACHE> = Vec::new();
     dots.resize(nx * ny, 0).ok()?;
-    let mut strip = [0i16; STRIP_CAP];
+    let mut strip = [0i16; CAP];
     for px in 0..nx {
-        for (y, dst) in strip.chunks_exact_mut(tw).take(wh).enumerate() {
-            widen_into(dst, win.row(y)?.get(px..px + tw)?);
-        }
+        fill_strip(&mut strip, win, px, tw)?;
         let mut py = 0;
         while py + 4 <= ny {
-            let s = strip.get(py * tw..(py + 3) * tw + n)?;
-            let d = dot_long4(t, s, tw);
+            let s = strip.get(py * tw..)?;
+            let d = dot_long4(t.get(..body)?, s, tw);
             for (k, &v) in d.iter().enumerate() {
-                *dots.get_mut((py + k) * nx + px)? = v as u32;
+                let at = (py + k) * tw;
+                let tail = dot_tail(t.get(body..)?, strip.get(at + body..at + n)?);
+                *dots.get_mut((py + k) * nx + px)? = v.wrapping_add(tail) as u32;
             }
             py += 4;
         }
@@ -307,6 +335,12 @@ fn strip_dot_products(win: &WindowView<'_>, tpl: &WindowView<'_>) -> Option<Vec<
         }
     }
     Some(dots)
+}
+
+/// Scalar `Σ a·b` of two short runs (the last `n % 16` pixels of [`dot_long4`]).
+#[inline(never)]
+fn dot_tail(a: &[i16], b: &[i16]) -> i32 {
+    a.iter().zip(b).fold(0i32, |s, (&p, &q)| s.wrapping_add(i32::from(p) * i32::from(q)))
 }
 
 /// `Σ a·b` of two equally long `i16` runs of non-negative pixels (`len <= STRIP_CAP`,
@@ -335,9 +369,10 @@ fn mac16(l: &mut [i32; 16], t: &[i16; 16], a: &[i16; 16]) {
     }
 }
 
-/// The dot products of `t` (length `n`) with the four runs of `s` starting at `0`,
-/// `step`, `2·step` and `3·step` (`s.len() == 3·step + n`): four placements of one strip
-/// column, sharing each template chunk.
+/// The dot products of `t` (length `n`, a multiple of 16; see [`dot_tail`]) with the
+/// four runs of `s` starting at `0`, `step`, `2·step` and `3·step`: four placements of
+/// one strip column, sharing each template chunk. (A remainder loop in the same
+/// function stops the SLP vectoriser, so the tail is summed by the caller.)
 #[inline(never)]
 fn dot_long4(t: &[i16], s: &[i16], step: usize) -> [i32; 4] {
     let n = t.len();
@@ -351,7 +386,6 @@ fn dot_long4(t: &[i16], s: &[i16], step: usize) -> [i32; 4] {
     };
     let (mut l0, mut l1, mut l2, mut l3) = ([0i32; 16], [0i32; 16], [0i32; 16], [0i32; 16]);
     let ct = t.chunks_exact(16);
-    let rem = n - ct.remainder().len();
     let it = ct
         .zip(s0.chunks_exact(16))
         .zip(s1.chunks_exact(16))
@@ -374,12 +408,8 @@ fn dot_long4(t: &[i16], s: &[i16], step: usize) -> [i32; 4] {
         mac16(&mut l2, tc, c);
         mac16(&mut l3, tc, d);
     }
-    let f = |l: &[i32; 16], run: &[i16]| {
-        let tail = t.get(rem..).unwrap_or(&[]).iter().zip(run.get(rem..).unwrap_or(&[]));
-        let tail = tail.fold(0i32, |s, (&p, &q)| s.wrapping_add(i32::from(p) * i32::from(q)));
-        l.iter().fold(tail, |s, &v| s.wrapping_add(v))
-    };
-    [f(&l0, s0), f(&l1, s1), f(&l2, s2), f(&l3, s3)]
+    let f = |l: &[i32; 16]| l.iter().fold(0i32, |s, &v| s.wrapping_add(v));
+    [f(&l0), f(&l1), f(&l2), f(&l3)]
 }
 
 /// Template statistics that do not depend on the placement.
@@ -455,6 +485,79 @@ fn for_each_score(
     method: Method,
     win: &WindowView<'_>,
     tpl: &WindowView<'_>,
+    visit: impl FnMut(usize, usize, Option<f64>),
+) -> Result<(), MatchError> {
+    // A column of `th` squared pixels fits `u32` while th·255² < 2³² (th <= 66051); the
+    // narrow columns halve the running-sum work.
+    if tpl.height() <= 66_051 {
+        for_each_score_in::<u32>(method, win, tpl, visit)
+    } else {
+        for_each_score_in::<u64>(method, win, tpl, visit)
+    }
+}
+
+/// An exact column-sum accumulator (`u32` for columns short enough, else `u64`).
+trait ColSum: Copy + Default {
+    /// `self + add - sub`, exact when the true result is representable.
+    fn update(self, add: u32, sub: u32) -> Self;
+    fn wide(self) -> u64;
+}
+
+impl ColSum for u32 {
+    #[inline(always)]
+    fn update(self, add: u32, sub: u32) -> Self {
+        self.wrapping_add(add).wrapping_sub(sub)
+    }
+    #[inline(always)]
+    fn wide(self) -> u64 {
+        u64::from(self)
+    }
+}
+
+impl ColSum for u64 {
+    #[inline(always)]
+    fn update(self, add: u32, sub: u32) -> Self {
+        self.wrapping_add(u64::from(add)).wrapping_sub(u64::from(sub))
+    }
+    #[inline(always)]
+    fn wide(self) -> u64 {
+        self
+    }
+}
+
+/// Adds row `add` and removes row `sub` (if any) from the column sums of `I²` (and of
+/// `I` when `sums` is set): one fused pass per placement row.
+#[inline(never)]
+fn update_cols<C: ColSum>(sq: &mut [C], sum: &mut [C], add: &[u8], sub: Option<&[u8]>, sums: bool) {
+    let sq2 = |p: u8| u32::from(p) * u32::from(p);
+    match sub {
+        Some(sub) => {
+            for ((q, &a), &b) in sq.iter_mut().zip(add).zip(sub) {
+                *q = q.update(sq2(a), sq2(b));
+            }
+            if sums {
+                for ((s, &a), &b) in sum.iter_mut().zip(add).zip(sub) {
+                    *s = s.update(u32::from(a), u32::from(b));
+                }
+            }
+        }
+        None => {
+            for (q, &a) in sq.iter_mut().zip(add) {
+                *q = q.update(sq2(a), 0);
+            }
+            if sums {
+                for (s, &a) in sum.iter_mut().zip(add) {
+                    *s = s.update(u32::from(a), 0);
+                }
+            }
+        }
+    }
+}
+
+fn for_each_score_in<C: ColSum>(
+    method: Method,
+    win: &WindowView<'_>,
+    tpl: &WindowView<'_>,
     mut visit: impl FnMut(usize, usize, Option<f64>),
 ) -> Result<(), MatchError> {
     let (nx, ny) = placements(win, tpl)?;
@@ -471,26 +574,23 @@ fn for_each_score(
     let strip_dots = if needs_energy { strip_dot_products(win, tpl) } else { None };
     let padded = if needs_energy && strip_dots.is_none() { PaddedTemplate::new(tpl) } else { None };
     // Column sums of I² and I over the `th` rows of the current placement row.
-    let mut col_sq: Vec<u64, MAX_SEARCH_WIDTH> = Vec::new();
-    let mut col_sum: Vec<u64, MAX_SEARCH_WIDTH> = Vec::new();
+    let mut col_sq: Vec<C, MAX_SEARCH_WIDTH> = Vec::new();
+    let mut col_sum: Vec<C, MAX_SEARCH_WIDTH> = Vec::new();
+    let sums = method == Method::Zncc;
     let mut acc: Vec<u64, MAX_SEARCH_WIDTH> = Vec::new();
     // Capacity checked in `placements` (ww <= MAX_SEARCH_WIDTH, nx <= ww).
-    let _ = col_sq.resize(ww, 0);
-    let _ = col_sum.resize(ww, 0);
+    let _ = col_sq.resize(ww, C::default());
+    let _ = col_sum.resize(ww, C::default());
     let _ = acc.resize(nx, 0);
     if needs_energy {
         for v in 0..th {
-            add_row(&mut col_sq, &mut col_sum, win.row(v).unwrap_or(&[]));
+            update_cols(&mut col_sq, &mut col_sum, win.row(v).unwrap_or(&[]), None, sums);
         }
     }
     for py in 0..ny {
         if needs_energy && py > 0 {
-            sub_row(&mut col_sq, &mut col_sum, win.row(py - 1).unwrap_or(&[]));
-            add_row(
-                &mut col_sq,
-                &mut col_sum,
-                win.row(py + th - 1).unwrap_or(&[]),
-            );
+            let (add, sub) = (win.row(py + th - 1).unwrap_or(&[]), win.row(py - 1));
+            update_cols(&mut col_sq, &mut col_sum, add, sub, sums);
         }
         if let Some(d) = strip_dots.as_ref() {
             for (a, &v) in acc.iter_mut().zip(d.iter().skip(py * nx)) {
@@ -521,35 +621,20 @@ fn for_each_score(
             }
         }
         // Running sums along the row of the column sums give each placement's energy.
-        let mut e: u64 = col_sq.iter().take(tw).sum();
-        let mut s: u64 = col_sum.iter().take(tw).sum();
+        let col = |c: &[C], i: usize| c.get(i).map_or(0, |v| v.wide());
+        let mut e: u64 = col_sq.iter().take(tw).map(|v| v.wide()).sum();
+        let mut s: u64 = col_sum.iter().take(tw).map(|v| v.wide()).sum();
         for (px, &a) in acc.iter().enumerate() {
             if px > 0 && needs_energy {
-                e = e + col_sq.get(px + tw - 1).copied().unwrap_or(0)
-                    - col_sq.get(px - 1).copied().unwrap_or(0);
-                s = s + col_sum.get(px + tw - 1).copied().unwrap_or(0)
-                    - col_sum.get(px - 1).copied().unwrap_or(0);
+                e = e + col(&col_sq, px + tw - 1) - col(&col_sq, px - 1);
+                if sums {
+                    s = s + col(&col_sum, px + tw - 1) - col(&col_sum, px - 1);
+                }
             }
             visit(px, py, score(method, &t, a, e, s));
         }
     }
     Ok(())
-}
-
-#[inline(always)]
-fn add_row(sq: &mut [u64], sum: &mut [u64], row: &[u8]) {
-    for ((q, s), &p) in sq.iter_mut().zip(sum.iter_mut()).zip(row) {
-        *q += u64::from(p) * u64::from(p);
-        *s += u64::from(p);
-    }
-}
-
-#[inline(always)]
-fn sub_row(sq: &mut [u64], sum: &mut [u64], row: &[u8]) {
-    for ((q, s), &p) in sq.iter_mut().zip(sum.iter_mut()).zip(row) {
-        *q -= u64::from(p) * u64::from(p);
-        *s -= u64::from(p);
-    }
 }
 
 /// Score of the single placement `(px, py)` computed directly (used for the sub-pixel

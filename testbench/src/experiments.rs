@@ -5,7 +5,7 @@ use crate::metrics::{self, Summary};
 use crate::plot::{self, Chart, Series};
 use crate::report::summary_table;
 use crate::scene::{PathKind, Scene, SceneConfig, Truth};
-use crate::system::{self, FrameSource, RunLog, Strategy, SystemConfig};
+use crate::system::{self, FrameSource, HdlChoice, RunLog, Strategy, SystemConfig};
 use coopwin_firmware::info::{corner_information, edge_information};
 use coopwin_firmware::tracker::Params;
 use std::collections::VecDeque;
@@ -61,6 +61,7 @@ pub fn system(strategy: Strategy, cost: CostModel, target: Option<(f64, f64)>) -
         target,
         model: None,
         pixel_clock_hz: coopwin_hdl::camera::CA_D1_PIXEL_CLOCK_HZ,
+        hdl: crate::system::HdlChoice::Model,
     }
 }
 
@@ -120,19 +121,30 @@ fn write_csv(dir: &Path, name: &str, text: &str) -> Result<(), String> {
 }
 
 /// Runs experiment `name` (one of [`NAMES`]) with `profile`, writing into `dir`.
-pub fn run(name: &str, dir: &Path, profile: CostModel, progress: &mut dyn FnMut(&str)) -> Result<Outcome, String> {
+pub fn run(
+    name: &str,
+    dir: &Path,
+    profile: CostModel,
+    hdl: HdlChoice,
+    progress: &mut dyn FnMut(&str),
+) -> Result<Outcome, String> {
+    let hw = |mut c: SystemConfig| {
+        c.hdl = hdl;
+        c
+    };
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     let strategies = [Strategy::Spmf, Strategy::Tpdf, Strategy::Mpdf];
     let speeds = [20.0, 40.0, 60.0, 80.0, 100.0, 120.0, 140.0, 160.0];
     let thresholds: Vec<u16> = (1..=10).map(|k| k * 10).collect();
-    let mut md = format!("## {name} ({} profile)\n\n", profile.name);
+    let hdl_name = if hdl == HdlChoice::RustHdl { ", rust-hdl window units" } else { "" };
+    let mut md = format!("## {name} ({} profile{hdl_name})\n\n", profile.name);
     match name {
         "table-2.3" => {
             let mut rows = Vec::new();
             let mut csv = String::from("strategy,lock_on_ms,tracking_ms,recovery_ms,rms_px,rlt\n");
             for s in strategies {
                 progress(s.name());
-                let (_, m) = run_scene(&watch_system(s, profile, &pendulum(100.0, 1)), pendulum(100.0, 1))?;
+                let (_, m) = run_scene(&hw(watch_system(s, profile, &pendulum(100.0, 1))), pendulum(100.0, 1))?;
                 let _ = writeln!(csv, "{},{},{},{},{:.3},{:.3}", s.name(), ms(m.lock_on), ms(m.tracking), ms(m.recovery), m.rms, m.rlt);
                 rows.push((s, m));
             }
@@ -164,7 +176,7 @@ pub fn run(name: &str, dir: &Path, profile: CostModel, progress: &mut dyn FnMut(
                 for &v in &speeds {
                     progress(&format!("{} {v} px/s", s.name()));
                     let scene = pendulum(v, 2);
-                    let (_, m) = run_scene(&watch_system(s, profile, &scene), scene)?;
+                    let (_, m) = run_scene(&hw(watch_system(s, profile, &scene)), scene)?;
                     let _ = writeln!(csv, "{v},{},{:.3},{:.3},{}", s.name(), m.rms, m.rlt, ms(m.lock_on));
                     let tracked = m.rlt < 0.5;
                     pts.push((v, if lock { m.lock_on.map(|x| x * 1e3) } else { tracked.then_some(m.rms) }, m));
@@ -208,7 +220,7 @@ pub fn run(name: &str, dir: &Path, profile: CostModel, progress: &mut dyn FnMut(
                 // Figs. 3.5/3.6/3.10 on the part alone; Fig. 3.7 (loss of tracking) with clutter.
                 let scene = SceneConfig { clutter: name == "fig-3.7", noise: 2.0, ..triangle(40.0, 3) };
                 let target = Some(corner0(&scene));
-                let mut cfg = system(Strategy::TpdfCd, profile, target);
+                let mut cfg = hw(system(Strategy::TpdfCd, profile, target));
                 cfg.params.corner_threshold = th;
                 cfg.params.foveal = 20;
                 let (_, multi) = run_scene(&cfg, scene.clone())?;
@@ -280,7 +292,7 @@ pub fn run(name: &str, dir: &Path, profile: CostModel, progress: &mut dyn FnMut(
             let mut runs: Vec<(String, Summary, RunLog)> = Vec::new();
             for (label, strategy, n) in [("NCC", Strategy::Tpdf, 4), ("CD", Strategy::TpdfCd, 4), ("COOP n=3", Strategy::Coop, 3), ("COOP n=4", Strategy::Coop, 4), ("COOP n=5", Strategy::Coop, 5)] {
                 progress(label);
-                let mut cfg = system(strategy, profile, target);
+                let mut cfg = hw(system(strategy, profile, target));
                 cfg.coop_n = n;
                 let (log, m) = run_scene(&cfg, scene.clone())?;
                 runs.push((label.to_string(), m, log));

@@ -2,7 +2,7 @@
 use clap::{Parser, Subcommand};
 use coopwin_testbench::commands::{hardware, kernels, scene, track, CliError};
 use coopwin_testbench::cost::CostModel;
-use coopwin_testbench::system::{Strategy, SystemConfig};
+use coopwin_testbench::system::{HdlChoice, Strategy, SystemConfig};
 use coopwin_testbench::scene::{PathKind, SceneConfig};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -102,6 +102,12 @@ enum Command {
         /// CSV to write (frame,x,y,mode,source,measured_frame)
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Window units: the behavioural model, or the rust-hdl blocks clock by clock
+        #[arg(long, value_enum, default_value_t = HdlArg::Model)]
+        hdl: HdlArg,
+        /// With --hdl rust-hdl: a VCD of the first window unit's signals for the whole run
+        #[arg(long)]
+        vcd: Option<PathBuf>,
     },
     /// Best placement of a template in an image (JSON: x, y, score, subpixel_x, subpixel_y)
     Match {
@@ -149,7 +155,16 @@ enum Command {
         /// Processor speeds
         #[arg(long, value_enum, default_value_t = ProfileArg::C40)]
         profile: ProfileArg,
+        /// Window units: the behavioural model, or the rust-hdl blocks clock by clock
+        #[arg(long, value_enum, default_value_t = HdlArg::Model)]
+        hdl: HdlArg,
     },
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum HdlArg {
+    Model,
+    RustHdl,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -214,7 +229,11 @@ fn run(cli: Cli) -> Result<(), CliError> {
             println!("{}", kernels::motion_images(&prev, &next, threshold)?);
             Ok(())
         }
-        Some(Command::Experiment { name, out, profile }) => {
+        Some(Command::Experiment { name, out, profile, hdl }) => {
+            let hdl = match hdl {
+                HdlArg::Model => HdlChoice::Model,
+                HdlArg::RustHdl => HdlChoice::RustHdl,
+            };
             let cost = match profile {
                 ProfileArg::C40 => CostModel::C40,
                 ProfileArg::Native => CostModel::NATIVE,
@@ -233,7 +252,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
             let mut all = String::from("# Experiments\n\n");
             for n in names {
                 eprintln!("experiment {n}");
-                let o = coopwin_testbench::experiments::run(n, &out, cost, &mut |s| eprintln!("  {s}"))
+                let o = coopwin_testbench::experiments::run(n, &out, cost, hdl, &mut |s| eprintln!("  {s}"))
                     .map_err(CliError)?;
                 println!("{}", o.markdown);
                 all.push_str(&o.markdown);
@@ -280,7 +299,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
             println!("wrote {n} frames and groundtruth.csv to {}", out.display());
             Ok(())
         }
-        Some(Command::Track { frames, strategy, template, target, profile, coop_n, out }) => {
+        Some(Command::Track { frames, strategy, template, target, profile, coop_n, out, hdl, vcd }) => {
             if !(3..=8).contains(&coop_n) {
                 return Err(CliError(format!("--coop-n must be 3..8, got {coop_n}")));
             }
@@ -307,9 +326,13 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 target,
                 model: None,
                 pixel_clock_hz: coopwin_hdl::camera::CA_D1_PIXEL_CLOCK_HZ,
+                hdl: match hdl {
+                    HdlArg::Model => HdlChoice::Model,
+                    HdlArg::RustHdl => HdlChoice::RustHdl,
+                },
             };
             let started = std::time::Instant::now();
-            let (log, summary) = track::track(&frames, &cfg)?;
+            let (log, summary) = track::track(&frames, &cfg, vcd.as_deref())?;
             let secs = started.elapsed().as_secs_f64();
             if let Some(path) = &out {
                 track::write_atomic(path, &track::csv(&log.frames))?;

@@ -3,6 +3,7 @@
 //! set is written, and a window is complete when the raster passes its last pixel), the
 //! firmware's processors from `coopwin_firmware::tracker`, each busy for as long as the cost
 //! model says its kernels take, and 20 Mbyte/s links between them. A discrete-event loop.
+use crate::backend::{Clocks, Delivered, HdlBackend, ModelBackend, WindowBackend};
 use crate::cost::CostModel;
 use coopwin_firmware::ports::{Decimation, WindowRequest};
 use coopwin_firmware::tracker::{
@@ -65,6 +66,8 @@ pub struct SystemConfig {
     pub model: Option<(usize, (f64, f64))>,
     /// Pixel clock in Hz.
     pub pixel_clock_hz: f64,
+    /// Window units: the behavioural model or the rust-hdl blocks.
+    pub hdl: HdlChoice,
 }
 
 /// What the system knew at the end of a frame period.
@@ -108,6 +111,9 @@ pub struct RunLog {
     pub windows: Vec<usize>,
     /// Frame period in seconds.
     pub frame_period: f64,
+    /// Every window delivered: (processor, frame, clock, FNV-1a hash of its pixels), so
+    /// backends can be compared window for window.
+    pub deliveries: Vec<(usize, usize, u64, u64)>,
     /// The frame and point the template was cut at, if known before the run: the tracked
     /// point is that point of the part.
     pub reference: Option<(usize, (f64, f64))>,
@@ -133,36 +139,102 @@ enum Proc<'b> {
 #[derive(Clone, Debug, PartialEq)]
 enum Event {
     FrameStart(usize),
-    WindowDone { p: usize, frame: usize, req: WindowRequest },
     Deliver { p: usize, msg: Msg },
 }
 
+/// Events in clock order (ties in the order they were queued).
 struct Queue {
-    heap: BinaryHeap<Reverse<(u64, u64, usize)>>,
+    heap: BinaryHeap<Reverse<(u64, u64)>>,
     events: Vec<Option<Event>>,
-    seq: u64,
 }
 
 impl Queue {
-    fn push(&mut self, t: f64, e: Event) {
-        self.seq += 1;
+    fn push(&mut self, clock: u64, e: Event) {
         self.events.push(Some(e));
-        let ns = (t.max(0.0) * 1e9).round() as u64;
-        self.heap.push(Reverse((ns, self.seq, self.events.len() - 1)));
+        self.heap.push(Reverse((clock, self.events.len() as u64 - 1)));
     }
-    fn pop(&mut self) -> Option<(f64, Event)> {
-        let Reverse((ns, _, i)) = self.heap.pop()?;
-        Some((ns as f64 / 1e9, self.events.get_mut(i)?.take()?))
+    fn peek(&self) -> Option<u64> {
+        self.heap.peek().map(|Reverse((c, _))| *c)
+    }
+    fn pop(&mut self) -> Option<(u64, Event)> {
+        let Reverse((c, i)) = self.heap.pop()?;
+        Some((c, self.events.get_mut(i as usize)?.take()?))
     }
 }
 
-/// Runs `cfg` over `source`, calling `progress(frame)` at each frame start.
+/// Which window units the run uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HdlChoice {
+    /// The behavioural model.
+    Model,
+    /// The rust-hdl blocks, clock by clock.
+    RustHdl,
+}
+
+/// Runs `cfg` over `source` with the window units it names, calling `progress(frame)` at each
+/// frame start. With the rust-hdl units and `vcd`, unit 0's signals are traced into it.
 pub fn run(cfg: &SystemConfig, source: &mut dyn FrameSource, progress: &mut dyn FnMut(usize)) -> Result<RunLog, String> {
+    run_traced(cfg, source, progress, None)
+}
+
+/// [`run`], with a VCD of the first window unit when the units are rust-hdl's.
+pub fn run_traced(
+    cfg: &SystemConfig,
+    source: &mut dyn FrameSource,
+    progress: &mut dyn FnMut(usize),
+    vcd: Option<Box<dyn std::io::Write>>,
+) -> Result<RunLog, String> {
+    let clocks = raster(source);
+    match cfg.hdl {
+        HdlChoice::Model => {
+            if vcd.is_some() {
+                return Err("a VCD needs the rust-hdl window units (--hdl rust-hdl)".into());
+            }
+            run_with(cfg, source, &mut ModelBackend::new(clocks, units(cfg.strategy)), progress)
+        }
+        HdlChoice::RustHdl => {
+            if clocks.timing.width > 256 || clocks.timing.height > 256 {
+                return Err("the exported rust-hdl unit has 8-bit counters: frames up to 256x256".into());
+            }
+            let mut hdl = HdlBackend::new(clocks, units(cfg.strategy), vcd);
+            let log = run_with(cfg, source, &mut hdl, progress)?;
+            hdl.finish()?;
+            Ok(log)
+        }
+    }
+}
+
+/// The raster for a source's frame size: the CA-D1's blanking, scaled to the frame.
+pub fn raster(source: &dyn FrameSource) -> Clocks {
+    let (w, h) = source.size();
+    Clocks { timing: RasterTiming { width: w, height: h, h_blank: 16, v_blank_lines: 2 }, frames: source.len() }
+}
+
+/// Window units (= processors) a strategy uses.
+pub fn units(s: Strategy) -> usize {
+    match s {
+        Strategy::Spmf | Strategy::SingleCd => 1,
+        Strategy::Tpdf | Strategy::TpdfCd => 3,
+        Strategy::Mpdf | Strategy::Coop => 4,
+    }
+}
+
+/// Runs `cfg` over `source`, its windows from `backend`.
+pub fn run_with(
+    cfg: &SystemConfig,
+    source: &mut dyn FrameSource,
+    backend: &mut dyn WindowBackend,
+    progress: &mut dyn FnMut(usize),
+) -> Result<RunLog, String> {
     let (w, h) = source.size();
     let n = source.len();
-    let timing = RasterTiming { width: w, height: h, h_blank: 16, v_blank_lines: 2 };
-    let period = timing.frame_clocks() as f64 / cfg.pixel_clock_hz;
-    let clock = 1.0 / cfg.pixel_clock_hz;
+    let clocks = raster(source);
+    let hz = cfg.pixel_clock_hz;
+    let period = clocks.period() as f64 / hz;
+    // Seconds from frame 0's FVAL rising, for reports.
+    let secs = |c: u64| (c as f64 - clocks.blank() as f64) / hz;
+    let busy = |work: &coopwin_firmware::tracker::Work| (cfg.cost.seconds(work) * hz).ceil() as u64;
+    let link = |bytes: usize| (cfg.cost.link_seconds(bytes) * hz).ceil() as u64;
     let params = Params { frame_w: w as u16, frame_h: h as u16, ..cfg.params };
 
     // The template: the N x N block nearest the target in frame 0, or the stored model.
@@ -223,15 +295,14 @@ pub fn run(cfg: &SystemConfig, source: &mut dyn FrameSource, progress: &mut dyn 
     };
 
     let np = procs.len();
-    let mut pending: Vec<Option<(WindowRequest, f64)>> = vec![None; np];
-    let mut free_at = vec![f64::MIN; np];
+    if np != units(cfg.strategy) {
+        return Err(format!("internal: {np} processors for {} units", units(cfg.strategy)));
+    }
+    let mut free_at = vec![0u64; np];
     let mut log = RunLog { windows: vec![0; np], frame_period: period, reference, ..RunLog::default() };
-    let mut q = Queue { heap: BinaryHeap::new(), events: Vec::new(), seq: 0 };
-    let t_start = -period / 2.0;
-    // Writing a set: four bytes at about five clocks each (the handshake of hdl/coord_port).
-    let write_latency = 20.0 * clock;
+    let mut q = Queue { heap: BinaryHeap::new(), events: Vec::new() };
 
-    // Start: the first steps, at the end of the blanking before frame 0.
+    // Start: the first steps, at the start of the blanking before frame 0.
     for i in 0..np {
         let step = match (&mut procs[i], target) {
             (Proc::Watch(wp), _) => wp.start(),
@@ -240,83 +311,66 @@ pub fn run(cfg: &SystemConfig, source: &mut dyn FrameSource, progress: &mut dyn 
             (Proc::Foveal(f), Some(t)) if Some(i) == routes.foveal => f.start_at(t),
             _ => Step { work: coopwin_firmware::tracker::Work::None, request: None, sends: Default::default(), report: None },
         };
-        apply(i, step, t_start, &mut pending, &mut q, &routes, write_latency, &cfg.cost);
+        apply(i, step, 0, backend, &mut q, &routes, &link);
     }
     for k in 0..n {
-        q.push(k as f64 * period, Event::FrameStart(k));
+        q.push(clocks.frame_start(k), Event::FrameStart(k));
     }
 
     let mut last_report: Option<Report> = None;
-    while let Some((t, ev)) = q.pop() {
+    let mut scratch = Vec::new();
+    loop {
+        let until = q.peek().unwrap_or(u64::MAX);
+        if let Some(win) = backend.next_window(until, source)? {
+            let p = win.p;
+            log.deliveries.push((p, win.frame, win.clock, fnv1a(&win.pixels)));
+            let view = delivered_view(&win, &mut scratch)?;
+            let begin = win.clock.max(free_at[p]);
+            log.windows[p] += 1;
+            let step = match &mut procs[p] {
+                Proc::Watch(x) => x.on_window(&view),
+                Proc::Peripheral(x) => x.on_window(&view),
+                Proc::Foveal(x) => x.on_window(&view, secs(begin)),
+                Proc::Spmf(x) => x.on_window(&view, secs(begin)),
+            };
+            let end = begin + busy(&step.work);
+            free_at[p] = end;
+            if let Some((point, algo)) = step.report {
+                let r = Report { t: secs(end), frame: win.frame, point, algo };
+                log.reports.push(r);
+                last_report = Some(r);
+            }
+            if step.sends.iter().any(|(_, m)| matches!(m, Msg::Lost(_))) {
+                log.losses.push(secs(end));
+                last_report = None;
+            }
+            apply(p, step, end, backend, &mut q, &routes, &link);
+            continue;
+        }
+        let Some((c, ev)) = q.pop() else { break };
         match ev {
             Event::FrameStart(k) => {
                 if k > 0 {
                     log.frames.push(record(k - 1, &procs, last_report));
                 }
                 progress(k);
-                for (i, slot) in pending.iter_mut().enumerate() {
-                    if let Some((req, ready)) = *slot {
-                        // A set completed at least two clocks before FVAL rises arms this frame.
-                        if ready <= t - 2.0 * clock {
-                            *slot = None;
-                            let last = timing.h_blank
-                                + (usize::from(req.y0) + usize::from(req.height) - 1) * timing.line_clocks()
-                                + usize::from(req.x0)
-                                + usize::from(req.width)
-                                - 1;
-                            // The unit strobes a pixel one clock after it is on the bus.
-                            q.push(t + (last + 2) as f64 * clock, Event::WindowDone { p: i, frame: k, req });
-                        }
-                    }
-                }
-            }
-            Event::WindowDone { p, frame, req } => {
-                let begin = t.max(free_at[p]);
-                let img = source.frame(frame)?;
-                let full_view = WindowView::packed(img, w, h).map_err(|e| format!("frame {frame}: {e:?}"))?;
-                let sub = full_view
-                    .sub(req.x0.into(), req.y0.into(), req.width.into(), req.height.into())
-                    .ok_or_else(|| format!("window {req:?} outside the frame"))?;
-                let win = match req.decimation {
-                    Decimation::Full => sub,
-                    Decimation::Quarter => sub.decimated(),
-                };
-                log.windows[p] += 1;
-                let step = match &mut procs[p] {
-                    Proc::Watch(x) => x.on_window(&win),
-                    Proc::Peripheral(x) => x.on_window(&win),
-                    Proc::Foveal(x) => x.on_window(&win, begin),
-                    Proc::Spmf(x) => x.on_window(&win, begin),
-                };
-                let end = begin + cfg.cost.seconds(&step.work);
-                free_at[p] = end;
-                if let Some((point, algo)) = step.report {
-                    let r = Report { t: end, frame, point, algo };
-                    log.reports.push(r);
-                    last_report = Some(r);
-                }
-                if step.sends.iter().any(|(_, m)| matches!(m, Msg::Lost(_))) {
-                    log.losses.push(end);
-                    last_report = None;
-                }
-                apply(p, step, end, &mut pending, &mut q, &routes, write_latency, &cfg.cost);
             }
             Event::Deliver { p, msg } => {
-                let begin = t.max(free_at[p]);
+                let begin = c.max(free_at[p]);
                 let step = match &mut procs[p] {
                     Proc::Peripheral(x) => x.on_message(&msg),
-                    Proc::Foveal(x) => x.on_message(&msg, begin),
+                    Proc::Foveal(x) => x.on_message(&msg, secs(begin)),
                     _ => continue,
                 };
-                let end = begin + cfg.cost.seconds(&step.work);
+                let end = begin + busy(&step.work);
                 free_at[p] = end;
                 if let Some((point, algo)) = step.report {
-                    let frame = (begin / period).floor().max(0.0) as usize;
-                    let r = Report { t: end, frame, point, algo };
+                    let frame = (secs(begin) / period).floor().max(0.0) as usize;
+                    let r = Report { t: secs(end), frame, point, algo };
                     log.reports.push(r);
                     last_report = Some(r);
                 }
-                apply(p, step, end, &mut pending, &mut q, &routes, write_latency, &cfg.cost);
+                apply(p, step, end, backend, &mut q, &routes, &link);
             }
         }
     }
@@ -324,6 +378,38 @@ pub fn run(cfg: &SystemConfig, source: &mut dyn FrameSource, progress: &mut dyn 
         log.frames.push(record(n - 1, &procs, last_report));
     }
     Ok(log)
+}
+
+/// FNV-1a, 64-bit.
+pub fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3))
+}
+
+/// The processor's view of a delivered window. A 25% window arrives packed; it is spread back
+/// onto its full-resolution grid in `scratch` so the view carries the 2-pixel step and the
+/// kernels report frame positions.
+fn delivered_view<'s>(win: &'s Delivered, scratch: &'s mut Vec<u8>) -> Result<WindowView<'s>, String> {
+    let req = &win.req;
+    let (x0, y0) = (u32::from(req.x0), u32::from(req.y0));
+    let bad = |e| format!("window {req:?}: {e:?}");
+    match req.decimation {
+        Decimation::Full => {
+            let (w, h) = req.delivered_size();
+            WindowView::new(&win.pixels, w, h, w, x0, y0).map_err(bad)
+        }
+        Decimation::Quarter => {
+            let (w, h) = (usize::from(req.width), usize::from(req.height));
+            let (dw, _) = req.delivered_size();
+            scratch.clear();
+            scratch.resize(w * h, 0);
+            for (i, &v) in win.pixels.iter().enumerate() {
+                if let Some(slot) = scratch.get_mut((i / dw) * 2 * w + (i % dw) * 2) {
+                    *slot = v;
+                }
+            }
+            Ok(WindowView::new(scratch, w, h, w, x0, y0).map_err(bad)?.decimated())
+        }
+    }
 }
 
 /// Which processor plays each role messages are addressed to.
@@ -343,25 +429,23 @@ impl Routes {
     }
 }
 
-/// Carries out a step finished at `at`: its request is written to the unit (complete after
-/// the handshake), its messages go over the links.
-#[allow(clippy::too_many_arguments)]
+/// Carries out a step finished on clock `at`: its request is written to its unit, its
+/// messages go over the links.
 fn apply(
     p: usize,
     step: Step,
-    at: f64,
-    pending: &mut [Option<(WindowRequest, f64)>],
+    at: u64,
+    backend: &mut dyn WindowBackend,
     q: &mut Queue,
     routes: &Routes,
-    write_latency: f64,
-    cost: &CostModel,
+    link: &dyn Fn(usize) -> u64,
 ) {
     if let Some(req) = step.request {
-        pending[p] = Some((req, at + write_latency));
+        backend.request(p, req, at);
     }
     for (d, m) in step.sends {
         if let Some(to) = routes.to(d) {
-            q.push(at + cost.link_seconds(m.bytes()), Event::Deliver { p: to, msg: m });
+            q.push(at + link(m.bytes()), Event::Deliver { p: to, msg: m });
         }
     }
 }

@@ -140,7 +140,7 @@ pub fn write_atomic(path: &Path, text: &str) -> Result<(), CliError> {
 
 /// Tracks the frames in `dir`; returns the run and its summary (against `groundtruth.csv`
 /// when the folder has one).
-pub fn track(dir: &Path, cfg: &SystemConfig) -> Result<(RunLog, Option<Summary>), CliError> {
+pub fn track(dir: &Path, cfg: &SystemConfig, vcd: Option<&Path>) -> Result<(RunLog, Option<Summary>), CliError> {
     let mut frames = FolderFrames::open(dir)?;
     if let Some((x, y)) = cfg.target {
         let (w, h) = frames.size;
@@ -149,7 +149,13 @@ pub fn track(dir: &Path, cfg: &SystemConfig) -> Result<(RunLog, Option<Summary>)
         }
     }
     let n = frames.len();
-    let log = system::run(cfg, &mut frames, &mut progress_bar(n, "tracking")).map_err(CliError)?;
+    let trace: Option<Box<dyn std::io::Write>> = match vcd {
+        Some(p) => Some(Box::new(std::io::BufWriter::new(
+            std::fs::File::create(p).map_err(|e| io_error("create", p, e))?,
+        ))),
+        None => None,
+    };
+    let log = system::run_traced(cfg, &mut frames, &mut progress_bar(n, "tracking"), trace).map_err(CliError)?;
     let truth_path = dir.join("groundtruth.csv");
     let summary = if truth_path.exists() {
         let truth = metrics::read_truth(&truth_path)?;

@@ -1,0 +1,311 @@
+//! Where the system's windows come from: the window units on the camera bus, one per processor.
+//!
+//! - [`ModelBackend`]: the behavioural model of `hdl::WindowUnit`, computed per window (fast):
+//!   a set written from clock `t` completes at `t + latency` (the handshake measured on the unit,
+//!   `hdl::run::writer_timing`), arms the first frame whose FVAL rises at least 2 clocks later,
+//!   one frame per set, the later of two pending sets winning; the window completes on the clock
+//!   its last pixel is strobed (one clock after that pixel was on the bus).
+//! - [`HdlBackend`]: the rust-hdl `WindowUnit`s themselves, stepped clock by clock on the camera
+//!   raster, each written by its processor's `CoordWriter` over the four-phase handshake and read
+//!   from `pixel_strobe`/`pixel_out`.
+//!
+//! Clock 0 of a run is the start of the vertical blanking before frame 0; frame k's FVAL rises
+//! on clock `blank + k * period`.
+use crate::system::FrameSource;
+use coopwin_firmware::ports::{Decimation, WindowRequest};
+use coopwin_hdl::camera::{CameraBus, RasterTiming, Window};
+use coopwin_hdl::driver::{CoordBus, CoordWriter, UnitDriver, UnitOutputs, VcdTrace};
+use std::collections::VecDeque;
+
+/// A window delivered to processor `p`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Delivered {
+    /// The processor (and unit).
+    pub p: usize,
+    /// The frame it was cut from.
+    pub frame: usize,
+    /// The clock its last pixel was strobed.
+    pub clock: u64,
+    /// The request it answers.
+    pub req: WindowRequest,
+    /// Its pixels, packed row by row (decimated ones already dropped).
+    pub pixels: Vec<u8>,
+}
+
+/// A source of windows for the system simulation.
+pub trait WindowBackend {
+    /// Processor `p` writes `req` from clock `at` on.
+    fn request(&mut self, p: usize, req: WindowRequest, at: u64);
+    /// The next window completed on or before clock `until` (earliest first, then by unit),
+    /// or `None` once the units have run to `until` without completing one.
+    fn next_window(&mut self, until: u64, frames: &mut dyn FrameSource) -> Result<Option<Delivered>, String>;
+}
+
+/// Raster geometry in run clocks.
+#[derive(Clone, Copy, Debug)]
+pub struct Clocks {
+    /// The camera's raster.
+    pub timing: RasterTiming,
+    /// Frames in the run.
+    pub frames: usize,
+}
+
+impl Clocks {
+    /// Clocks a frame period.
+    pub fn period(&self) -> u64 {
+        self.timing.frame_clocks() as u64
+    }
+    /// The blanking before frame 0.
+    pub fn blank(&self) -> u64 {
+        (self.timing.v_blank_lines * self.timing.line_clocks()) as u64
+    }
+    /// Clock on which frame k's FVAL rises.
+    pub fn frame_start(&self, k: usize) -> u64 {
+        self.blank() + k as u64 * self.period()
+    }
+    /// The camera bus on run clock `c`, with frame `k`'s pixels, and that frame.
+    fn bus(&self, c: u64, pixels: &[u8]) -> (CameraBus, Option<usize>) {
+        let (p, b) = (self.period(), self.blank());
+        if c < b {
+            return (self.timing.bus_at((p - b + c) as usize, |_, _| 0), None);
+        }
+        let (k, r) = (((c - b) / p) as usize, ((c - b) % p) as usize);
+        if k >= self.frames {
+            return (CameraBus::default(), None);
+        }
+        let w = self.timing.width;
+        (self.timing.bus_at(r, |x, y| pixels.get(y * w + x).copied().unwrap_or(0)), Some(k))
+    }
+    /// Offset from FVAL rising to the clock the window's last pixel is strobed.
+    fn last_strobe(&self, req: &WindowRequest) -> u64 {
+        let (w, h) = delivered_extent(req);
+        let x = u64::from(req.x0) + w - 1;
+        let y = u64::from(req.y0) + h - 1;
+        self.timing.h_blank as u64 + y * self.timing.line_clocks() as u64 + x + 1
+    }
+}
+
+/// Columns and rows spanned from the window's first to its last delivered pixel.
+fn delivered_extent(req: &WindowRequest) -> (u64, u64) {
+    let (w, h) = (u64::from(req.width), u64::from(req.height));
+    match req.decimation {
+        Decimation::Full => (w, h),
+        // The last delivered pixel is the last one an even distance from xmin (and ymin).
+        Decimation::Quarter => ((w - 1) / 2 * 2 + 1, (h - 1) / 2 * 2 + 1),
+    }
+}
+
+/// The window unit's coordinates for a request.
+pub fn window_of(req: &WindowRequest) -> Window {
+    Window {
+        xmin: u32::from(req.x0),
+        xmax: u32::from(req.x0) + u32::from(req.width) - 1,
+        ymin: u32::from(req.y0),
+        ymax: u32::from(req.y0) + u32::from(req.height) - 1,
+    }
+}
+
+fn crop(req: &WindowRequest, frame: &[u8], width: usize) -> Vec<u8> {
+    window_of(req).crop(frame, width, req.decimation == Decimation::Quarter)
+}
+
+/// A unit's sets as the model tracks them.
+#[derive(Clone, Debug, Default)]
+struct UnitSets {
+    /// Completion clock of the last set written (the writer's pacing).
+    last_complete: Option<u64>,
+    /// Sets written but not yet armed: (completion clock, request), latest last.
+    pending: Vec<(u64, WindowRequest)>,
+}
+
+/// The behavioural window unit model (see the module docs).
+pub struct ModelBackend {
+    clocks: Clocks,
+    units: Vec<UnitSets>,
+    latency: u64,
+    repeat: u64,
+}
+
+impl ModelBackend {
+    /// `n` units on the raster.
+    pub fn new(clocks: Clocks, n: usize) -> Self {
+        let (latency, repeat) = coopwin_hdl::run::writer_timing();
+        ModelBackend { clocks, units: vec![UnitSets::default(); n], latency: latency as u64, repeat: repeat as u64 }
+    }
+
+    /// The window a unit's pending sets give: (frame, completion clock, request).
+    fn armed(&self, u: &UnitSets) -> Option<(usize, u64, WindowRequest, usize)> {
+        let first = u.pending.first()?;
+        // The first frame whose FVAL rises 2 clocks after the first pending set completes.
+        let b = self.clocks.blank();
+        let need = first.0 + 2;
+        let k = if need <= b { 0 } else { (need - b).div_ceil(self.clocks.period()) as usize };
+        let start = self.clocks.frame_start(k);
+        // Of the sets complete by then, the latest wins.
+        let idx = u.pending.iter().rposition(|s| s.0 + 2 <= start)?;
+        let req = u.pending[idx].1;
+        (k < self.clocks.frames).then(|| (k, start + self.clocks.last_strobe(&req), req, idx))
+    }
+}
+
+impl WindowBackend for ModelBackend {
+    fn request(&mut self, p: usize, req: WindowRequest, at: u64) {
+        let (latency, repeat) = (self.latency, self.repeat);
+        if let Some(u) = self.units.get_mut(p) {
+            // Back-to-back sets queue in the writer, one every `repeat` clocks.
+            let done = match u.last_complete {
+                Some(prev) if at + latency < prev + repeat => prev + repeat,
+                _ => at + latency,
+            };
+            u.last_complete = Some(done);
+            u.pending.push((done, req));
+        }
+    }
+
+    fn next_window(&mut self, until: u64, frames: &mut dyn FrameSource) -> Result<Option<Delivered>, String> {
+        let best = (0..self.units.len())
+            .filter_map(|p| self.armed(&self.units[p]).map(|a| (a.1, p, a)))
+            .filter(|(c, _, _)| *c <= until)
+            .min_by_key(|(c, p, _)| (*c, *p));
+        let Some((clock, p, (frame, _, req, idx))) = best else { return Ok(None) };
+        self.units[p].pending.drain(..=idx);
+        let width = frames.size().0;
+        let pixels = crop(&req, frames.frame(frame)?, width);
+        Ok(Some(Delivered { p, frame, clock, req, pixels }))
+    }
+}
+
+/// One unit stepped in rust-hdl, with its writer and what it is delivering.
+struct HdlUnit {
+    driver: UnitDriver<{ coopwin_hdl::CA_D1_BITS }>,
+    writer: CoordWriter,
+    last: UnitOutputs,
+    /// Requests not yet handed to the writer: (clock, request).
+    queued: VecDeque<(u64, WindowRequest)>,
+    /// Requests handed to the writer, in order; sets complete in that order.
+    written: VecDeque<WindowRequest>,
+    /// Completed sets not yet armed: (completion clock, request).
+    complete: Vec<(u64, WindowRequest)>,
+    /// The set armed for the frame in progress and the pixels strobed so far.
+    active: Option<(usize, WindowRequest, Vec<u8>)>,
+    ready_rises: usize,
+}
+
+/// The rust-hdl window units, stepped clock by clock (see the module docs).
+pub struct HdlBackend {
+    clocks: Clocks,
+    units: Vec<HdlUnit>,
+    clock: u64,
+    frame: Option<(usize, Vec<u8>)>,
+    done: VecDeque<Delivered>,
+    trace: Option<VcdTrace<Box<dyn std::io::Write>>>,
+    /// Pixel clocks stepped, for speed reports.
+    pub clocks_stepped: u64,
+}
+
+impl HdlBackend {
+    /// `n` rust-hdl units at power-on; with `trace`, unit 0's signals go into a VCD.
+    pub fn new(clocks: Clocks, n: usize, trace: Option<Box<dyn std::io::Write>>) -> Self {
+        let units: Vec<HdlUnit> = (0..n)
+            .map(|_| HdlUnit {
+                driver: UnitDriver::default(),
+                writer: CoordWriter::default(),
+                last: UnitOutputs::default(),
+                queued: VecDeque::new(),
+                written: VecDeque::new(),
+                complete: Vec::new(),
+                active: None,
+                ready_rises: 0,
+            })
+            .collect();
+        let trace = match (trace, units.first()) {
+            (Some(out), Some(u)) => Some(VcdTrace::new(out, &u.driver, 125_000)),
+            _ => None,
+        };
+        HdlBackend { clocks, units, clock: 0, frame: None, done: VecDeque::new(), trace, clocks_stepped: 0 }
+    }
+
+    /// Flushes the VCD, if any.
+    pub fn finish(&mut self) -> Result<(), String> {
+        match self.trace.take() {
+            Some(t) => t.finish().map_err(|e| format!("cannot write the VCD: {e}")),
+            None => Ok(()),
+        }
+    }
+
+    fn step(&mut self, frames: &mut dyn FrameSource) -> Result<(), String> {
+        let c = self.clock;
+        let k = self.clocks.frame_start(0).le(&c).then(|| ((c - self.clocks.blank()) / self.clocks.period()) as usize);
+        if let Some(k) = k.filter(|&k| k < self.clocks.frames) {
+            if self.frame.as_ref().map(|f| f.0) != Some(k) {
+                self.frame = Some((k, frames.frame(k)?.to_vec()));
+            }
+        }
+        let pixels: &[u8] = self.frame.as_ref().map(|f| f.1.as_slice()).unwrap_or(&[]);
+        let (bus, bus_frame) = self.clocks.bus(c, pixels);
+        let frame_rises = bus_frame.is_some() && Some(c) == bus_frame.map(|k| self.clocks.frame_start(k));
+        for (p, u) in self.units.iter_mut().enumerate() {
+            while u.queued.front().is_some_and(|q| q.0 <= c) {
+                if let Some((_, req)) = u.queued.pop_front() {
+                    u.writer.write(window_of(&req), req.decimation == Decimation::Quarter);
+                    u.written.push_back(req);
+                }
+            }
+            if frame_rises {
+                // Which set the hardware arms: mirrored only to know the window's shape.
+                if let Some(idx) = u.complete.iter().rposition(|s| s.0 + 2 <= c) {
+                    let req = u.complete[idx].1;
+                    u.complete.drain(..=idx);
+                    u.active = bus_frame.map(|k| (k, req, Vec::new()));
+                }
+            }
+            let port: CoordBus = u.writer.next(&u.last);
+            let out = match (&mut self.trace, p) {
+                (Some(t), 0) => u.driver.step_traced(bus, port, t),
+                _ => u.driver.step(bus, port),
+            };
+            if out.coord_ready && !u.last.coord_ready {
+                u.ready_rises += 1;
+                if u.ready_rises % 4 == 0 {
+                    if let Some(req) = u.written.pop_front() {
+                        u.complete.push((c, req));
+                    }
+                }
+            }
+            u.last = out;
+            if out.pixel_strobe {
+                match &mut u.active {
+                    Some((_, _, px)) => px.push(out.pixel_out),
+                    None => return Err(format!("unit {p} strobed a pixel on clock {c} with no window armed")),
+                }
+                if let Some((k, req, px)) = &u.active {
+                    let (w, h) = req.delivered_size();
+                    if px.len() == w * h {
+                        self.done.push_back(Delivered { p, frame: *k, clock: c, req: *req, pixels: px.clone() });
+                        u.active = None;
+                    }
+                }
+            }
+        }
+        self.clock += 1;
+        self.clocks_stepped += 1;
+        Ok(())
+    }
+}
+
+impl WindowBackend for HdlBackend {
+    fn request(&mut self, p: usize, req: WindowRequest, at: u64) {
+        if let Some(u) = self.units.get_mut(p) {
+            u.queued.push_back((at, req));
+        }
+    }
+
+    fn next_window(&mut self, until: u64, frames: &mut dyn FrameSource) -> Result<Option<Delivered>, String> {
+        // Nothing is delivered after the last frame period.
+        let end = self.clocks.frame_start(self.clocks.frames);
+        while self.done.is_empty() && self.clock <= until.min(end) {
+            self.step(frames)?;
+        }
+        Ok(self.done.pop_front())
+    }
+}
