@@ -1,5 +1,6 @@
 //! The coopwin testbench: the camera, the window units and the processors simulated together,
 //! and the `coopwin` command that runs them.
+pub mod audit;
 pub mod backend;
 pub mod commands;
 pub mod cost;

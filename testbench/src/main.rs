@@ -21,6 +21,8 @@ const EXAMPLES: &str = "Examples:
   coopwin scene --path triangle --speed 100 --frames 300 --lighting ramp --out scenes/tri
   coopwin track --frames scenes/tri --strategy coop --target 56,56 --out tri.csv
   coopwin experiment table-4.1 --out results
+  coopwin track --frames scenes/tri --strategy coop --target 56,56 --hdl rust-hdl --vcd run.vcd
+  coopwin audit run.vcd --requests run.requests.csv
   coopwin match --image window.png --template tpl.png --method ncc
   coopwin corner --image window.png --threshold 50
   coopwin motion --prev a.png --next b.png --threshold 30
@@ -145,6 +147,14 @@ enum Command {
         #[arg(long, default_value_t = 30)]
         threshold: u8,
     },
+    /// Check a window unit's VCD against the coordinate sets its processor wrote (Appendix B)
+    Audit {
+        /// VCD from `coopwin track --hdl rust-hdl --vcd FILE.vcd`
+        vcd: PathBuf,
+        /// The requests CSV written beside it (FILE.requests.csv)
+        #[arg(long)]
+        requests: PathBuf,
+    },
     /// Reproduce a table or figure of the thesis (CSV, SVG/PNG chart, markdown)
     Experiment {
         /// table-2.3, fig-2.9, fig-2.10, fig-3.5, fig-3.7, fig-3.10, table-4.1, or all
@@ -220,6 +230,31 @@ fn run(cli: Cli) -> Result<(), CliError> {
             };
             println!("{}", kernels::match_images(&image, &template, m, decimate)?);
             Ok(())
+        }
+        Some(Command::Audit { vcd, requests }) => {
+            use coopwin_testbench::audit;
+            let f = std::fs::File::open(&vcd).map_err(|e| coopwin_testbench::commands::io_error("open", &vcd, e))?;
+            let samples = audit::read_vcd(std::io::BufReader::new(f)).map_err(|e| CliError(format!("{}: {e}", vcd.display())))?;
+            let text = std::fs::read_to_string(&requests)
+                .map_err(|e| coopwin_testbench::commands::io_error("read", &requests, e))?;
+            let sets = audit::read_requests(&text).map_err(|e| CliError(format!("{}: {e}", requests.display())))?;
+            let a = audit::audit(&samples, &sets);
+            println!(
+                "{} clocks, {} frames, {} sets taken, {} windows verified, {} violations",
+                a.clocks,
+                a.frames,
+                a.sets,
+                a.windows,
+                a.violations.len()
+            );
+            for v in &a.violations {
+                println!("  {v}");
+            }
+            if a.violations.is_empty() {
+                Ok(())
+            } else {
+                Err(CliError(format!("the waveform breaks {} rule(s)", a.violations.len())))
+            }
         }
         Some(Command::Corner { image, threshold }) => {
             println!("{}", kernels::corner_image(&image, threshold)?);
@@ -337,6 +372,11 @@ fn run(cli: Cli) -> Result<(), CliError> {
             if let Some(path) = &out {
                 track::write_atomic(path, &track::csv(&log.frames))?;
                 println!("wrote {}", path.display());
+            }
+            if let Some(v) = &vcd {
+                let req = v.with_extension("requests.csv");
+                track::write_atomic(&req, &track::requests_csv(&log))?;
+                println!("wrote {} and {} (unit 0; check with `coopwin audit`)", v.display(), req.display());
             }
             let tracked = log.frames.iter().filter(|r| r.point.is_some()).count();
             println!(

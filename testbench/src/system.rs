@@ -111,6 +111,8 @@ pub struct RunLog {
     pub windows: Vec<usize>,
     /// Frame period in seconds.
     pub frame_period: f64,
+    /// Every request written: (processor, clock, request).
+    pub requests: Vec<(usize, u64, WindowRequest)>,
     /// Every window delivered: (processor, frame, clock, FNV-1a hash of its pixels), so
     /// backends can be compared window for window.
     pub deliveries: Vec<(usize, usize, u64, u64)>,
@@ -311,7 +313,7 @@ pub fn run_with(
             (Proc::Foveal(f), Some(t)) if Some(i) == routes.foveal => f.start_at(t),
             _ => Step { work: coopwin_firmware::tracker::Work::None, request: None, sends: Default::default(), report: None },
         };
-        apply(i, step, 0, backend, &mut q, &routes, &link);
+        apply(i, step, 0, backend, &mut q, &routes, &link, &mut log.requests);
     }
     for k in 0..n {
         q.push(clocks.frame_start(k), Event::FrameStart(k));
@@ -344,7 +346,7 @@ pub fn run_with(
                 log.losses.push(secs(end));
                 last_report = None;
             }
-            apply(p, step, end, backend, &mut q, &routes, &link);
+            apply(p, step, end, backend, &mut q, &routes, &link, &mut log.requests);
             continue;
         }
         let Some((c, ev)) = q.pop() else { break };
@@ -370,7 +372,7 @@ pub fn run_with(
                     log.reports.push(r);
                     last_report = Some(r);
                 }
-                apply(p, step, end, backend, &mut q, &routes, &link);
+                apply(p, step, end, backend, &mut q, &routes, &link, &mut log.requests);
             }
         }
     }
@@ -429,6 +431,7 @@ impl Routes {
     }
 }
 
+#[allow(clippy::too_many_arguments)]
 /// Carries out a step finished on clock `at`: its request is written to its unit, its
 /// messages go over the links.
 fn apply(
@@ -439,9 +442,11 @@ fn apply(
     q: &mut Queue,
     routes: &Routes,
     link: &dyn Fn(usize) -> u64,
+    requests: &mut Vec<(usize, u64, WindowRequest)>,
 ) {
     if let Some(req) = step.request {
         backend.request(p, req, at);
+        requests.push((p, at, req));
     }
     for (d, m) in step.sends {
         if let Some(to) = routes.to(d) {

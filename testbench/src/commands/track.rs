@@ -131,6 +131,19 @@ pub fn algo_name(a: Algo) -> &'static str {
     }
 }
 
+/// The requests CSV of processor 0 (the unit a VCD traces): clock,xmin,xmax,ymin,ymax,decimate.
+pub fn requests_csv(log: &RunLog) -> String {
+    let mut s = String::from("clock,xmin,xmax,ymin,ymax,decimate\n");
+    for (p, clock, r) in &log.requests {
+        if *p == 0 {
+            let w = crate::backend::window_of(r);
+            let dec = r.decimation == coopwin_firmware::ports::Decimation::Quarter;
+            let _ = writeln!(s, "{clock},{},{},{},{},{}", w.xmin, w.xmax, w.ymin, w.ymax, dec as u8);
+        }
+    }
+    s
+}
+
 /// Writes `text` to `path` through a temporary file, so a failed run leaves nothing behind.
 pub fn write_atomic(path: &Path, text: &str) -> Result<(), CliError> {
     let tmp = path.with_extension("partial");
