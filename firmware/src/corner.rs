@@ -19,7 +19,7 @@
 //!    Q3, MidNum logic, or the Golden Section Search when Q3 is undefined.
 //!
 //! Windows up to [`MAX_DIM`] x [`MAX_DIM`] are handled with fixed buffers held by a
-//! [`CornerDetector`] (about 20 KiB, so it can live in a `static` on a microcontroller).
+//! [`CornerDetector`] (about 27 KiB, so it can live in a `static` on a microcontroller).
 
 use crate::view::WindowView;
 
@@ -27,8 +27,6 @@ use crate::view::WindowView;
 /// 24x24).
 pub const MAX_DIM: usize = 64;
 const CAP: usize = MAX_DIM * MAX_DIM;
-/// Pixels of a window padded by one pixel on each side (labelling frame).
-const PCAP: usize = (MAX_DIM + 2) * (MAX_DIM + 2);
 
 /// Golden ratio conjugate used by the Golden Section Search (thesis 3.3: the middle
 /// point sits 0.38 from one end and 0.62 from the other).
@@ -386,6 +384,17 @@ pub fn corner_from_edges(
     params: &CornerParams,
 ) -> Result<(f32, f32, CornerCase), NoCorner> {
     let b = bounding_points(map, w, h).ok_or(NoCorner::NoEdges)?;
+    corner_from_bounds(map, w, h, &b, params)
+}
+
+/// [`corner_from_edges`] with the bounding points of `map` already known.
+fn corner_from_bounds(
+    map: &[u8],
+    w: usize,
+    h: usize,
+    b: &BoundingPoints,
+    params: &CornerParams,
+) -> Result<(f32, f32, CornerCase), NoCorner> {
     let tol = i32::from(params.distinct_tol);
     let distinct = |p: Point, q: Point| (p.0 - q.0).abs().max((p.1 - q.1).abs()) > tol;
     let (q1, q2) = (b.p00, b.p10);
@@ -528,15 +537,277 @@ fn gss_corner(
     Ok((best.1 .0 as f32, best.1 .1 as f32, CornerCase::Gss))
 }
 
+/// Sobel + threshold of the `w x h` window in `wide` into bit rows `bits`, with `N`-pixel
+/// fixed-length rows (`w <= N`; `M = N + 2`) so every loop is whole SIMD vectors.
+/// Pixels beyond `w` are computed from whatever the rows hold there and masked off.
+/// Returns the number of edge pixels.
+fn sobel_rows<const N: usize, const M: usize>(
+    wide: &[[i16; MAX_DIM]; MAX_DIM],
+    bits: &mut [u64; MAX_DIM],
+    w: usize,
+    h: usize,
+    th2: i32,
+) -> u32 {
+    let fixed = |y: usize| -> &[i16; N] {
+        let r = wide.get(y).map_or(&[][..], |r| r.get(..N).unwrap_or(&[]));
+        <&[i16; N]>::try_from(r).unwrap_or(&[0; N])
+    };
+    let mask = row_mask(w);
+    let (l, r) = (reflect(-1, w), reflect(w as isize, w));
+    let mut count = 0;
+    for (y, out) in bits.iter_mut().enumerate().take(h) {
+        let (up, mid, dn) = (
+            fixed(reflect(y as isize - 1, h)),
+            fixed(y),
+            fixed(reflect(y as isize + 1, h)),
+        );
+        // Vertical pass: smooth = up + 2 mid + down, diff = down - up, at index x + 1,
+        // then the reflect-101 margins at 0 and w + 1.
+        let mut smooth = [0i16; M];
+        let mut diff = [0i16; M];
+        for x in 0..N {
+            smooth[x + 1] = up[x] + 2 * mid[x] + dn[x];
+            diff[x + 1] = dn[x] - up[x];
+        }
+        smooth[0] = smooth[l + 1];
+        diff[0] = diff[l + 1];
+        smooth[w + 1] = smooth[r + 1];
+        diff[w + 1] = diff[r + 1];
+        let mut edge = [0u8; N];
+        for x in 0..N {
+            let gx = i32::from(smooth[x + 2] - smooth[x]);
+            let gy = i32::from(diff[x] + 2 * diff[x + 1] + diff[x + 2]);
+            edge[x] = u8::from(gx * gx + gy * gy > th2);
+        }
+        let mut b = 0u64;
+        for (k, c) in edge.chunks_exact(8).enumerate() {
+            if let Ok(c) = <&[u8; 8]>::try_from(c) {
+                b |= pack8(c) << (8 * k);
+            }
+        }
+        *out = b & mask;
+        count += out.count_ones();
+    }
+    count
+}
+
 /// The corner detector with its fixed working buffers (edge map, labels, stack).
 pub struct CornerDetector {
     edges: [u8; CAP],
-    tmp: [u8; CAP],
-    labels: [u16; PCAP],
-    stack: [u16; PCAP],
+    /// Bit-packed edge rows (bit `x` of row `y` = pixel `(x, y)`).
+    bits: [u64; MAX_DIM],
+    /// The window widened to `i16`, one `MAX_DIM` row per window row (Sobel input).
+    wide: [[i16; MAX_DIM]; MAX_DIM],
+    runs: Runs,
     w: usize,
     h: usize,
     edge_pixels: u32,
+}
+
+/// Most horizontal runs of set pixels a `MAX_DIM x MAX_DIM` map can hold.
+const MAX_RUNS: usize = MAX_DIM * MAX_DIM / 2;
+
+/// Scratch of the run-based labelling ([`largest_component_bits`]).
+struct Runs {
+    x0: [u8; MAX_RUNS],
+    x1: [u8; MAX_RUNS],
+    y: [u8; MAX_RUNS],
+    parent: [u16; MAX_RUNS],
+    area: [u16; MAX_RUNS],
+}
+
+impl Runs {
+    const fn new() -> Self {
+        Self {
+            x0: [0; MAX_RUNS],
+            x1: [0; MAX_RUNS],
+            y: [0; MAX_RUNS],
+            parent: [0; MAX_RUNS],
+            area: [0; MAX_RUNS],
+        }
+    }
+}
+
+/// Root of run `i` (path halving). Parents always point to smaller indices, so the root
+/// is the component's first run in raster order.
+#[inline]
+fn find(parent: &mut [u16], mut i: usize) -> usize {
+    loop {
+        let p = usize::from(parent.get(i).copied().unwrap_or(0));
+        if p == i {
+            return i;
+        }
+        let gp = parent.get(p).copied().unwrap_or(0);
+        if let Some(slot) = parent.get_mut(i) {
+            *slot = gp;
+        }
+        i = p;
+    }
+}
+
+/// Row mask of a `w`-pixel row (`1 <= w <= 64`).
+#[inline]
+fn row_mask(w: usize) -> u64 {
+    if w >= 64 {
+        u64::MAX
+    } else {
+        (1u64 << w) - 1
+    }
+}
+
+/// [`keep_largest_component`] on bit rows: union-find over horizontal runs. Two runs of
+/// consecutive rows are 8-connected iff their column ranges, each widened by one pixel,
+/// overlap. The root of a component is its first run in raster order, so the largest
+/// component with ties to the smallest root is the one `keep_largest_component` keeps.
+/// Returns the number of pixels kept.
+fn largest_component_bits(rows: &mut [u64], runs: &mut Runs) -> u32 {
+    let Runs { x0, x1, y: ry, parent, area } = runs;
+    let mut n = 0usize;
+    let mut prev = (0usize, 0usize);
+    for (y, row) in rows.iter().enumerate() {
+        let start = n;
+        let mut b = *row;
+        while b != 0 && n < MAX_RUNS {
+            let a = b.trailing_zeros();
+            let len = (b >> a).trailing_ones();
+            let end = a + len; // exclusive, <= 64
+            b = if end >= 64 { 0 } else { b & (u64::MAX << end) };
+            x0[n] = a as u8;
+            x1[n] = (end - 1) as u8;
+            ry[n] = y as u8;
+            parent[n] = n as u16;
+            area[n] = 0;
+            n += 1;
+        }
+        // Merge with the runs of the previous row (two pointers, both sorted by x).
+        let (mut i, mut j) = prev;
+        while i < prev.1 && j < n {
+            let (pa, pb, ca, cb) = (x0[i], x1[i], x0[j], x1[j]);
+            if u16::from(pb) + 1 < u16::from(ca) {
+                i += 1;
+            } else if u16::from(cb) + 1 < u16::from(pa) {
+                j += 1;
+            } else {
+                let (ri, rj) = (find(parent, i), find(parent, j));
+                if ri < rj {
+                    parent[rj] = ri as u16;
+                } else if rj < ri {
+                    parent[ri] = rj as u16;
+                }
+                if pb < cb {
+                    i += 1;
+                } else {
+                    j += 1;
+                }
+            }
+        }
+        prev = (start, n);
+    }
+    let (mut best, mut best_area) = (usize::MAX, 0u32);
+    for r in 0..n {
+        let root = find(parent, r);
+        parent[r] = root as u16;
+        let len = u16::from(x1[r]) - u16::from(x0[r]) + 1;
+        area[root] += len;
+    }
+    for r in 0..n {
+        if usize::from(parent[r]) == r && u32::from(area[r]) > best_area {
+            best = r;
+            best_area = u32::from(area[r]);
+        }
+    }
+    rows.iter_mut().for_each(|r| *r = 0);
+    for r in 0..n {
+        if usize::from(parent[r]) == best {
+            let (a, e) = (u32::from(x0[r]), u32::from(x1[r]));
+            let m = (u64::MAX >> (63 - e)) & (u64::MAX << a);
+            if let Some(row) = rows.get_mut(usize::from(ry[r])) {
+                *row |= m;
+            }
+        }
+    }
+    best_area
+}
+
+/// [`open_cross`] on bit rows of width `w`; returns the number of set pixels.
+fn open_cross_bits(rows: &mut [u64], w: usize, tmp: &mut [u64]) -> u32 {
+    let mask = row_mask(w);
+    let left_out = 1u64; // pixel 0's left neighbour is outside
+    let right_out = 1u64 << (w - 1).min(63);
+    let h = rows.len().min(tmp.len());
+    for y in 0..h {
+        let c = rows[y];
+        let up = if y > 0 { rows[y - 1] } else { u64::MAX };
+        let dn = if y + 1 < h { rows[y + 1] } else { u64::MAX };
+        tmp[y] = c & up & dn & ((c << 1) | left_out) & ((c >> 1) | right_out) & mask;
+    }
+    let mut count = 0;
+    for y in 0..h {
+        let e = tmp[y];
+        let up = if y > 0 { tmp[y - 1] } else { 0 };
+        let dn = if y + 1 < h { tmp[y + 1] } else { 0 };
+        let d = (e | up | dn | (e << 1) | (e >> 1)) & mask;
+        rows[y] = d;
+        count += d.count_ones();
+    }
+    count
+}
+
+/// [`bounding_points`] of bit rows (`None` if no bit is set).
+fn bounding_points_bits(rows: &[u64]) -> Option<BoundingPoints> {
+    let ymin = rows.iter().position(|&r| r != 0)?;
+    let ymax = rows.iter().rposition(|&r| r != 0)?;
+    let lo = |r: u64| r.trailing_zeros() as i32;
+    let hi = |r: u64| 63 - r.leading_zeros() as i32;
+    let (mut xmin, mut xmax) = (64i32, -1i32);
+    for &r in rows.iter().filter(|&&r| r != 0) {
+        xmin = xmin.min(lo(r));
+        xmax = xmax.max(hi(r));
+    }
+    let col = |x: i32| {
+        let bit = 1u64 << x;
+        let first = rows.iter().position(|&r| r & bit != 0).unwrap_or(0) as i32;
+        let last = rows.iter().rposition(|&r| r & bit != 0).unwrap_or(0) as i32;
+        (first, last)
+    };
+    let (a, b) = col(xmin);
+    let (c, d) = col(xmax);
+    let (rt, rb) = (rows[ymin], rows[ymax]);
+    let (ymin, ymax) = (ymin as i32, ymax as i32);
+    Some(BoundingPoints {
+        p00: (xmin, a),
+        p01: (xmin, b),
+        p10: (xmax, c),
+        p11: (xmax, d),
+        bar_p00: (lo(rt), ymin),
+        bar_p01: (hi(rt), ymin),
+        bar_p10: (lo(rb), ymax),
+        bar_p11: (hi(rb), ymax),
+    })
+}
+
+/// `BYTES[b]`: the 8 bits of `b` as 8 bytes of 0/1, little-endian (bit 0 = byte 0).
+const BYTES: [u64; 256] = {
+    let mut t = [0u64; 256];
+    let mut b = 0;
+    while b < 256 {
+        let mut k = 0;
+        while k < 8 {
+            if b & (1 << k) != 0 {
+                t[b] |= 1u64 << (8 * k);
+            }
+            k += 1;
+        }
+        b += 1;
+    }
+    t
+};
+
+/// Packs 8 bytes of 0/1 (byte `k` = bit `k`) into a byte: `b_k` moves from bit `8k`
+/// to bit `56 + k` of the product, and no two partial products collide.
+#[inline(always)]
+fn pack8(bytes: &[u8; 8]) -> u64 {
+    u64::from_le_bytes(*bytes).wrapping_mul(0x0102_0408_1020_4080) >> 56
 }
 
 impl Default for CornerDetector {
@@ -550,9 +821,9 @@ impl CornerDetector {
     pub const fn new() -> Self {
         Self {
             edges: [0; CAP],
-            tmp: [0; CAP],
-            labels: [0; PCAP],
-            stack: [0; PCAP],
+            bits: [0; MAX_DIM],
+            wide: [[0; MAX_DIM]; MAX_DIM],
+            runs: Runs::new(),
             w: 0,
             h: 0,
             edge_pixels: 0,
@@ -574,47 +845,35 @@ impl CornerDetector {
         )
     }
 
-    /// Thresholded Sobel edge map `gx² + gy² > TH²` of `view` into the internal buffer;
+    /// Thresholded Sobel edge map `gx² + gy² > TH²` of `view` into the bit rows;
     /// returns the number of edge pixels.
     fn threshold_edges(&mut self, view: &WindowView<'_>, th: u16) -> u32 {
         let (w, h) = (view.width(), view.height());
-        // Three rows of the window (above, current, below), reflect-101 at the borders.
-        let mut rows = [[0i16; MAX_DIM]; 3];
-        let load = |r: &mut [i16; MAX_DIM], y: usize| {
-            for (d, s) in r.iter_mut().zip(view.row_iter(y)) {
-                *d = i16::from(s);
-            }
-        };
-        let mut count = 0u32;
-        let mut smooth = [0i16; MAX_DIM + 2];
-        let mut diff = [0i16; MAX_DIM + 2];
-        // |g| <= 4·255 per axis, so gx² + gy² <= 2.1e6 fits i32; TH² needs i64 for TH > 46340.
-        let th2 = i64::from(th) * i64::from(th);
-        for y in 0..h {
-            load(&mut rows[0], reflect(y as isize - 1, h));
-            load(&mut rows[1], y);
-            load(&mut rows[2], reflect(y as isize + 1, h));
-            // Vertical pass: smooth = up + 2 mid + down, diff = down - up, stored with a
-            // one-pixel reflect-101 margin so the horizontal pass needs no branches.
-            for x in 0..w {
-                let (u, c, d) = (rows[0][x], rows[1][x], rows[2][x]);
-                smooth[x + 1] = u + 2 * c + d;
-                diff[x + 1] = d - u;
-            }
-            let (l, r) = (reflect(-1, w), reflect(w as isize, w));
-            smooth[0] = smooth[l + 1];
-            diff[0] = diff[l + 1];
-            smooth[w + 1] = smooth[r + 1];
-            diff[w + 1] = diff[r + 1];
-            let out = self.edges.get_mut(y * w..(y + 1) * w).unwrap_or(&mut []);
-            for (x, o) in out.iter_mut().enumerate() {
-                let gx = i32::from(smooth[x + 2]) - i32::from(smooth[x]);
-                let gy = i32::from(diff[x]) + 2 * i32::from(diff[x + 1]) + i32::from(diff[x + 2]);
-                *o = u8::from(i64::from(gx * gx + gy * gy) > th2);
-                count += u32::from(*o);
+        if w == 0 || h == 0 || w > MAX_DIM || h > MAX_DIM {
+            return 0;
+        }
+        for (y, r) in self.wide.iter_mut().take(h).enumerate() {
+            match view.row(y) {
+                Some(src) => {
+                    for (d, &s) in r.iter_mut().zip(src) {
+                        *d = i16::from(s);
+                    }
+                }
+                None => {
+                    for (d, s) in r.iter_mut().zip(view.row_iter(y)) {
+                        *d = i16::from(s);
+                    }
+                }
             }
         }
-        count
+        // |g| <= 4·255 per axis, so gx² + gy² <= 2.1e6 < i32::MAX: clamping TH² to
+        // i32::MAX does not change any comparison.
+        let th2 = i32::try_from(u32::from(th) * u32::from(th)).unwrap_or(i32::MAX);
+        if w <= 32 {
+            sobel_rows::<32, 34>(&self.wide, &mut self.bits, w, h, th2)
+        } else {
+            sobel_rows::<64, 66>(&self.wide, &mut self.bits, w, h, th2)
+        }
     }
 
     /// Runs the whole chapter-3 pipeline on `view` and returns the corner in frame
@@ -640,13 +899,22 @@ impl CornerDetector {
         if self.edge_pixels == 0 {
             return Err(NoCorner::NoEdges);
         }
-        keep_largest_component(&mut self.edges, w, h, &mut self.labels, &mut self.stack)
-            .ok_or(NoCorner::TooLarge)?;
-        let clean = open_cross(&mut self.edges, w, h, &mut self.tmp).ok_or(NoCorner::TooLarge)?;
+        let rows = self.bits.get_mut(..h).ok_or(NoCorner::TooLarge)?;
+        largest_component_bits(rows, &mut self.runs);
+        let mut tmp = [0u64; MAX_DIM];
+        let clean = open_cross_bits(rows, w, &mut tmp);
+        // The byte map (for `edge_map` and the corner rules).
+        for (dst, &r) in self.edges.chunks_exact_mut(w).zip(rows.iter()) {
+            for (k, d) in dst.chunks_mut(8).enumerate() {
+                let bytes = BYTES[((r >> (8 * k)) & 0xff) as usize].to_le_bytes();
+                d.copy_from_slice(bytes.get(..d.len()).unwrap_or(&[]));
+            }
+        }
         if clean == 0 {
             return Err(NoCorner::FilteredOut);
         }
-        let (mut x, mut y, case) = corner_from_edges(&self.edges, w, h, params)?;
+        let b = bounding_points_bits(rows).ok_or(NoCorner::FilteredOut)?;
+        let (mut x, mut y, case) = corner_from_bounds(&self.edges, w, h, &b, params)?;
         if params.refine {
             (x, y) = band_centroid(&self.edges, w, h, x, y);
         }
@@ -704,7 +972,88 @@ mod tests {
         det.h = 3;
         assert_eq!(det.threshold_edges(&v, 400), 0);
         assert_eq!(det.threshold_edges(&v, 399), 6);
-        assert_eq!(&det.edges[..12], &[0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0]);
+        assert_eq!(&det.bits[..3], &[0b0110, 0b0110, 0b0110]);
+    }
+
+    /// The bit-row pipeline of `detect` (run labelling, opening, bounding points) gives
+    /// exactly the byte-map functions' results on random maps of every density.
+    #[test]
+    fn bit_pipeline_matches_byte_functions() {
+        let mut seed = 0x1234_5678_9abc_def0u64;
+        let mut rnd = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        let mut runs = Runs::new();
+        for case in 0..3000 {
+            let w = 1 + (rnd() % 64) as usize;
+            let h = 1 + (rnd() % 64) as usize;
+            let density = rnd() % 100;
+            let mut m = std::vec![0u8; w * h];
+            for v in m.iter_mut() {
+                *v = u8::from(rnd() % 100 < density);
+            }
+            let mut bits = [0u64; MAX_DIM];
+            for (y, b) in bits.iter_mut().take(h).enumerate() {
+                for x in 0..w {
+                    *b |= u64::from(m[y * w + x]) << x;
+                }
+            }
+            let pn = (w + 2) * (h + 2);
+            let (mut l, mut st) = (std::vec![0u16; pn], std::vec![0u16; pn]);
+            let c = keep_largest_component(&mut m, w, h, &mut l, &mut st).unwrap();
+            let area = largest_component_bits(&mut bits[..h], &mut runs);
+            assert_eq!(area, c.largest_area, "case {case}");
+            let mut tmp = std::vec![0u8; w * h];
+            let n = open_cross(&mut m, w, h, &mut tmp).unwrap();
+            let mut t = [0u64; MAX_DIM];
+            assert_eq!(open_cross_bits(&mut bits[..h], w, &mut t), n, "case {case}");
+            for y in 0..h {
+                for x in 0..w {
+                    assert_eq!(u8::from(bits[y] >> x & 1 != 0), m[y * w + x], "case {case} ({x},{y})");
+                }
+            }
+            assert_eq!(bounding_points_bits(&bits[..h]), bounding_points(&m, w, h), "case {case}");
+        }
+    }
+
+    /// The fixed-width Sobel rows agree with `sobel_at` + threshold on random windows,
+    /// including strided (decimated) views and a detector reused across sizes.
+    #[test]
+    fn sobel_rows_match_sobel_at() {
+        let mut seed = 0x0ddb_a11c_afe5_eed5u64;
+        let mut rnd = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        let mut det = CornerDetector::new();
+        for case in 0..600 {
+            let (w, h) = (1 + (rnd() % 64) as usize, 1 + (rnd() % 64) as usize);
+            let step = if case % 3 == 0 { 2 } else { 1 };
+            let (fw, fh) = (w * step, h * step);
+            let d: std::vec::Vec<u8> = (0..fw * fh).map(|_| rnd() as u8).collect();
+            let mut v = WindowView::packed(&d, fw, fh).unwrap();
+            if step == 2 {
+                v = v.decimated();
+            }
+            let th = (rnd() % 1200) as u16;
+            let n = det.threshold_edges(&v, th);
+            let mut expect = 0;
+            for y in 0..h {
+                for x in 0..w {
+                    let (gx, gy) = sobel_at(&v, x, y).unwrap();
+                    let e = i64::from(gx * gx + gy * gy) > i64::from(th) * i64::from(th);
+                    expect += u32::from(e);
+                    assert_eq!(det.bits[y] >> x & 1 != 0, e, "case {case} ({x},{y})");
+                }
+                assert_eq!(det.bits[y] >> w.min(63) >> u32::from(w == 64), 0);
+            }
+            assert_eq!(n, expect);
+        }
     }
 
     #[test]

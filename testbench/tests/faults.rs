@@ -1,0 +1,59 @@
+//! Faults on the loop: nothing panics, the loss is logged, tracking recovers. Run with the
+//! behavioural window units and with the rust-hdl units.
+use coopwin_testbench::cost::CostModel;
+use coopwin_testbench::experiments::{run_scene, system, triangle, watch_system, SceneFrames};
+use coopwin_testbench::scene::{PathKind, Scene, SceneConfig};
+use coopwin_testbench::system::{run, FrameSource, HdlChoice, Strategy};
+
+/// The scene with frames `dark` replaced by all zeros (a camera dropout).
+struct Dropout {
+    inner: SceneFrames,
+    dark: std::ops::Range<usize>,
+    zeros: Vec<u8>,
+}
+
+impl FrameSource for Dropout {
+    fn size(&self) -> (usize, usize) {
+        self.inner.size()
+    }
+    fn len(&self) -> usize {
+        self.inner.len()
+    }
+    fn frame(&mut self, k: usize) -> Result<&[u8], String> {
+        if self.dark.contains(&k) {
+            return Ok(&self.zeros);
+        }
+        self.inner.frame(k)
+    }
+}
+
+#[test]
+fn all_zero_frames_lose_the_target_then_tracking_recovers() {
+    for hdl in [HdlChoice::Model, HdlChoice::RustHdl] {
+        let scene = SceneConfig { frames: 24, ..triangle(40.0, 8) };
+        let target = Scene::new(scene.clone()).truth(0).corner;
+        let mut cfg = system(Strategy::Tpdf, CostModel::C40, Some(target));
+        cfg.hdl = hdl;
+        let mut src = Dropout { inner: SceneFrames::new(scene), dark: 8..10, zeros: vec![0; 65536] };
+        let log = run(&cfg, &mut src, &mut |_| {}).unwrap();
+        let period = log.frame_period;
+        let lost = log.losses.first().copied().unwrap_or_else(|| panic!("{hdl:?}: no loss logged"));
+        assert!(lost > 8.0 * period && lost < 12.0 * period, "{hdl:?}: lost at {lost}");
+        assert!(log.reports.iter().any(|r| r.frame >= 12), "{hdl:?}: tracking never recovered");
+        assert!(log.frames[9].point.is_none(), "{hdl:?}: a dark frame reported as tracked");
+    }
+}
+
+#[test]
+fn leaving_and_reentering_the_field_of_view_relocks() {
+    let scene = SceneConfig { path: PathKind::Pendulum, frames: 900, speed: 150.0, noise: 1.0, seed: 9, ..SceneConfig::default() };
+    let (log, m) = run_scene(&watch_system(Strategy::Tpdf, CostModel::C40, &scene), scene.clone()).unwrap();
+    let truth: Vec<_> = (0..scene.frames).map(|k| Scene::new(scene.clone()).truth(k)).collect();
+    let entries = (1..truth.len()).filter(|&k| truth[k].visible && !truth[k - 1].visible).count();
+    assert!(entries >= 2, "the scene re-enters: {entries}");
+    // A report after every re-entry.
+    for k in (1..truth.len()).filter(|&k| truth[k].visible && !truth[k - 1].visible) {
+        assert!(log.reports.iter().any(|r| r.frame >= k && r.frame < k + 60), "no lock-on after entry at {k}");
+    }
+    assert!(m.lock_on.is_some());
+}
