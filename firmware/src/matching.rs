@@ -17,8 +17,11 @@
 //! placement come from running column sums, updated by one row in and one row out per
 //! placement row, and a running sum along the row, so each placement costs only the
 //! dot product `Σ R·I`. SSD uses `Σ R² + Σ I² - 2 Σ R·I`, so it costs the same dot
-//! product. Dot products are `u8 x u8 -> u32` over zipped row slices, which LLVM turns
-//! into SIMD multiply-accumulate (`pmaddwd` on x86).
+//! product. The dot products of all placements come from column strips widened to `i16`
+//! (see `strip_dot_products`), in which every patch is one contiguous run; four
+//! placements share each template load and LLVM turns the 16-lane `i16·i16 -> i32`
+//! reduction into `pmaddwd` on baseline x86-64. Windows too large for the strips use
+//! per-row `u8` dot products.
 //!
 //! ## Sub-pixel refinement
 //! Around the best placement `s0` with neighbours `s-` and `s+` along x (then y), the
