@@ -160,7 +160,7 @@ pub fn read_requests(text: &str) -> Result<Vec<(usize, Set)>, String> {
 /// was queued).
 pub fn audit(samples: &[Sample], requests: &[(usize, Set)]) -> Audit {
     let mut a = Audit { clocks: samples.len(), ..Audit::default() };
-    let mut bad = |a: &mut Audit, t: usize, what: String| {
+    let bad = |a: &mut Audit, t: usize, what: String| {
         if a.violations.len() < 50 {
             a.violations.push(format!("clock {t}: {what}"));
         }

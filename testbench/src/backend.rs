@@ -5,9 +5,10 @@
 //!   `hdl::run::writer_timing`), arms the first frame whose FVAL rises at least 2 clocks later,
 //!   one frame per set, the later of two pending sets winning; the window completes on the clock
 //!   its last pixel is strobed (one clock after that pixel was on the bus).
-//! - [`HdlBackend`]: the rust-hdl `WindowUnit`s themselves, stepped clock by clock on the camera
-//!   raster, each written by its processor's `CoordWriter` over the four-phase handshake and read
-//!   from `pixel_strobe`/`pixel_out`.
+//! - [`HdlBackend`]: the units themselves, stepped clock by clock on the camera raster, each
+//!   written by its processor's `CoordWriter` over the four-phase handshake and read from
+//!   `pixel_strobe`/`pixel_out`: the rust-hdl `WindowUnit`s, or the exported `window_network`
+//!   Verilog compiled with Verilator ([`Bank`]).
 //!
 //! Clock 0 of a run is the start of the vertical blanking before frame 0; frame k's FVAL rises
 //! on clock `blank + k * period`.
@@ -175,9 +176,16 @@ impl WindowBackend for ModelBackend {
     }
 }
 
-/// One unit stepped in rust-hdl, with its writer and what it is delivering.
+/// The units themselves: rust-hdl blocks, or the Verilator model of the exported Verilog.
+pub enum Bank {
+    /// One rust-hdl `WindowUnit` per processor, stepped directly.
+    RustHdl(Vec<UnitDriver<{ coopwin_hdl::CA_D1_BITS }>>),
+    /// `window_network` compiled with Verilator (4 units; unused ones idle).
+    Verilator(crate::verilator::VerilatorNetwork),
+}
+
+/// One unit's writer and what it is delivering.
 struct HdlUnit {
-    driver: UnitDriver<{ coopwin_hdl::CA_D1_BITS }>,
     writer: CoordWriter,
     last: UnitOutputs,
     /// Requests not yet handed to the writer: (clock, request).
@@ -191,10 +199,13 @@ struct HdlUnit {
     ready_rises: usize,
 }
 
-/// The rust-hdl window units, stepped clock by clock (see the module docs).
+/// Window units simulated clock by clock, rust-hdl or Verilator (see the module docs).
 pub struct HdlBackend {
     clocks: Clocks,
+    bank: Bank,
     units: Vec<HdlUnit>,
+    ports: Vec<CoordBus>,
+    outs: Vec<UnitOutputs>,
     clock: u64,
     frame: Option<(usize, Vec<u8>)>,
     done: VecDeque<Delivered>,
@@ -204,11 +215,19 @@ pub struct HdlBackend {
 }
 
 impl HdlBackend {
-    /// `n` rust-hdl units at power-on; with `trace`, unit 0's signals go into a VCD.
-    pub fn new(clocks: Clocks, n: usize, trace: Option<Box<dyn std::io::Write>>) -> Self {
+    /// `n` units at power-on in `bank`; with `trace` (rust-hdl only), unit 0's signals go into
+    /// a VCD.
+    pub fn new(clocks: Clocks, n: usize, bank: Bank, trace: Option<Box<dyn std::io::Write>>) -> Result<Self, String> {
+        if let Bank::Verilator(_) = bank {
+            if n > crate::verilator::UNITS {
+                return Err(format!("the Verilator network has {} units, the strategy needs {n}", crate::verilator::UNITS));
+            }
+            if trace.is_some() {
+                return Err("--vcd records the rust-hdl units (--hdl rust-hdl)".into());
+            }
+        }
         let units: Vec<HdlUnit> = (0..n)
             .map(|_| HdlUnit {
-                driver: UnitDriver::default(),
                 writer: CoordWriter::default(),
                 last: UnitOutputs::default(),
                 queued: VecDeque::new(),
@@ -218,11 +237,27 @@ impl HdlBackend {
                 ready_rises: 0,
             })
             .collect();
-        let trace = match (trace, units.first()) {
-            (Some(out), Some(u)) => Some(VcdTrace::new(out, &u.driver, 125_000)),
+        let trace = match (trace, &bank) {
+            (Some(out), Bank::RustHdl(d)) => d.first().map(|u| VcdTrace::new(out, u, 125_000)),
             _ => None,
         };
-        HdlBackend { clocks, units, clock: 0, frame: None, done: VecDeque::new(), trace, clocks_stepped: 0 }
+        Ok(HdlBackend {
+            clocks,
+            bank,
+            units,
+            ports: vec![CoordBus::default(); n],
+            outs: vec![UnitOutputs::default(); n],
+            clock: 0,
+            frame: None,
+            done: VecDeque::new(),
+            trace,
+            clocks_stepped: 0,
+        })
+    }
+
+    /// `n` rust-hdl units.
+    pub fn rust_hdl(clocks: Clocks, n: usize, trace: Option<Box<dyn std::io::Write>>) -> Result<Self, String> {
+        Self::new(clocks, n, Bank::RustHdl((0..n).map(|_| UnitDriver::default()).collect()), trace)
     }
 
     /// Flushes the VCD, if any.
@@ -244,7 +279,7 @@ impl HdlBackend {
         let pixels: &[u8] = self.frame.as_ref().map(|f| f.1.as_slice()).unwrap_or(&[]);
         let (bus, bus_frame) = self.clocks.bus(c, pixels);
         let frame_rises = bus_frame.is_some() && Some(c) == bus_frame.map(|k| self.clocks.frame_start(k));
-        for (p, u) in self.units.iter_mut().enumerate() {
+        for (u, port) in self.units.iter_mut().zip(self.ports.iter_mut()) {
             while u.queued.front().is_some_and(|q| q.0 <= c) {
                 if let Some((_, req)) = u.queued.pop_front() {
                     u.writer.write(window_of(&req), req.decimation == Decimation::Quarter);
@@ -259,11 +294,20 @@ impl HdlBackend {
                     u.active = bus_frame.map(|k| (k, req, Vec::new()));
                 }
             }
-            let port: CoordBus = u.writer.next(&u.last);
-            let out = match (&mut self.trace, p) {
-                (Some(t), 0) => u.driver.step_traced(bus, port, t),
-                _ => u.driver.step(bus, port),
-            };
+            *port = u.writer.next(&u.last);
+        }
+        match &mut self.bank {
+            Bank::RustHdl(drivers) => {
+                for (p, ((d, port), out)) in drivers.iter_mut().zip(&self.ports).zip(self.outs.iter_mut()).enumerate() {
+                    *out = match (&mut self.trace, p) {
+                        (Some(t), 0) => d.step_traced(bus, *port, t),
+                        _ => d.step(bus, *port),
+                    };
+                }
+            }
+            Bank::Verilator(v) => v.step(bus, &self.ports, &mut self.outs),
+        }
+        for (p, (u, out)) in self.units.iter_mut().zip(self.outs.iter().copied()).enumerate() {
             if out.coord_ready && !u.last.coord_ready {
                 u.ready_rises += 1;
                 if u.ready_rises % 4 == 0 {

@@ -11,3 +11,4 @@ pub mod report;
 pub mod scene;
 pub mod system;
 pub mod timing_svg;
+pub mod verilator;

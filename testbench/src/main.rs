@@ -104,7 +104,7 @@ enum Command {
         /// CSV to write (frame,x,y,mode,source,measured_frame)
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Window units: the behavioural model, or the rust-hdl blocks clock by clock
+        /// Window units: the behavioural model, the rust-hdl blocks, or the Verilog in Verilator
         #[arg(long, value_enum, default_value_t = HdlArg::Model)]
         hdl: HdlArg,
         /// With --hdl rust-hdl: a VCD of the first window unit's signals for the whole run
@@ -165,7 +165,7 @@ enum Command {
         /// Processor speeds
         #[arg(long, value_enum, default_value_t = ProfileArg::C40)]
         profile: ProfileArg,
-        /// Window units: the behavioural model, or the rust-hdl blocks clock by clock
+        /// Window units: the behavioural model, the rust-hdl blocks, or the Verilog in Verilator
         #[arg(long, value_enum, default_value_t = HdlArg::Model)]
         hdl: HdlArg,
     },
@@ -175,6 +175,7 @@ enum Command {
 enum HdlArg {
     Model,
     RustHdl,
+    Verilator,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -268,6 +269,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
             let hdl = match hdl {
                 HdlArg::Model => HdlChoice::Model,
                 HdlArg::RustHdl => HdlChoice::RustHdl,
+                HdlArg::Verilator => HdlChoice::Verilator,
             };
             let cost = match profile {
                 ProfileArg::C40 => CostModel::C40,
@@ -364,6 +366,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 hdl: match hdl {
                     HdlArg::Model => HdlChoice::Model,
                     HdlArg::RustHdl => HdlChoice::RustHdl,
+                    HdlArg::Verilator => HdlChoice::Verilator,
                 },
             };
             let started = std::time::Instant::now();

@@ -3,7 +3,7 @@
 //! set is written, and a window is complete when the raster passes its last pixel), the
 //! firmware's processors from `coopwin_firmware::tracker`, each busy for as long as the cost
 //! model says its kernels take, and 20 Mbyte/s links between them. A discrete-event loop.
-use crate::backend::{Clocks, Delivered, HdlBackend, ModelBackend, WindowBackend};
+use crate::backend::{Bank, Clocks, Delivered, HdlBackend, ModelBackend, WindowBackend};
 use crate::cost::CostModel;
 use coopwin_firmware::ports::{Decimation, WindowRequest};
 use coopwin_firmware::tracker::{
@@ -171,6 +171,8 @@ pub enum HdlChoice {
     Model,
     /// The rust-hdl blocks, clock by clock.
     RustHdl,
+    /// The exported Verilog compiled with Verilator, clock by clock.
+    Verilator,
 }
 
 /// Runs `cfg` over `source` with the window units it names, calling `progress(frame)` at each
@@ -194,11 +196,16 @@ pub fn run_traced(
             }
             run_with(cfg, source, &mut ModelBackend::new(clocks, units(cfg.strategy)), progress)
         }
-        HdlChoice::RustHdl => {
+        HdlChoice::RustHdl | HdlChoice::Verilator => {
             if clocks.timing.width > 256 || clocks.timing.height > 256 {
-                return Err("the exported rust-hdl unit has 8-bit counters: frames up to 256x256".into());
+                return Err("the exported window unit has 8-bit counters: frames up to 256x256".into());
             }
-            let mut hdl = HdlBackend::new(clocks, units(cfg.strategy), vcd);
+            let n = units(cfg.strategy);
+            let mut hdl = if cfg.hdl == HdlChoice::RustHdl {
+                HdlBackend::rust_hdl(clocks, n, vcd)?
+            } else {
+                HdlBackend::new(clocks, n, Bank::Verilator(crate::verilator::VerilatorNetwork::new()?), vcd)?
+            };
             let log = run_with(cfg, source, &mut hdl, progress)?;
             hdl.finish()?;
             Ok(log)

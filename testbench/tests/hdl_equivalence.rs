@@ -1,20 +1,38 @@
-//! Hardware in the loop: the same runs with the behavioural window model and with the rust-hdl
-//! `WindowUnit`s stepped clock by clock deliver the same windows, on the same clocks, with the
-//! same pixels, and give the same tracking record. The rust-hdl units are the reference.
+//! Hardware in the loop: the same runs with the behavioural window model, with the rust-hdl
+//! `WindowUnit`s stepped clock by clock, and with the exported Verilog in Verilator deliver the
+//! same windows, on the same clocks, with the same pixels, and give the same tracking record.
+//! The units (two independent simulations of one design) are the reference for the model.
 use coopwin_testbench::cost::CostModel;
 use coopwin_testbench::experiments::{run_scene, system, triangle, watch_system};
 use coopwin_testbench::scene::{PathKind, Scene, SceneConfig};
 use coopwin_testbench::system::{HdlChoice, Strategy, SystemConfig};
 
+/// Verilator present, or required (COOPWIN_REQUIRE_EDA=1, which makes its absence a failure).
+fn verilator() -> bool {
+    let found = std::process::Command::new("verilator").arg("--version").output().is_ok();
+    if !found {
+        assert!(std::env::var("COOPWIN_REQUIRE_EDA").as_deref() != Ok("1"), "COOPWIN_REQUIRE_EDA=1 and verilator not found");
+        eprintln!("SKIPPED the Verilator backend: verilator not found (apt-get install -y verilator)");
+    }
+    found
+}
+
 fn both(cfg: &SystemConfig, scene: &SceneConfig) {
-    let mut hdl = cfg.clone();
-    hdl.hdl = HdlChoice::RustHdl;
+    let backends = if verilator() { vec![HdlChoice::RustHdl, HdlChoice::Verilator] } else { vec![HdlChoice::RustHdl] };
+    for backend in backends {
+        let mut hdl = cfg.clone();
+        hdl.hdl = backend;
+        same(cfg, &hdl, scene);
+    }
+}
+
+fn same(cfg: &SystemConfig, hdl: &SystemConfig, scene: &SceneConfig) {
     let (a, _) = run_scene(cfg, scene.clone()).unwrap();
-    let (b, _) = run_scene(&hdl, scene.clone()).unwrap();
+    let (b, _) = run_scene(hdl, scene.clone()).unwrap();
     assert!(!a.deliveries.is_empty());
     assert_eq!(a.deliveries.len(), b.deliveries.len(), "{:?}", cfg.strategy);
     for (x, y) in a.deliveries.iter().zip(&b.deliveries) {
-        assert_eq!(x, y, "{:?}: (processor, frame, clock, pixel hash) model vs rust-hdl", cfg.strategy);
+        assert_eq!(x, y, "{:?}: (processor, frame, clock, pixel hash) model vs {:?}", cfg.strategy, hdl.hdl);
     }
     assert_eq!(a.frames, b.frames, "{:?}: tracking records differ", cfg.strategy);
     assert_eq!(a.reports, b.reports);

@@ -1,0 +1,141 @@
+//! `--hdl verilator`: the exported `window_network` (4 units) compiled with Verilator on demand
+//! into a shared library beside the C interface of `hdl/verilog/tb/verilator_harness.cpp`, and
+//! stepped one pixel clock per call.
+use coopwin_hdl::driver::{CoordBus, UnitOutputs};
+use std::ffi::c_void;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// Units in the exported network.
+pub const UNITS: usize = coopwin_hdl::verilog::DEFAULT_UNITS;
+
+const HARNESS: &str = include_str!("../../hdl/verilog/tb/verilator_harness.cpp");
+
+type NewFn = unsafe extern "C" fn() -> *mut c_void;
+type StepFn = unsafe extern "C" fn(*mut c_void, u32, *const u32, *mut u32);
+type FreeFn = unsafe extern "C" fn(*mut c_void);
+
+/// The Verilator model of `window_network`.
+pub struct VerilatorNetwork {
+    handle: *mut c_void,
+    step: StepFn,
+    free: FreeFn,
+    // Declared last: the library outlives the function pointers taken from it.
+    _lib: libloading::Library,
+}
+
+fn run(cmd: &mut Command, what: &str) -> Result<(), String> {
+    let out = cmd.output().map_err(|e| format!("cannot run {what}: {e} (apt-get install -y verilator g++)"))?;
+    if out.status.success() {
+        Ok(())
+    } else {
+        Err(format!("{what} failed:\n{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr)))
+    }
+}
+
+/// Builds (or reuses) the shared library for the current Verilog, in the system temp folder.
+pub fn build() -> Result<PathBuf, String> {
+    let files = coopwin_hdl::verilog::exported(UNITS)?;
+    let key = crate::system::fnv1a(format!("{}{}{HARNESS}", files[0].1, files[1].1).as_bytes());
+    let dir = std::env::temp_dir().join(format!("coopwin-verilator-{key:016x}"));
+    let lib = dir.join("libwindow_network.so");
+    if lib.exists() {
+        return Ok(lib);
+    }
+    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    for (name, text) in &files {
+        std::fs::write(dir.join(name), text).map_err(|e| format!("cannot write {name}: {e}"))?;
+    }
+    std::fs::write(dir.join("harness.cpp"), HARNESS).map_err(|e| format!("cannot write harness.cpp: {e}"))?;
+    run(
+        Command::new("verilator")
+            .current_dir(&dir)
+            .args(["--cc", "--build", "-j", "2", "-O3", "-Wno-WIDTH", "-Wno-DECLFILENAME", "-CFLAGS", "-fPIC"])
+            .args(["--top-module", "window_network", "window_unit.v", "window_network.v", "-Mdir", "obj"]),
+        "verilator",
+    )?;
+    let include = verilator_include()?;
+    let partial = dir.join("libwindow_network.so.partial");
+    run(
+        Command::new("g++")
+            .current_dir(&dir)
+            .args(["-shared", "-fPIC", "-O2", "-std=c++17", "-Iobj"])
+            .arg(format!("-I{}", include.display()))
+            .arg(format!("-I{}", include.join("vltstd").display()))
+            .args(["harness.cpp", "obj/Vwindow_network__ALL.a"])
+            .arg(include.join("verilated.cpp"))
+            .arg(include.join("verilated_threads.cpp"))
+            .args(["-pthread", "-o"])
+            .arg(&partial),
+        "g++ (linking the Verilator model)",
+    )?;
+    std::fs::rename(&partial, &lib).map_err(|e| format!("cannot move {}: {e}", partial.display()))?;
+    Ok(lib)
+}
+
+fn verilator_include() -> Result<PathBuf, String> {
+    let out = Command::new("verilator")
+        .arg("--getenv")
+        .arg("VERILATOR_ROOT")
+        .output()
+        .map_err(|e| format!("cannot run verilator: {e} (apt-get install -y verilator)"))?;
+    let root = PathBuf::from(String::from_utf8_lossy(&out.stdout).trim());
+    let inc = root.join("include");
+    if inc.join("verilated.cpp").exists() {
+        Ok(inc)
+    } else {
+        Err(format!("Verilator's include folder not found under {}", root.display()))
+    }
+}
+
+impl VerilatorNetwork {
+    /// Builds if needed and loads the model, at power-on.
+    pub fn new() -> Result<Self, String> {
+        Self::load(&build()?)
+    }
+
+    fn load(path: &Path) -> Result<Self, String> {
+        // SAFETY: the library is the one built above from our harness; its three symbols have
+        // exactly the signatures declared here (see verilator_harness.cpp).
+        unsafe {
+            let lib = libloading::Library::new(path).map_err(|e| format!("cannot load {}: {e}", path.display()))?;
+            let new: NewFn = *lib.get::<NewFn>(b"wn_new\0").map_err(|e| e.to_string())?;
+            let step: StepFn = *lib.get::<StepFn>(b"wn_step\0").map_err(|e| e.to_string())?;
+            let free: FreeFn = *lib.get::<FreeFn>(b"wn_free\0").map_err(|e| e.to_string())?;
+            let handle = new();
+            if handle.is_null() {
+                return Err("the Verilator model could not be created".into());
+            }
+            Ok(VerilatorNetwork { handle, step, free, _lib: lib })
+        }
+    }
+
+    /// One pixel clock: the camera bus, each unit's port (missing units idle), the outputs after
+    /// the rising edge into `out` (as many as given).
+    pub fn step(&mut self, cam: coopwin_hdl::camera::CameraBus, ports: &[CoordBus], out: &mut [UnitOutputs]) {
+        let c = u32::from(cam.fval) | u32::from(cam.lval) << 1 | u32::from(cam.pixel) << 2;
+        let mut p = [0u32; UNITS];
+        for (slot, port) in p.iter_mut().zip(ports) {
+            *slot = (port.data & 0xff) | u32::from(port.strobe) << 8 | u32::from(port.decimate) << 9;
+        }
+        let mut o = [0u32; UNITS];
+        // SAFETY: `handle` is live until drop; both arrays hold the 4 words the harness reads
+        // and writes.
+        unsafe { (self.step)(self.handle, c, p.as_ptr(), o.as_mut_ptr()) };
+        for (dst, w) in out.iter_mut().zip(o) {
+            *dst = UnitOutputs {
+                coord_ready: w & 1 != 0,
+                pixel_strobe: w & 2 != 0,
+                pixel_out: (w >> 2) as u8,
+                coord_error: w & (1 << 10) != 0,
+            };
+        }
+    }
+}
+
+impl Drop for VerilatorNetwork {
+    fn drop(&mut self) {
+        // SAFETY: created by wn_new, freed once.
+        unsafe { (self.free)(self.handle) }
+    }
+}
