@@ -1,6 +1,9 @@
 //! Checks every kernel against the OpenCV reference fixtures in `fixtures/opencv/*.json`
 //! (format in that folder's README). Fails if the folder holds no fixture, so it can
 //! never pass vacuously.
+#[path = "support/pgm.rs"]
+mod pgm;
+
 use coopwin_firmware::corner::{keep_largest_component, open_cross, sobel_at};
 use coopwin_firmware::matching::{best_match, score_map, MatchError, Method};
 use coopwin_firmware::motion::{detect_motion, motion_mask};
@@ -147,31 +150,10 @@ fn every_opencv_fixture_matches() {
     eprintln!("checked {} OpenCV fixtures: {kinds:?}", files.len());
 }
 
-/// Binary PGM (P5) reader for the benchmark inputs: `(width, height, pixels)`.
+/// The benchmark inputs, read by the benchmark's own PGM reader.
 fn read_pgm(name: &str) -> Img {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/bench").join(name);
-    let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut fields = Vec::new();
-    let mut i = 0;
-    while fields.len() < 4 {
-        while bytes[i].is_ascii_whitespace() {
-            i += 1;
-        }
-        if bytes[i] == b'#' {
-            while bytes[i] != b'\n' {
-                i += 1;
-            }
-            continue;
-        }
-        let start = i;
-        while !bytes[i].is_ascii_whitespace() {
-            i += 1;
-        }
-        fields.push(String::from_utf8_lossy(&bytes[start..i]).into_owned());
-    }
-    assert_eq!(fields[0], "P5");
-    let (w, h): (usize, usize) = (fields[1].parse().unwrap(), fields[2].parse().unwrap());
-    Img { w, h, data: bytes[i + 1..i + 1 + w * h].to_vec() }
+    let (w, h, data) = pgm::read_pgm(name);
+    Img { w, h, data }
 }
 
 /// The benchmark inputs give the answers OpenCV gives (fixtures/bench/README.md), so the
