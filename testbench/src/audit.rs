@@ -207,7 +207,9 @@ pub fn audit(samples: &[Sample], requests: &[(usize, Set)]) -> Audit {
     let mut next_set = 0;
     for (i, &f) in starts.iter().enumerate() {
         let end = starts.get(i + 1).copied().unwrap_or(samples.len());
-        let armed = (next_set..complete.len()).filter(|&k| complete[k].0 + 2 <= f).last();
+        // Invalid sets are refused: they arm nothing and cancel nothing.
+        let valid = |s: &Set| s.0 < s.1 && s.2 < s.3;
+        let armed = (next_set..complete.len()).filter(|&k| complete[k].0 + 2 <= f && valid(&complete[k].1)).last();
         let window = armed.map(|k| complete[k].1);
         if let Some(k) = armed {
             next_set = k + 1;

@@ -159,7 +159,10 @@ impl WindowBackend for ModelBackend {
                 _ => at + latency,
             };
             u.last_complete = Some(done);
-            u.pending.push((done, req));
+            // The unit refuses an invalid set: it arms nothing and cancels nothing.
+            if window_of(&req).is_valid() {
+                u.pending.push((done, req));
+            }
         }
     }
 
@@ -288,7 +291,8 @@ impl HdlBackend {
             }
             if frame_rises {
                 // Which set the hardware arms: mirrored only to know the window's shape.
-                if let Some(idx) = u.complete.iter().rposition(|s| s.0 + 2 <= c) {
+                let valid = |s: &(u64, WindowRequest)| s.0 + 2 <= c && window_of(&s.1).is_valid();
+                if let Some(idx) = u.complete.iter().rposition(valid) {
                     let req = u.complete[idx].1;
                     u.complete.drain(..=idx);
                     u.active = bus_frame.map(|k| (k, req, Vec::new()));

@@ -62,6 +62,7 @@ pub fn system(strategy: Strategy, cost: CostModel, target: Option<(f64, f64)>) -
         model: None,
         pixel_clock_hz: coopwin_hdl::camera::CA_D1_PIXEL_CLOCK_HZ,
         hdl: crate::system::HdlChoice::Model,
+        corrupt_request: None,
     }
 }
 

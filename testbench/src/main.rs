@@ -368,6 +368,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
                     HdlArg::RustHdl => HdlChoice::RustHdl,
                     HdlArg::Verilator => HdlChoice::Verilator,
                 },
+                corrupt_request: None,
             };
             let started = std::time::Instant::now();
             let (log, summary) = track::track(&frames, &cfg, vcd.as_deref())?;

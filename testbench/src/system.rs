@@ -68,6 +68,9 @@ pub struct SystemConfig {
     pub pixel_clock_hz: f64,
     /// Window units: the behavioural model or the rust-hdl blocks.
     pub hdl: HdlChoice,
+    /// Fault injection: the request with this index (counting from 0 over the run) is
+    /// corrupted on its way to the unit into an invalid set (a one-column window).
+    pub corrupt_request: Option<usize>,
 }
 
 /// What the system knew at the end of a frame period.
@@ -111,8 +114,11 @@ pub struct RunLog {
     pub windows: Vec<usize>,
     /// Frame period in seconds.
     pub frame_period: f64,
-    /// Every request written: (processor, clock, request).
+    /// Every request written: (processor, clock, request as the unit received it).
     pub requests: Vec<(usize, u64, WindowRequest)>,
+    /// Watchdog re-requests: (processor, clock), when a request brought no window for three
+    /// frame periods (a set refused by the unit, or lost).
+    pub watchdog: Vec<(usize, u64)>,
     /// Every window delivered: (processor, frame, clock, FNV-1a hash of its pixels), so
     /// backends can be compared window for window.
     pub deliveries: Vec<(usize, usize, u64, u64)>,
@@ -308,6 +314,9 @@ pub fn run_with(
         return Err(format!("internal: {np} processors for {} units", units(cfg.strategy)));
     }
     let mut free_at = vec![0u64; np];
+    // The request each processor waits on, and since when: the watchdog's state.
+    let mut awaiting: Vec<Option<(WindowRequest, u64)>> = vec![None; np];
+    let mut link_state = LinkState { corrupt: cfg.corrupt_request, awaiting: &mut awaiting };
     let mut log = RunLog { windows: vec![0; np], frame_period: period, reference, ..RunLog::default() };
     let mut q = Queue { heap: BinaryHeap::new(), events: Vec::new() };
 
@@ -320,7 +329,7 @@ pub fn run_with(
             (Proc::Foveal(f), Some(t)) if Some(i) == routes.foveal => f.start_at(t),
             _ => Step { work: coopwin_firmware::tracker::Work::None, request: None, sends: Default::default(), report: None },
         };
-        apply(i, step, 0, backend, &mut q, &routes, &link, &mut log.requests);
+        apply(i, step, 0, backend, &mut q, &routes, &link, &mut log.requests, &mut link_state);
     }
     for k in 0..n {
         q.push(clocks.frame_start(k), Event::FrameStart(k));
@@ -333,6 +342,7 @@ pub fn run_with(
         if let Some(win) = backend.next_window(until, source)? {
             let p = win.p;
             log.deliveries.push((p, win.frame, win.clock, fnv1a(&win.pixels)));
+            link_state.awaiting[p] = None;
             let view = delivered_view(&win, &mut scratch)?;
             let begin = win.clock.max(free_at[p]);
             log.windows[p] += 1;
@@ -353,7 +363,7 @@ pub fn run_with(
                 log.losses.push(secs(end));
                 last_report = None;
             }
-            apply(p, step, end, backend, &mut q, &routes, &link, &mut log.requests);
+            apply(p, step, end, backend, &mut q, &routes, &link, &mut log.requests, &mut link_state);
             continue;
         }
         let Some((c, ev)) = q.pop() else { break };
@@ -363,6 +373,18 @@ pub fn run_with(
                     log.frames.push(record(k - 1, &procs, last_report));
                 }
                 progress(k);
+                // The main loop's watchdog: a request that brought no window in three frame
+                // periods is written again.
+                for p in 0..np {
+                    if let Some((req, since)) = link_state.awaiting[p] {
+                        if c > since + 3 * clocks.period() {
+                            backend.request(p, req, c);
+                            log.requests.push((p, c, req));
+                            log.watchdog.push((p, c));
+                            link_state.awaiting[p] = Some((req, c));
+                        }
+                    }
+                }
             }
             Event::Deliver { p, msg } => {
                 let begin = c.max(free_at[p]);
@@ -379,7 +401,7 @@ pub fn run_with(
                     log.reports.push(r);
                     last_report = Some(r);
                 }
-                apply(p, step, end, backend, &mut q, &routes, &link, &mut log.requests);
+                apply(p, step, end, backend, &mut q, &routes, &link, &mut log.requests, &mut link_state);
             }
         }
     }
@@ -421,6 +443,12 @@ fn delivered_view<'s>(win: &'s Delivered, scratch: &'s mut Vec<u8>) -> Result<Wi
     }
 }
 
+/// The coordinate links' state: fault injection and what each processor waits for.
+struct LinkState<'a> {
+    corrupt: Option<usize>,
+    awaiting: &'a mut [Option<(WindowRequest, u64)>],
+}
+
 /// Which processor plays each role messages are addressed to.
 struct Routes {
     peripheral: Option<usize>,
@@ -450,10 +478,13 @@ fn apply(
     routes: &Routes,
     link: &dyn Fn(usize) -> u64,
     requests: &mut Vec<(usize, u64, WindowRequest)>,
+    state: &mut LinkState,
 ) {
     if let Some(req) = step.request {
-        backend.request(p, req, at);
-        requests.push((p, at, req));
+        let sent = if state.corrupt == Some(requests.len()) { WindowRequest { width: 1, ..req } } else { req };
+        backend.request(p, sent, at);
+        requests.push((p, at, sent));
+        state.awaiting[p] = Some((req, at));
     }
     for (d, m) in step.sends {
         if let Some(to) = routes.to(d) {

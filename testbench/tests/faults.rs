@@ -57,3 +57,28 @@ fn leaving_and_reentering_the_field_of_view_relocks() {
     }
     assert!(m.lock_on.is_some());
 }
+
+#[test]
+fn a_set_corrupted_on_the_link_is_refused_and_the_watchdog_recovers() {
+    // The Foveal processor's fourth request arrives as a one-column window: the unit refuses
+    // it (coord_error), no window comes, and three frames later the watchdog writes it again.
+    // The behavioural model and the rust-hdl units must agree on all of it.
+    let scene = SceneConfig { frames: 24, ..triangle(40.0, 12) };
+    let target = Scene::new(scene.clone()).truth(0).corner;
+    let mut logs = Vec::new();
+    for hdl in [HdlChoice::Model, HdlChoice::RustHdl] {
+        let mut cfg = system(Strategy::Spmf, CostModel::C40, Some(target));
+        cfg.corrupt_request = Some(3);
+        cfg.hdl = hdl;
+        let log = run(&cfg, &mut SceneFrames::new(scene.clone()), &mut |_| {}).unwrap();
+        assert_eq!(log.requests[3].2.width, 1, "{hdl:?}: the fault was injected");
+        assert_eq!(log.watchdog.len(), 1, "{hdl:?}: {:?}", log.watchdog);
+        let (_, at) = log.watchdog[0];
+        let resumed = log.deliveries.iter().any(|d| d.2 > at);
+        assert!(resumed, "{hdl:?}: no window after the watchdog");
+        assert!(log.reports.iter().any(|r| r.frame > 12), "{hdl:?}: tracking did not carry on");
+        logs.push(log);
+    }
+    assert_eq!(logs[0].deliveries, logs[1].deliveries);
+    assert_eq!(logs[0].frames, logs[1].frames);
+}
