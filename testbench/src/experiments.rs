@@ -3,7 +3,6 @@
 use crate::cost::CostModel;
 use crate::metrics::{self, Summary};
 use crate::plot::{self, Chart, Series};
-use crate::report::summary_table;
 use crate::scene::{PathKind, Scene, SceneConfig, Truth};
 use crate::system::{self, FrameSource, HdlChoice, RunLog, Strategy, SystemConfig};
 use coopwin_firmware::info::{corner_information, edge_information};
@@ -363,9 +362,4 @@ fn edge_count(scene: &SceneConfig, th: u16) -> (u32, u32) {
         }
     }
     (n, 18 * 18)
-}
-
-/// A markdown summary table of labelled runs (re-exported for the main job).
-pub fn table(rows: &[(&str, Summary)]) -> String {
-    summary_table(rows)
 }
