@@ -14,7 +14,7 @@
 //! The hardware is reached only through the [`Step`]s: the caller (a board's main loop, or the
 //! testbench's simulation) turns requests into coordinate writes and messages into link
 //! traffic.
-use crate::confidence::{ConfidenceError, ConfidencePolicy, SseCoop, Source};
+use crate::confidence::{ConfidenceError, ConfidencePolicy, KalmanCoop, SseCoop, Source};
 use crate::corner::{CornerDetector, CornerParams};
 use crate::matching::{best_match, Method};
 use crate::motion::detect_motion;
@@ -505,6 +505,31 @@ pub enum FovealKind {
     CoopPartner,
 }
 
+/// The COOP master's confidence policy: the thesis's least-squares SSE (4.3), or the Kalman
+/// filter it proposes as future work (5.2).
+#[derive(Clone, Debug)]
+pub enum Policy {
+    /// Lower SSE about the least-squares line of the last n positions wins.
+    Sse(SseCoop),
+    /// Lower smoothed Kalman innovation wins.
+    Kalman(KalmanCoop),
+}
+
+impl ConfidencePolicy for Policy {
+    fn push(&mut self, src: Source, t: f64, x: f64, y: f64) -> Result<(), ConfidenceError> {
+        match self {
+            Policy::Sse(p) => p.push(src, t, x, y),
+            Policy::Kalman(p) => p.push(src, t, x, y),
+        }
+    }
+    fn choose(&self) -> Source {
+        match self {
+            Policy::Sse(p) => p.choose(),
+            Policy::Kalman(p) => p.choose(),
+        }
+    }
+}
+
 /// A Foveal (Tracking) processor.
 pub struct Foveal {
     kind: FovealKind,
@@ -512,7 +537,7 @@ pub struct Foveal {
     detector: CornerDetector,
     tracking: Option<Point>,
     params: Params,
-    coop: SseCoop,
+    coop: Policy,
     /// COOP master: own result of the current window, waiting for the partner's.
     own: Option<Option<Point>>,
     partner: Option<Option<Point>>,
@@ -532,10 +557,16 @@ impl Foveal {
             detector: CornerDetector::default(),
             tracking: None,
             params,
-            coop: SseCoop::new(coop_n)?,
+            coop: Policy::Sse(SseCoop::new(coop_n)?),
             own: None,
             partner: None,
         })
+    }
+
+    /// The same processor with another confidence policy (COOP master).
+    pub fn with_policy(mut self, policy: Policy) -> Self {
+        self.coop = policy;
+        self
     }
 
     /// Starts tracking at `p` (the target given at start).

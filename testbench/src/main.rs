@@ -101,6 +101,9 @@ enum Command {
         /// COOP's confidence data set size n (3..8)
         #[arg(long, default_value_t = 4)]
         coop_n: usize,
+        /// COOP's confidence policy: least-squares SSE (thesis 4.3) or a Kalman filter (5.2)
+        #[arg(long, value_enum, default_value_t = PolicyArg::Sse)]
+        policy: PolicyArg,
         /// CSV to write (frame,x,y,mode,source,measured_frame)
         #[arg(long)]
         out: Option<PathBuf>,
@@ -169,6 +172,12 @@ enum Command {
         #[arg(long, value_enum, default_value_t = HdlArg::Model)]
         hdl: HdlArg,
     },
+}
+
+#[derive(Clone, Copy, PartialEq, clap::ValueEnum)]
+enum PolicyArg {
+    Sse,
+    Kalman,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -336,7 +345,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
             println!("wrote {n} frames and groundtruth.csv to {}", out.display());
             Ok(())
         }
-        Some(Command::Track { frames, strategy, template, target, profile, coop_n, out, hdl, vcd }) => {
+        Some(Command::Track { frames, strategy, template, target, profile, coop_n, policy, out, hdl, vcd }) => {
             if !(3..=8).contains(&coop_n) {
                 return Err(CliError(format!("--coop-n must be 3..8, got {coop_n}")));
             }
@@ -368,6 +377,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
                     HdlArg::RustHdl => HdlChoice::RustHdl,
                     HdlArg::Verilator => HdlChoice::Verilator,
                 },
+                kalman: policy == PolicyArg::Kalman,
                 corrupt_request: None,
             };
             let started = std::time::Instant::now();

@@ -6,8 +6,9 @@
 use crate::backend::{Bank, Clocks, Delivered, HdlBackend, ModelBackend, WindowBackend};
 use crate::cost::CostModel;
 use coopwin_firmware::ports::{Decimation, WindowRequest};
+use coopwin_firmware::confidence::KalmanCoop;
 use coopwin_firmware::tracker::{
-    Algo, Dest, Foveal, FovealKind, Mode, Msg, Params, Peripheral, Point, Spmf, Step, Template, Watch,
+    Algo, Dest, Foveal, FovealKind, Mode, Msg, Params, Peripheral, Point, Policy, Spmf, Step, Template, Watch,
 };
 use coopwin_firmware::view::WindowView;
 use coopwin_hdl::camera::RasterTiming;
@@ -68,6 +69,8 @@ pub struct SystemConfig {
     pub pixel_clock_hz: f64,
     /// Window units: the behavioural model or the rust-hdl blocks.
     pub hdl: HdlChoice,
+    /// COOP's confidence policy: the thesis's least-squares SSE, or a Kalman filter (5.2).
+    pub kalman: bool,
     /// Fault injection: the request with this index (counting from 0 over the run) is
     /// corrupted on its way to the unit into an invalid set (a one-column window).
     pub corrupt_request: Option<usize>,
@@ -290,6 +293,14 @@ pub fn run_with(
                 Proc::Foveal(foveal(kind)?),
             ];
             if cfg.strategy == Strategy::Coop {
+                if cfg.kalman {
+                    if let Some(Proc::Foveal(master)) = v.pop() {
+                        // Process noise for a part that turns corners at up to ~100 px/s each
+                        // frame; measurement noise of half a pixel; newest innovation 30%.
+                        let k = KalmanCoop::new(1.0e4, 0.25, 0.3).map_err(|e| format!("{e:?}"))?;
+                        v.push(Proc::Foveal(master.with_policy(Policy::Kalman(k))));
+                    }
+                }
                 v.push(Proc::Foveal(foveal(FovealKind::CoopPartner)?));
             }
             v
