@@ -68,3 +68,15 @@ fn a_window_request_applies_to_the_next_frame_only() {
         assert!(w[1].frame > w[0].frame, "{:?}", w);
     }
 }
+
+#[test]
+fn coop_with_the_kalman_policy_tracks_within_a_pixel() {
+    // Thesis 5.2's proposed policy behind the same interface (its choices are unit-tested in
+    // the firmware): the cooperative pair must still track within COOP's bound.
+    let scene = SceneConfig { lighting_ramp: true, ..short_triangle(40.0) };
+    let mut cfg = system(Strategy::Coop, CostModel::C40, Some(corner0(&scene)));
+    cfg.kalman = true;
+    let (log, m) = run_scene(&cfg, scene).unwrap();
+    assert!(m.rms < 1.0 && m.rlt < 0.05, "RMS {} RLT {}", m.rms, m.rlt);
+    assert!(log.reports.len() >= 50);
+}
