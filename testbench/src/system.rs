@@ -6,7 +6,8 @@
 use crate::backend::{Bank, Clocks, Delivered, HdlBackend, ModelBackend, WindowBackend};
 use crate::cost::CostModel;
 use coopwin_firmware::ports::{Decimation, WindowRequest};
-use coopwin_firmware::confidence::KalmanCoop;
+use coopwin_firmware::confidence::{KalmanCoop, Source};
+use coopwin_firmware::ports::{FramedPositionSink, PositionSink, PositionUpdate};
 use coopwin_firmware::tracker::{
     Algo, Dest, Foveal, FovealKind, Mode, Msg, Params, Peripheral, Point, Policy, Spmf, Step, Template, Watch,
 };
@@ -119,6 +120,9 @@ pub struct RunLog {
     pub frame_period: f64,
     /// Every request written: (processor, clock, request as the unit received it).
     pub requests: Vec<(usize, u64, WindowRequest)>,
+    /// The robot controller's link: every position report as the firmware's
+    /// `FramedPositionSink` sends it (thesis 2.6: position updates to the robot controller).
+    pub robot_link: Vec<u8>,
     /// Watchdog re-requests: (processor, clock), when a request brought no window for three
     /// frame periods (a set refused by the unit, or lost).
     pub watchdog: Vec<(usize, u64)>,
@@ -348,6 +352,7 @@ pub fn run_with(
 
     let mut last_report: Option<Report> = None;
     let mut scratch = Vec::new();
+    let mut robot = FramedPositionSink::new(Wire(Vec::new()));
     loop {
         let until = q.peek().unwrap_or(u64::MAX);
         if let Some(win) = backend.next_window(until, source)? {
@@ -367,6 +372,7 @@ pub fn run_with(
             free_at[p] = end;
             if let Some((point, algo)) = step.report {
                 let r = Report { t: secs(end), frame: win.frame, point, algo };
+                emit(&mut robot, &r)?;
                 log.reports.push(r);
                 last_report = Some(r);
             }
@@ -409,6 +415,7 @@ pub fn run_with(
                 if let Some((point, algo)) = step.report {
                     let frame = (secs(begin) / period).floor().max(0.0) as usize;
                     let r = Report { t: secs(end), frame, point, algo };
+                    emit(&mut robot, &r)?;
                     log.reports.push(r);
                     last_report = Some(r);
                 }
@@ -419,7 +426,32 @@ pub fn run_with(
     if n > 0 {
         log.frames.push(record(n - 1, &procs, last_report));
     }
+    log.robot_link = robot.into_inner().0;
     Ok(log)
+}
+
+/// A byte buffer as the firmware's `embedded_io::Write`: the simulated robot link.
+pub struct Wire(pub Vec<u8>);
+
+impl embedded_io::ErrorType for Wire {
+    type Error = core::convert::Infallible;
+}
+
+impl embedded_io::Write for Wire {
+    fn write(&mut self, buf: &[u8]) -> Result<usize, Self::Error> {
+        self.0.extend_from_slice(buf);
+        Ok(buf.len())
+    }
+    fn flush(&mut self) -> Result<(), Self::Error> {
+        Ok(())
+    }
+}
+
+/// Sends a report to the robot controller through the firmware's position sink.
+fn emit(sink: &mut FramedPositionSink<Wire>, r: &Report) -> Result<(), String> {
+    let source = if r.algo == Algo::Cd { Source::Cd } else { Source::Ncc };
+    let update = PositionUpdate { t_us: (r.t.max(0.0) * 1e6) as u32, x: r.point.x, y: r.point.y, source };
+    sink.emit(&update).map_err(|e| format!("robot link: {e:?}"))
 }
 
 /// FNV-1a, 64-bit.
