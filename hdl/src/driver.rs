@@ -68,57 +68,52 @@ impl<const W: usize> UnitDriver<W> {
         self.rise()
     }
 
-    /// Like [`step`](Self::step), recording both clock phases into `trace`.
-    pub fn step_traced<T: Write>(
-        &mut self,
-        cam: CameraBus,
-        port: CoordBus,
-        trace: &mut VcdTrace<T>,
-    ) -> UnitOutputs {
-        self.apply(cam, port);
-        trace.sample(&self.uut, 0);
-        let out = self.rise();
-        trace.sample(&self.uut, 1);
-        out
-    }
-
     fn apply(&mut self, cam: CameraBus, port: CoordBus) {
-        let u = &mut self.uut;
-        u.fval.next = cam.fval;
-        u.lval.next = cam.lval;
-        u.pixel.next = (cam.pixel as u64).into();
-        u.coord_strobe.next = port.strobe;
-        u.coord_data.next = (port.data as u64).into();
-        u.decimate.next = port.decimate;
-        u.clock.next = false.into();
-        simulate(u, MAX_SETTLE);
+        set_inputs(&mut self.uut, cam, port);
+        simulate(&mut self.uut, MAX_SETTLE);
     }
 
     fn rise(&mut self) -> UnitOutputs {
-        let u = &mut self.uut;
-        u.clock.next = true.into();
-        simulate(u, MAX_SETTLE);
-        UnitOutputs {
-            coord_ready: u.coord_ready.val(),
-            pixel_strobe: u.pixel_strobe.val(),
-            pixel_out: u.pixel_out.val().index() as u8,
-            coord_error: u.coord_error.val(),
-        }
+        self.uut.clock.next = true.into();
+        simulate(&mut self.uut, MAX_SETTLE);
+        outputs(&self.uut)
+    }
+}
+
+/// Drives a unit's inputs for the next clock, with its clock low.
+fn set_inputs<const W: usize>(u: &mut WindowUnit<W>, cam: CameraBus, port: CoordBus) {
+    u.fval.next = cam.fval;
+    u.lval.next = cam.lval;
+    u.pixel.next = (cam.pixel as u64).into();
+    u.coord_strobe.next = port.strobe;
+    u.coord_data.next = (port.data as u64).into();
+    u.decimate.next = port.decimate;
+    u.clock.next = false.into();
+}
+
+fn outputs<const W: usize>(u: &WindowUnit<W>) -> UnitOutputs {
+    UnitOutputs {
+        coord_ready: u.coord_ready.val(),
+        pixel_strobe: u.pixel_strobe.val(),
+        pixel_out: u.pixel_out.val().index() as u8,
+        coord_error: u.coord_error.val(),
     }
 }
 
 /// Units on one camera bus, each with its own coordinate port (the thesis's network of
-/// windowing units, 2.2.2: "additional windowing units operate independently and in parallel").
+/// windowing units, 2.2.2: "additional windowing units operate independently and in parallel"),
+/// settled together as one rust-hdl block tree so one VCD can hold them all (`uut$k`).
 pub struct NetworkDriver<const W: usize> {
-    units: Vec<UnitDriver<W>>,
+    units: Vec<WindowUnit<W>>,
 }
 
 impl<const W: usize> NetworkDriver<W> {
     /// `n` units at power-on.
     pub fn new(n: usize) -> Self {
-        Self {
-            units: (0..n).map(|_| UnitDriver::default()).collect(),
-        }
+        let mut units: Vec<WindowUnit<W>> = (0..n).map(|_| WindowUnit::default()).collect();
+        units.connect_all();
+        simulate(&mut units, MAX_SETTLE);
+        Self { units }
     }
 
     /// Number of units.
@@ -133,9 +128,44 @@ impl<const W: usize> NetworkDriver<W> {
 
     /// One clock: the shared camera bus, unit k's port from `ports[k]`, outputs into `out[k]`.
     pub fn step(&mut self, cam: CameraBus, ports: &[CoordBus], out: &mut [UnitOutputs]) {
-        for ((unit, port), o) in self.units.iter_mut().zip(ports).zip(out.iter_mut()) {
-            *o = unit.step(cam, *port);
+        self.apply(cam, ports);
+        self.rise(out);
+    }
+
+    /// Like [`step`](Self::step), recording both clock phases of every unit into `trace`.
+    pub fn step_traced<T: Write>(
+        &mut self,
+        cam: CameraBus,
+        ports: &[CoordBus],
+        out: &mut [UnitOutputs],
+        trace: &mut VcdTrace<T>,
+    ) {
+        self.apply(cam, ports);
+        trace.sample(&self.units, 0);
+        self.rise(out);
+        trace.sample(&self.units, 1);
+    }
+
+    fn apply(&mut self, cam: CameraBus, ports: &[CoordBus]) {
+        for (u, p) in self.units.iter_mut().zip(ports) {
+            set_inputs(u, cam, *p);
         }
+        simulate(&mut self.units, MAX_SETTLE);
+    }
+
+    fn rise(&mut self, out: &mut [UnitOutputs]) {
+        for u in self.units.iter_mut() {
+            u.clock.next = true.into();
+        }
+        simulate(&mut self.units, MAX_SETTLE);
+        for (o, u) in out.iter_mut().zip(&self.units) {
+            *o = outputs(u);
+        }
+    }
+
+    /// The units, traced as `uut$0`, `uut$1`, ...
+    pub fn block(&self) -> &Vec<WindowUnit<W>> {
+        &self.units
     }
 }
 
@@ -198,10 +228,11 @@ pub struct VcdTrace<T: Write> {
 }
 
 impl<T: Write> VcdTrace<T> {
-    /// A trace of `unit`'s signals into `out`, one pixel clock every `period_ps` picoseconds.
-    pub fn new<const W: usize>(out: T, unit: &UnitDriver<W>, period_ps: u64) -> Self {
+    /// A trace of `block`'s signals (a unit's `unit()`, or a network's `block()`) into `out`,
+    /// one pixel clock every `period_ps` picoseconds.
+    pub fn new(out: T, block: &dyn Block, period_ps: u64) -> Self {
         let (latch, error) = Latch::new(out);
-        let probe = write_vcd_header(latch, &unit.uut);
+        let probe = write_vcd_header(latch, block);
         Self {
             probe: Some(probe),
             error,
@@ -210,7 +241,7 @@ impl<T: Write> VcdTrace<T> {
         }
     }
 
-    fn sample<const W: usize>(&mut self, unit: &WindowUnit<W>, half: u64) {
+    fn sample(&mut self, unit: &dyn Block, half: u64) {
         if let Some(mut probe) = self.probe.take() {
             let t = self.clocks * self.period_ps + half * self.period_ps / 2;
             // Errors land in the latch, so this result carries nothing new.

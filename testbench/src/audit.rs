@@ -59,18 +59,19 @@ pub struct Audit {
 
 const SIGNALS: [&str; 8] = ["fval", "lval", "coord_strobe", "coord_data", "decimate", "coord_ready", "pixel_strobe", "strben.q"];
 
-/// Reads the per-clock samples of the unit traced as `uut` in a VCD.
-pub fn read_vcd(reader: impl BufRead) -> Result<Vec<Sample>, String> {
+/// Reads the per-clock samples of window unit `unit` (traced as `uut$unit`) in a VCD.
+pub fn read_vcd(reader: impl BufRead, unit: usize) -> Result<Vec<Sample>, String> {
     let mut parser = vcd::Parser::new(reader);
     let header = parser.parse_header().map_err(|e| format!("not a VCD: {e}"))?;
+    let scope_name = format!("uut${unit}");
     let top = header
         .items
         .iter()
         .find_map(|i| match i {
-            ScopeItem::Scope(s) if s.identifier == "uut" => Some(s),
+            ScopeItem::Scope(s) if s.identifier == scope_name => Some(s),
             _ => None,
         })
-        .ok_or("the VCD has no `uut` scope (write it with coopwin track --hdl rust-hdl --vcd)")?;
+        .ok_or_else(|| format!("the VCD has no `{scope_name}` scope (write it with coopwin track --hdl rust-hdl --vcd)"))?;
     let mut ids: HashMap<IdCode, usize> = HashMap::new();
     let mut clock_id = None;
     for (k, name) in SIGNALS.iter().enumerate() {
@@ -137,23 +138,22 @@ pub fn read_vcd(reader: impl BufRead) -> Result<Vec<Sample>, String> {
     Ok(out)
 }
 
-/// Reads a requests CSV (`clock,xmin,xmax,ymin,ymax,decimate`) written beside the VCD:
-/// (clock queued, set) pairs.
-pub fn read_requests(text: &str) -> Result<Vec<(usize, Set)>, String> {
-    text.lines()
-        .skip(1)
-        .enumerate()
-        .map(|(i, l)| {
-            let f: Vec<u32> = l
-                .split(',')
-                .map(|v| v.trim().parse::<u32>().map_err(|_| format!("requests line {}: '{v}' is not a number", i + 2)))
-                .collect::<Result<_, _>>()?;
-            match f[..] {
-                [t, a, b, c, d, e] => Ok((t as usize, (a, b, c, d, e != 0))),
-                _ => Err(format!("requests line {}: expected 6 fields", i + 2)),
-            }
-        })
-        .collect()
+/// Reads a requests CSV (`unit,clock,xmin,xmax,ymin,ymax,decimate`) written beside the VCD:
+/// unit `unit`'s (clock queued, set) pairs.
+pub fn read_requests(text: &str, unit: usize) -> Result<Vec<(usize, Set)>, String> {
+    let mut out = Vec::new();
+    for (i, l) in text.lines().enumerate().skip(1) {
+        let f: Vec<u32> = l
+            .split(',')
+            .map(|v| v.trim().parse::<u32>().map_err(|_| format!("requests line {}: '{v}' is not a number", i + 1)))
+            .collect::<Result<_, _>>()?;
+        match f[..] {
+            [u, t, a, b, c, d, e] if u as usize == unit => out.push((t as usize, (a, b, c, d, e != 0))),
+            [_, _, _, _, _, _, _] => {}
+            _ => return Err(format!("requests line {}: expected 7 fields", i + 1)),
+        }
+    }
+    Ok(out)
 }
 
 /// Audits `samples` against the `requests` the processor wrote (in order, with the clock each

@@ -15,7 +15,7 @@
 use crate::system::FrameSource;
 use coopwin_firmware::ports::{Decimation, WindowRequest};
 use coopwin_hdl::camera::{CameraBus, RasterTiming, Window};
-use coopwin_hdl::driver::{CoordBus, CoordWriter, UnitDriver, UnitOutputs, VcdTrace};
+use coopwin_hdl::driver::{CoordBus, CoordWriter, NetworkDriver, UnitOutputs, VcdTrace};
 use std::collections::VecDeque;
 
 /// A window delivered to processor `p`.
@@ -182,7 +182,7 @@ impl WindowBackend for ModelBackend {
 /// The units themselves: rust-hdl blocks, or the Verilator model of the exported Verilog.
 pub enum Bank {
     /// One rust-hdl `WindowUnit` per processor, stepped directly.
-    RustHdl(Vec<UnitDriver<{ coopwin_hdl::CA_D1_BITS }>>),
+    RustHdl(NetworkDriver<{ coopwin_hdl::CA_D1_BITS }>),
     /// `window_network` compiled with Verilator (4 units; unused ones idle).
     Verilator(crate::verilator::VerilatorNetwork),
 }
@@ -218,8 +218,8 @@ pub struct HdlBackend {
 }
 
 impl HdlBackend {
-    /// `n` units at power-on in `bank`; with `trace` (rust-hdl only), unit 0's signals go into
-    /// a VCD.
+    /// `n` units at power-on in `bank`; with `trace` (rust-hdl only), every unit's signals go
+    /// into a VCD (scopes `uut$0`, `uut$1`, ...).
     pub fn new(clocks: Clocks, n: usize, bank: Bank, trace: Option<Box<dyn std::io::Write>>) -> Result<Self, String> {
         if let Bank::Verilator(_) = bank {
             if n > crate::verilator::UNITS {
@@ -241,7 +241,7 @@ impl HdlBackend {
             })
             .collect();
         let trace = match (trace, &bank) {
-            (Some(out), Bank::RustHdl(d)) => d.first().map(|u| VcdTrace::new(out, u, 125_000)),
+            (Some(out), Bank::RustHdl(net)) => Some(VcdTrace::new(out, net.block(), 125_000)),
             _ => None,
         };
         Ok(HdlBackend {
@@ -260,7 +260,7 @@ impl HdlBackend {
 
     /// `n` rust-hdl units.
     pub fn rust_hdl(clocks: Clocks, n: usize, trace: Option<Box<dyn std::io::Write>>) -> Result<Self, String> {
-        Self::new(clocks, n, Bank::RustHdl((0..n).map(|_| UnitDriver::default()).collect()), trace)
+        Self::new(clocks, n, Bank::RustHdl(NetworkDriver::new(n)), trace)
     }
 
     /// Flushes the VCD, if any.
@@ -301,14 +301,10 @@ impl HdlBackend {
             *port = u.writer.next(&u.last);
         }
         match &mut self.bank {
-            Bank::RustHdl(drivers) => {
-                for (p, ((d, port), out)) in drivers.iter_mut().zip(&self.ports).zip(self.outs.iter_mut()).enumerate() {
-                    *out = match (&mut self.trace, p) {
-                        (Some(t), 0) => d.step_traced(bus, *port, t),
-                        _ => d.step(bus, *port),
-                    };
-                }
-            }
+            Bank::RustHdl(net) => match &mut self.trace {
+                Some(t) => net.step_traced(bus, &self.ports, &mut self.outs, t),
+                None => net.step(bus, &self.ports, &mut self.outs),
+            },
             Bank::Verilator(v) => v.step(bus, &self.ports, &mut self.outs),
         }
         for (p, (u, out)) in self.units.iter_mut().zip(self.outs.iter().copied()).enumerate() {

@@ -110,7 +110,7 @@ enum Command {
         /// Window units: the behavioural model, the rust-hdl blocks, or the Verilog in Verilator
         #[arg(long, value_enum, default_value_t = HdlArg::Model)]
         hdl: HdlArg,
-        /// With --hdl rust-hdl: a VCD of the first window unit's signals for the whole run
+        /// With --hdl rust-hdl: a VCD of every window unit's signals (uut$0, uut$1, ...) for the whole run
         #[arg(long)]
         vcd: Option<PathBuf>,
     },
@@ -157,6 +157,9 @@ enum Command {
         /// The requests CSV written beside it (FILE.requests.csv)
         #[arg(long)]
         requests: PathBuf,
+        /// Which window unit (processor) to audit
+        #[arg(long, default_value_t = 0)]
+        unit: usize,
     },
     /// Reproduce a table or figure of the thesis (CSV, SVG/PNG chart, markdown)
     Experiment {
@@ -241,13 +244,13 @@ fn run(cli: Cli) -> Result<(), CliError> {
             println!("{}", kernels::match_images(&image, &template, m, decimate)?);
             Ok(())
         }
-        Some(Command::Audit { vcd, requests }) => {
+        Some(Command::Audit { vcd, requests, unit }) => {
             use coopwin_testbench::audit;
             let f = std::fs::File::open(&vcd).map_err(|e| coopwin_testbench::commands::io_error("open", &vcd, e))?;
-            let samples = audit::read_vcd(std::io::BufReader::new(f)).map_err(|e| CliError(format!("{}: {e}", vcd.display())))?;
+            let samples = audit::read_vcd(std::io::BufReader::new(f), unit).map_err(|e| CliError(format!("{}: {e}", vcd.display())))?;
             let text = std::fs::read_to_string(&requests)
                 .map_err(|e| coopwin_testbench::commands::io_error("read", &requests, e))?;
-            let sets = audit::read_requests(&text).map_err(|e| CliError(format!("{}: {e}", requests.display())))?;
+            let sets = audit::read_requests(&text, unit).map_err(|e| CliError(format!("{}: {e}", requests.display())))?;
             let a = audit::audit(&samples, &sets);
             println!(
                 "{} clocks, {} frames, {} sets taken, {} windows verified, {} violations",
@@ -390,7 +393,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
             if let Some(v) = &vcd {
                 let req = v.with_extension("requests.csv");
                 track::write_atomic(&req, &track::requests_csv(&log))?;
-                println!("wrote {} and {} (unit 0; check with `coopwin audit`)", v.display(), req.display());
+                println!("wrote {} and {} (every unit; check one with `coopwin audit --unit K`)", v.display(), req.display());
             }
             let tracked = log.frames.iter().filter(|r| r.point.is_some()).count();
             println!(

@@ -11,21 +11,25 @@ use coopwin_testbench::system::{run_traced, HdlChoice, Strategy};
 
 #[test]
 fn a_traced_run_passes_the_audit_and_tampering_is_caught() {
-    // A 64x64 camera keeps the trace small; SPMF's one unit tracks with 24x24 windows.
+    // A 64x64 camera keeps the trace small. TPDF's three units: the Watch's full frames, the
+    // Peripheral's 25% windows and the Foveal's 24x24 windows, all in one VCD.
     let scene = SceneConfig { path: PathKind::Triangle, width: 64, height: 64, frames: 10, speed: 60.0, seed: 3, ..SceneConfig::default() };
     let target = Scene::new(scene.clone()).truth(0).corner;
-    let mut cfg = system(Strategy::Spmf, CostModel::NATIVE, Some(target));
+    let mut cfg = system(Strategy::Tpdf, CostModel::NATIVE, Some(target));
     cfg.hdl = HdlChoice::RustHdl;
     let path = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("audit_run.vcd");
     let file = std::io::BufWriter::new(std::fs::File::create(&path).unwrap());
     let log = run_traced(&cfg, &mut SceneFrames::new(scene), &mut |_| {}, Some(Box::new(file))).unwrap();
-    assert!(log.requests.iter().any(|r| r.2.decimation == Decimation::Full));
-    let samples = read_vcd(std::io::BufReader::new(std::fs::File::open(&path).unwrap())).unwrap();
-    let sets = read_requests(&requests_csv(&log)).unwrap();
-    let a = audit(&samples, &sets);
-    assert!(a.violations.is_empty(), "{:?}", a.violations);
-    assert!(a.windows >= 8, "{a:?}");
-    assert_eq!(a.frames, 10);
+    assert!(log.requests.iter().any(|r| r.2.decimation == Decimation::Quarter));
+    let csv = requests_csv(&log);
+    let read = |unit| read_vcd(std::io::BufReader::new(std::fs::File::open(&path).unwrap()), unit).unwrap();
+    for unit in 0..3 {
+        let a = audit(&read(unit), &read_requests(&csv, unit).unwrap());
+        assert!(a.violations.is_empty(), "unit {unit}: {:?}", a.violations);
+        assert!(a.windows >= 5, "unit {unit}: {a:?}");
+        assert_eq!(a.frames, 10);
+    }
+    let (samples, sets) = (read(2), read_requests(&csv, 2).unwrap());
 
     // A set the processor never wrote.
     let mut wrong = sets.clone();

@@ -131,15 +131,14 @@ pub fn algo_name(a: Algo) -> &'static str {
     }
 }
 
-/// The requests CSV of processor 0 (the unit a VCD traces): clock,xmin,xmax,ymin,ymax,decimate.
+/// The requests CSV beside a VCD: unit,clock,xmin,xmax,ymin,ymax,decimate (unit k is
+/// processor k, traced as `uut$k`).
 pub fn requests_csv(log: &RunLog) -> String {
-    let mut s = String::from("clock,xmin,xmax,ymin,ymax,decimate\n");
+    let mut s = String::from("unit,clock,xmin,xmax,ymin,ymax,decimate\n");
     for (p, clock, r) in &log.requests {
-        if *p == 0 {
-            let w = crate::backend::window_of(r);
-            let dec = r.decimation == coopwin_firmware::ports::Decimation::Quarter;
-            let _ = writeln!(s, "{clock},{},{},{},{},{}", w.xmin, w.xmax, w.ymin, w.ymax, dec as u8);
-        }
+        let w = crate::backend::window_of(r);
+        let dec = r.decimation == coopwin_firmware::ports::Decimation::Quarter;
+        let _ = writeln!(s, "{p},{clock},{},{},{},{},{}", w.xmin, w.xmax, w.ymin, w.ymax, dec as u8);
     }
     s
 }
