@@ -63,6 +63,7 @@ pub fn system(strategy: Strategy, cost: CostModel, target: Option<(f64, f64)>) -
         hdl: crate::system::HdlChoice::Model,
         kalman: false,
         corrupt_request: None,
+        drop_window: None,
     }
 }
 

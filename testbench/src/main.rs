@@ -382,6 +382,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 },
                 kalman: policy == PolicyArg::Kalman,
                 corrupt_request: None,
+                drop_window: None,
             };
             let started = std::time::Instant::now();
             let (log, summary) = track::track(&frames, &cfg, vcd.as_deref())?;

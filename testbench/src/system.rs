@@ -75,6 +75,9 @@ pub struct SystemConfig {
     /// Fault injection: the request with this index (counting from 0 over the run) is
     /// corrupted on its way to the unit into an invalid set (a one-column window).
     pub corrupt_request: Option<usize>,
+    /// Fault injection: the processor does not read the delivered window with this index
+    /// (counting from 0 over the run): its pixels are lost.
+    pub drop_window: Option<usize>,
 }
 
 /// What the system knew at the end of a frame period.
@@ -123,6 +126,8 @@ pub struct RunLog {
     /// The robot controller's link: every position report as the firmware's
     /// `FramedPositionSink` sends it (thesis 2.6: position updates to the robot controller).
     pub robot_link: Vec<u8>,
+    /// Windows delivered but not read (fault injection): (processor, frame).
+    pub dropped: Vec<(usize, usize)>,
     /// Watchdog re-requests: (processor, clock), when a request brought no window for three
     /// frame periods (a set refused by the unit, or lost).
     pub watchdog: Vec<(usize, u64)>,
@@ -357,6 +362,12 @@ pub fn run_with(
         let until = q.peek().unwrap_or(u64::MAX);
         if let Some(win) = backend.next_window(until, source)? {
             let p = win.p;
+            if cfg.drop_window == Some(log.deliveries.len()) {
+                // Not read: the processor still waits, and its watchdog will ask again.
+                log.deliveries.push((p, win.frame, win.clock, fnv1a(&win.pixels)));
+                log.dropped.push((p, win.frame));
+                continue;
+            }
             log.deliveries.push((p, win.frame, win.clock, fnv1a(&win.pixels)));
             link_state.awaiting[p] = None;
             let view = delivered_view(&win, &mut scratch)?;

@@ -82,3 +82,23 @@ fn a_set_corrupted_on_the_link_is_refused_and_the_watchdog_recovers() {
     assert_eq!(logs[0].deliveries, logs[1].deliveries);
     assert_eq!(logs[0].frames, logs[1].frames);
 }
+
+#[test]
+fn a_processor_that_misses_a_window_is_woken_by_the_watchdog() {
+    // The Foveal processor does not read one window (say it was busy elsewhere): no result,
+    // no new request; three frames on, the watchdog asks again and tracking carries on.
+    for hdl in [HdlChoice::Model, HdlChoice::RustHdl] {
+        let scene = SceneConfig { frames: 24, ..triangle(40.0, 13) };
+        let target = Scene::new(scene.clone()).truth(0).corner;
+        let mut cfg = system(Strategy::Spmf, CostModel::C40, Some(target));
+        cfg.drop_window = Some(2);
+        cfg.hdl = hdl;
+        let log = run(&cfg, &mut SceneFrames::new(scene), &mut |_| {}).unwrap();
+        assert_eq!(log.dropped.len(), 1, "{hdl:?}");
+        assert_eq!(log.watchdog.len(), 1, "{hdl:?}: {:?}", log.watchdog);
+        let (p, frame) = log.dropped[0];
+        assert!(log.reports.iter().all(|r| r.frame != frame), "{hdl:?}: a report from the dropped window");
+        assert!(log.reports.iter().any(|r| r.frame > frame + 3), "{hdl:?}: tracking did not carry on");
+        assert_eq!(log.watchdog[0].0, p);
+    }
+}
