@@ -11,6 +11,12 @@ pub const UNITS: usize = coopwin_hdl::verilog::DEFAULT_UNITS;
 
 const HARNESS: &str = include_str!("../../hdl/verilog/tb/verilator_harness.cpp");
 
+/// Verilator's flags. The model's C++ is built at -O3 (Verilator's own default, -Os, runs
+/// about 20% slower here: 6.8 M against 8.8 M clocks/s for the 4-unit network).
+const VERILATOR_FLAGS: [&str; 12] = [
+    "--cc", "--build", "-j", "2", "-O3", "-Wno-WIDTH", "-Wno-DECLFILENAME", "-CFLAGS", "-fPIC", "-MAKEFLAGS", "OPT_FAST=-O3", "--top-module",
+];
+
 type NewFn = unsafe extern "C" fn() -> *mut c_void;
 type StepFn = unsafe extern "C" fn(*mut c_void, u32, *const u32, *mut u32);
 type FreeFn = unsafe extern "C" fn(*mut c_void);
@@ -36,7 +42,7 @@ fn run(cmd: &mut Command, what: &str) -> Result<(), String> {
 /// Builds (or reuses) the shared library for the current Verilog, in the system temp folder.
 pub fn build() -> Result<PathBuf, String> {
     let files = coopwin_hdl::verilog::exported(UNITS)?;
-    let key = crate::system::fnv1a(format!("{}{}{HARNESS}", files[0].1, files[1].1).as_bytes());
+    let key = crate::system::fnv1a(format!("{}{}{HARNESS}{VERILATOR_FLAGS:?}", files[0].1, files[1].1).as_bytes());
     let dir = std::env::temp_dir().join(format!("coopwin-verilator-{key:016x}"));
     let lib = dir.join("libwindow_network.so");
     if lib.exists() {
@@ -50,8 +56,8 @@ pub fn build() -> Result<PathBuf, String> {
     run(
         Command::new("verilator")
             .current_dir(&dir)
-            .args(["--cc", "--build", "-j", "2", "-O3", "-Wno-WIDTH", "-Wno-DECLFILENAME", "-CFLAGS", "-fPIC"])
-            .args(["--top-module", "window_network", "window_unit.v", "window_network.v", "-Mdir", "obj"]),
+            .args(VERILATOR_FLAGS)
+            .args(["window_network", "window_unit.v", "window_network.v", "-Mdir", "obj"]),
         "verilator",
     )?;
     let include = verilator_include()?;
@@ -59,7 +65,7 @@ pub fn build() -> Result<PathBuf, String> {
     run(
         Command::new("g++")
             .current_dir(&dir)
-            .args(["-shared", "-fPIC", "-O2", "-std=c++17", "-Iobj"])
+            .args(["-shared", "-fPIC", "-O3", "-std=c++17", "-Iobj"])
             .arg(format!("-I{}", include.display()))
             .arg(format!("-I{}", include.join("vltstd").display()))
             .args(["harness.cpp", "obj/Vwindow_network__ALL.a"])
