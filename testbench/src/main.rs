@@ -397,6 +397,14 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 println!("wrote {} and {} (every unit; check one with `coopwin audit --unit K`)", v.display(), req.display());
             }
             let tracked = log.frames.iter().filter(|r| r.point.is_some()).count();
+            if log.hdl_clocks > 0 {
+                println!(
+                    "window units: {} pixel clocks, {:.2} M clocks/s over the run, about {:.0}% of the time in the HDL simulator",
+                    log.hdl_clocks,
+                    log.hdl_clocks as f64 / secs.max(1e-9) / 1e6,
+                    (100.0 * log.hdl_seconds / secs.max(1e-9)).min(100.0)
+                );
+            }
             println!(
                 "{} frames, {} tracked, {} position reports, {:.0} frames/s simulated",
                 log.frames.len(),

@@ -126,6 +126,11 @@ pub struct RunLog {
     /// The robot controller's link: every position report as the firmware's
     /// `FramedPositionSink` sends it (thesis 2.6: position updates to the robot controller).
     pub robot_link: Vec<u8>,
+    /// With clock-by-clock window units: pixel clocks simulated, and the wall time spent in
+    /// the simulator (rust-hdl or Verilator), for the speed report.
+    pub hdl_clocks: u64,
+    /// Seconds inside the HDL simulator.
+    pub hdl_seconds: f64,
     /// Windows delivered but not read (fault injection): (processor, frame).
     pub dropped: Vec<(usize, usize)>,
     /// Watchdog re-requests: (processor, clock), when a request brought no window for three
@@ -224,8 +229,10 @@ pub fn run_traced(
             } else {
                 HdlBackend::new(clocks, n, Bank::Verilator(crate::verilator::VerilatorNetwork::new()?), vcd)?
             };
-            let log = run_with(cfg, source, &mut hdl, progress)?;
+            let mut log = run_with(cfg, source, &mut hdl, progress)?;
             hdl.finish()?;
+            log.hdl_clocks = hdl.clocks_stepped;
+            log.hdl_seconds = hdl.sim_time.as_secs_f64();
             Ok(log)
         }
     }
