@@ -37,6 +37,15 @@ report() { # top, files...
   report window_unit "$v/window_unit.v"
   report window_network "$v/window_unit.v $v/window_network.v"
   echo
+  fmaxes=""
+  for seed in 1 2 3 4 5; do
+    nextpnr-ice40 --hx8k --package ct256 --json "$work/window_network.json" --freq 150 --seed "$seed" \
+      >"$work/seed.pnr" 2>&1 || true
+    f=$(grep -o "Max frequency for clock '[^']*': [0-9.]* MHz" "$work/seed.pnr" | tail -1 | sed 's/.*: //; s/ MHz//')
+    fmaxes="$fmaxes ${f:-failed}"
+  done
+  echo "\`window_network\` over placement seeds 1-5:$fmaxes MHz."
+  echo
   echo "\`window_network\` holds $(grep -c 'window_unit unit_' "$v/window_network.v") units. Yosys merges flip-flops"
   echo "that the units share exactly (the camera synchronisers and the data delay), so the network"
   echo "is smaller than that many single units. The aims in issue #2 are 150 MHz or more for the"
