@@ -9,6 +9,7 @@
 //! - the bytes of an incomplete set are held apart (`sh_*`) and the set is checked after its
 //!   fourth byte arrives: a valid set replaces the pending one, an invalid set is refused and
 //!   raises `coord_error`, leaving the pending set untouched.
+use crate::reg::Reg;
 use rust_hdl::prelude::*;
 
 /// Byte-wide coordinate port with the validity check of thesis 2.2.1 (xmin < xmax, ymin < ymax).
@@ -40,34 +41,34 @@ pub struct CoordPort<const W: usize> {
     pub dec: Signal<Out, Bit>,
     /// CSTRB1, port 1 data and the decimation bit registered on arrival, so no path runs from
     /// the processor's pins into the set's register enables.
-    strobe_r: DFF<Bit>,
-    data_r: DFF<Bits<W>>,
-    decimate_r: DFF<Bit>,
+    strobe_r: Reg<Bit>,
+    data_r: Reg<Bits<W>>,
+    decimate_r: Reg<Bit>,
     /// Byte offered and not yet taken.
     take: Signal<Local, Bit>,
-    ready: DFF<Bit>,
+    ready: Reg<Bit>,
     /// Which byte of the set comes next (0 = xmin ... 3 = ymax).
-    index: DFF<Bits<2>>,
+    index: Reg<Bits<2>>,
     /// The thesis's shift registers: each byte taken enters at `sh_yx` and moves one on, so
     /// after the fourth they hold xmin, xmax, ymin, ymax. One enable (`take`) for all.
-    sh_xn: DFF<Bits<W>>,
-    sh_xx: DFF<Bits<W>>,
-    sh_yn: DFF<Bits<W>>,
-    sh_yx: DFF<Bits<W>>,
-    sh_dec: DFF<Bit>,
+    sh_xn: Reg<Bits<W>>,
+    sh_xx: Reg<Bits<W>>,
+    sh_yn: Reg<Bits<W>>,
+    sh_yx: Reg<Bits<W>>,
+    sh_dec: Reg<Bit>,
     /// Whether each byte exceeded the one before, shifted like the bytes: after the fourth,
     /// `lt0` is ymin < ymax and `lt2` is xmin < xmax.
-    lt0: DFF<Bit>,
-    lt1: DFF<Bit>,
-    lt2: DFF<Bit>,
+    lt0: Reg<Bit>,
+    lt1: Reg<Bit>,
+    lt2: Reg<Bit>,
     /// The fourth byte arrived on the last edge: judge the set on this one.
-    check: DFF<Bit>,
-    set_xn: DFF<Bits<W>>,
-    set_xx: DFF<Bits<W>>,
-    set_yn: DFF<Bits<W>>,
-    set_yx: DFF<Bits<W>>,
-    set_dec: DFF<Bit>,
-    error: DFF<Bit>,
+    check: Reg<Bit>,
+    set_xn: Reg<Bits<W>>,
+    set_xx: Reg<Bits<W>>,
+    set_yn: Reg<Bits<W>>,
+    set_yx: Reg<Bits<W>>,
+    set_dec: Reg<Bit>,
+    error: Reg<Bit>,
 }
 
 impl<const W: usize> Logic for CoordPort<W> {

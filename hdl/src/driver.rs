@@ -74,13 +74,16 @@ impl<const W: usize> UnitDriver<W> {
     }
 
     fn rise(&mut self) -> UnitOutputs {
-        self.uut.clock.next = true.into();
+        set_clock(&mut self.uut, true);
         simulate(&mut self.uut, MAX_SETTLE);
         outputs(&self.uut)
     }
 }
 
 /// Drives a unit's inputs for the next clock, with its clock low.
+///
+/// The inputs take their new values at once rather than on the first settling pass (nothing
+/// inside the block drives them), which saves that pass.
 fn set_inputs<const W: usize>(u: &mut WindowUnit<W>, cam: CameraBus, port: CoordBus) {
     u.fval.next = cam.fval;
     u.lval.next = cam.lval;
@@ -88,7 +91,18 @@ fn set_inputs<const W: usize>(u: &mut WindowUnit<W>, cam: CameraBus, port: Coord
     u.coord_strobe.next = port.strobe;
     u.coord_data.next = (port.data as u64).into();
     u.decimate.next = port.decimate;
-    u.clock.next = false.into();
+    u.fval.update_all();
+    u.lval.update_all();
+    u.pixel.update_all();
+    u.coord_strobe.update_all();
+    u.coord_data.update_all();
+    u.decimate.update_all();
+    set_clock(u, false);
+}
+
+fn set_clock<const W: usize>(u: &mut WindowUnit<W>, level: bool) {
+    u.clock.next = level.into();
+    u.clock.update_all();
 }
 
 fn outputs<const W: usize>(u: &WindowUnit<W>) -> UnitOutputs {
@@ -155,7 +169,7 @@ impl<const W: usize> NetworkDriver<W> {
 
     fn rise(&mut self, out: &mut [UnitOutputs]) {
         for u in self.units.iter_mut() {
-            u.clock.next = true.into();
+            set_clock(u, true);
         }
         simulate(&mut self.units, MAX_SETTLE);
         for (o, u) in out.iter_mut().zip(&self.units) {

@@ -8,6 +8,7 @@ pub mod appendix_b;
 pub mod camera;
 pub mod coord_port;
 pub mod driver;
+pub mod reg;
 pub mod run;
 pub mod verilog;
 pub mod window_unit;

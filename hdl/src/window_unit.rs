@@ -14,6 +14,7 @@
 //! set, `xn..yx` here the active one, swapped at FVAL rising), a decimation bit gives the 25%
 //! window, and the counter width `W` is a parameter.
 use crate::coord_port::CoordPort;
+use crate::reg::Reg;
 use rust_hdl::prelude::*;
 
 /// One window unit: `W`-bit position counters and coordinates (8 for the 256x256 CA-D1).
@@ -43,15 +44,15 @@ pub struct WindowUnit<const W: usize> {
     pub coord_error: Signal<Out, Bit>,
     port: CoordPort<W>,
     /// Thesis FVC: frame valid synchronised to the pixel clock.
-    fvc: DFF<Bit>,
+    fvc: Reg<Bit>,
     /// Thesis LVC: line valid synchronised to the pixel clock.
-    lvc: DFF<Bit>,
+    lvc: Reg<Bit>,
     /// First data delay stage: the pixel sampled with `lvc`.
-    pxc: DFF<Bits<8>>,
+    pxc: Reg<Bits<8>>,
     /// FVC one clock later, to find its transitions from flip-flops alone.
-    fvd: DFF<Bit>,
+    fvd: Reg<Bit>,
     /// LVC one clock later.
-    lvd: DFF<Bit>,
+    lvd: Reg<Bit>,
     /// Thesis FVLH: frame valid low-to-high transition (a frame starts).
     fvlh: Signal<Local, Bit>,
     /// Thesis FVHL: frame valid high-to-low transition (a frame ends).
@@ -59,42 +60,42 @@ pub struct WindowUnit<const W: usize> {
     /// Thesis LVHL: line valid high-to-low transition inside a frame (a line ends).
     lvhl: Signal<Local, Bit>,
     /// Thesis X0-X7: column of the pixel in `pxc`.
-    xcount: DFF<Bits<W>>,
+    xcount: Reg<Bits<W>>,
     /// Thesis Y0-Y7: row of the current line (0-based; the thesis counts 1..256).
-    ycount: DFF<Bits<W>>,
+    ycount: Reg<Bits<W>>,
     /// Thesis START: a valid set is pending for a coming frame.
-    start: DFF<Bit>,
+    start: Reg<Bit>,
     /// Thesis WLEN: window logic enabled, a set pending while between frames (START & NFV).
     wlen: Signal<Local, Bit>,
     /// A pending set becomes the active window at this frame start (registered as FVAL rises,
     /// so its fan-out to the active registers starts at a flip-flop).
-    arm: DFF<Bit>,
+    arm: Reg<Bit>,
     /// Thesis STRBEN: strobes enabled for the frame in progress.
-    strben: DFF<Bit>,
+    strben: Reg<Bit>,
     /// Thesis WLRST: the window logic is reset (end of frame, or last window line done).
     wlrst: Signal<Local, Bit>,
     /// Active window, thesis XN0-XN7 (minimum column), loaded from the pending set at FVLH.
-    xn: DFF<Bits<W>>,
+    xn: Reg<Bits<W>>,
     /// Active window, thesis XX0-XX7 (maximum column).
-    xx: DFF<Bits<W>>,
+    xx: Reg<Bits<W>>,
     /// Active window, thesis YN0-YN7 (minimum row).
-    yn: DFF<Bits<W>>,
+    yn: Reg<Bits<W>>,
     /// Active window, thesis YX0-YX7 (maximum row).
-    yx: DFF<Bits<W>>,
+    yx: Reg<Bits<W>>,
     /// Active window is decimated.
-    dec: DFF<Bit>,
+    dec: Reg<Bit>,
     /// Thesis XMIN: the X count equals xmin.
     xmin: Signal<Local, Bit>,
     /// Thesis XMAX: the X count equals xmax.
     xmax: Signal<Local, Bit>,
     /// Thesis YMIN flag: the Y count equals ymin (registered, as the Y count holds a line long).
-    ymin: DFF<Bit>,
+    ymin: Reg<Bit>,
     /// Thesis YMAX flag: the Y count equals ymax (registered).
-    ymax: DFF<Bit>,
+    ymax: Reg<Bit>,
     /// Columns from xmin on have been reached in this line, xmax not yet passed.
-    xrun: DFF<Bit>,
+    xrun: Reg<Bit>,
     /// Rows after ymin reached in this frame, ymax not yet passed.
-    yrun: DFF<Bit>,
+    yrun: Reg<Bit>,
     /// Thesis YVAL: strobes enabled and the current line lies in the window.
     yval: Signal<Local, Bit>,
     /// Thesis XYVAL: the pixel in `pxc` lies in the window (before decimation).
@@ -102,8 +103,8 @@ pub struct WindowUnit<const W: usize> {
     /// The pixel in `pxc` is on the 25% grid anchored at (xmin, ymin), or decimation is off.
     decok: Signal<Local, Bit>,
     /// Second data delay stage and CSTRB4.
-    strobe: DFF<Bit>,
-    data: DFF<Bits<8>>,
+    strobe: Reg<Bit>,
+    data: Reg<Bits<8>>,
 }
 
 impl<const W: usize> Logic for WindowUnit<W> {
