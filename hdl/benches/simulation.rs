@@ -1,4 +1,4 @@
-//! Simulation speed of the window unit for one CA-D1 frame (70 176 pixel clocks), in pixel
+//! Simulation speed of the window unit for one CA-D1 frame (70 192 pixel clocks), in pixel
 //! clocks per second (criterion's throughput): the direct-stepping driver used for long runs,
 //! and rust-hdl's thread-based `Simulation` used for the VCD and Appendix B tests.
 //! Run: cargo bench -p coopwin-hdl --bench simulation

@@ -36,7 +36,7 @@ pub const CA_D1_PIXEL_CLOCK_HZ: f64 = 8.0e6;
 
 impl RasterTiming {
     /// The CA-D1 at 114 frames/s: 256x256, 16 clocks of line blanking and 2 blanking lines give
-    /// 70 176 clocks a frame, i.e. 114.0 frames/s at 8 MHz.
+    /// 70 192 clocks a frame (16 + 258 lines of 272), i.e. 113.97 frames/s at 8 MHz.
     pub const CA_D1: RasterTiming = RasterTiming {
         width: 256,
         height: 256,
@@ -93,6 +93,105 @@ impl RasterTiming {
                 pixel: 0,
             }
         }
+    }
+}
+
+/// Blanking that varies from line to line and frame to frame (the fault campaign's "random
+/// camera blanking"): extra clocks of line blanking before each line, and of frame blanking
+/// after each frame's blanking lines, drawn from a seed. The window logic needs only FVAL and
+/// LVAL, so it must deliver the same pixels whatever the blanking.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Jitter {
+    /// Seed of the draw.
+    pub seed: u64,
+    /// Most extra clocks of line blanking before a line.
+    pub line_max: u32,
+    /// Most extra clocks of frame blanking after a frame.
+    pub frame_max: u32,
+}
+
+impl Jitter {
+    /// Extra clocks for slot `slot` of frame `k` (a line, or `usize::MAX` for the frame's end).
+    fn draw(&self, k: usize, slot: usize, max: u32) -> u32 {
+        // SplitMix64 finaliser over (seed, frame, slot).
+        let mut z = self.seed
+            ^ (k as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15)
+            ^ (slot as u64).wrapping_mul(0xc2b2_ae3d_27d4_eb4f);
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^= z >> 31;
+        (z % (u64::from(max) + 1)) as u32
+    }
+}
+
+/// One frame of the raster with its extra blanking, if any: the nominal frame of
+/// [`RasterTiming::bus_at`] with idle clocks (LVAL low) inserted before each line and after the
+/// frame's blanking lines.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FrameRaster {
+    timing: RasterTiming,
+    /// Per line y: the clock its inserted blanking starts, and the clocks inserted up to and
+    /// including it. Empty without jitter.
+    lines: Vec<(usize, usize)>,
+    /// Clocks inserted after the blanking lines.
+    tail: usize,
+}
+
+impl FrameRaster {
+    /// Frame `k` of `timing`, with `jitter`'s extra blanking.
+    pub fn new(timing: RasterTiming, jitter: Option<Jitter>, k: usize) -> Self {
+        let (mut lines, mut tail) = (Vec::new(), 0);
+        if let Some(j) = jitter {
+            let mut inserted = 0;
+            for y in 0..timing.height {
+                let start = timing.h_blank + y * timing.line_clocks() + inserted;
+                inserted += j.draw(k, y, j.line_max) as usize;
+                lines.push((start, inserted));
+            }
+            tail = j.draw(k, usize::MAX, j.frame_max) as usize;
+        }
+        FrameRaster { timing, lines, tail }
+    }
+
+    fn inserted(&self) -> usize {
+        self.lines.last().map_or(0, |l| l.1)
+    }
+
+    /// Clocks from this frame's FVAL rising to the next frame's.
+    pub fn len(&self) -> usize {
+        self.timing.frame_clocks() + self.inserted() + self.tail
+    }
+
+    /// True for a frame of no clocks (never: a frame has at least its blanking).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The clock (from FVAL rising) on which pixel (x, y) is on the bus.
+    pub fn pixel_clock(&self, x: usize, y: usize) -> usize {
+        let nominal = self.timing.h_blank + y * self.timing.line_clocks() + x;
+        nominal + self.lines.get(y).map_or(0, |l| l.1)
+    }
+
+    /// The camera bus on clock `t` of the frame (0 is FVAL rising), `image(x, y)` the pixels.
+    pub fn bus_at(&self, t: usize, image: impl Fn(usize, usize) -> u8) -> CameraBus {
+        let idle = |fval| CameraBus { fval, lval: false, pixel: 0 };
+        // The last line whose inserted blanking has started by `t`.
+        let nominal = match self.lines.partition_point(|l| l.0 <= t).checked_sub(1) {
+            None => t,
+            Some(y) => {
+                let inserted = self.lines[y].1;
+                // Line y's first pixel is on clock `pixel_clock(0, y)`; before it, idle clocks.
+                if t < self.pixel_clock(0, y) {
+                    return idle(true);
+                }
+                t - inserted
+            }
+        };
+        if nominal >= self.timing.frame_clocks() {
+            return idle(false);
+        }
+        self.timing.bus_at(nominal, image)
     }
 }
 
@@ -175,5 +274,58 @@ mod tests {
         let last_active = buses.iter().rposition(|b| b.fval && b.lval).unwrap();
         let fval_fall = buses.iter().position(|b| !b.fval).unwrap();
         assert_eq!(fval_fall - last_active - 1, 2);
+    }
+
+    #[test]
+    fn jittered_frame_keeps_its_pixels_and_inserts_only_blanking() {
+        let t = RasterTiming {
+            width: 6,
+            height: 5,
+            h_blank: 3,
+            v_blank_lines: 2,
+        };
+        let image = |x: usize, y: usize| (10 * y + x) as u8;
+        let j = Jitter {
+            seed: 7,
+            line_max: 9,
+            frame_max: 40,
+        };
+        let nominal = FrameRaster::new(t, None, 0);
+        assert_eq!(nominal.len(), t.frame_clocks());
+        for c in 0..t.frame_clocks() {
+            assert_eq!(nominal.bus_at(c, image), t.bus_at(c, image), "clock {c}");
+        }
+        let mut gaps = std::collections::BTreeSet::new();
+        for k in 0..4 {
+            let f = FrameRaster::new(t, Some(j), k);
+            let buses: Vec<_> = (0..f.len()).map(|c| f.bus_at(c, image)).collect();
+            // The same pixels in the same order, the same LVAL pulses, FVAL one run from 0.
+            let active: Vec<u8> = buses.iter().filter(|b| b.fval && b.lval).map(|b| b.pixel).collect();
+            let expected: Vec<u8> = (0..5).flat_map(|y| (0..6).map(move |x| image(x, y))).collect();
+            assert_eq!(active, expected);
+            assert_eq!(buses.iter().filter(|b| !b.fval && b.lval).count(), 2 * 6);
+            let fall = buses.iter().position(|b| !b.fval).unwrap();
+            assert!(buses[fall..].iter().all(|b| !b.fval));
+            // Every pixel is where `pixel_clock` says.
+            for (x, y) in (0..5).flat_map(|y| (0..6).map(move |x| (x, y))) {
+                let b = buses[f.pixel_clock(x, y)];
+                assert!(b.fval && b.lval && b.pixel == image(x, y), "pixel ({x}, {y})");
+            }
+            // Line gaps vary, never shorter than the nominal blanking.
+            let mut run = 0;
+            for b in &buses[..fall] {
+                if b.lval {
+                    if run > 0 {
+                        gaps.insert(run);
+                    }
+                    run = 0;
+                } else {
+                    run += 1;
+                }
+            }
+            assert!(f.len() >= t.frame_clocks());
+        }
+        assert!(gaps.iter().all(|&g| g >= 3), "{gaps:?}");
+        assert!(gaps.len() > 4, "the draw varies the gaps: {gaps:?}");
     }
 }

@@ -1,4 +1,4 @@
-//! Where the hardware-in-the-loop backends spend their time: one CA-D1 frame (70 176 pixel
+//! Where the hardware-in-the-loop backends spend their time: one CA-D1 frame (70 192 pixel
 //! clocks) of the 4-unit network with idle coordinate ports, stepped bare (the simulator
 //! alone: Verilator's model through its C interface, or four rust-hdl units stepped directly),
 //! against the camera raster alone. Throughput is in pixel clocks.

@@ -14,7 +14,7 @@
 //! on clock `blank + k * period`.
 use crate::system::FrameSource;
 use coopwin_firmware::ports::{Decimation, WindowRequest};
-use coopwin_hdl::camera::{CameraBus, RasterTiming, Window};
+use coopwin_hdl::camera::{CameraBus, FrameRaster, Jitter, RasterTiming, Window};
 use coopwin_hdl::driver::{CoordBus, CoordWriter, NetworkDriver, UnitOutputs, VcdTrace};
 use std::collections::VecDeque;
 
@@ -42,47 +42,100 @@ pub trait WindowBackend {
     fn next_window(&mut self, until: u64, frames: &mut dyn FrameSource) -> Result<Option<Delivered>, String>;
 }
 
-/// Raster geometry in run clocks.
-#[derive(Clone, Copy, Debug)]
+/// Raster geometry in run clocks: where each frame starts, and each frame's raster (with
+/// jittered blanking when the run asks for it).
+#[derive(Clone, Debug)]
 pub struct Clocks {
-    /// The camera's raster.
+    /// The camera's nominal raster.
     pub timing: RasterTiming,
     /// Frames in the run.
     pub frames: usize,
+    jitter: Option<Jitter>,
+    /// Clock on which each frame's FVAL rises, and the end of the last frame.
+    starts: Vec<u64>,
 }
 
 impl Clocks {
-    /// Clocks a frame period.
+    /// `frames` frames of `timing`, with `jitter`'s extra blanking if any.
+    pub fn new(timing: RasterTiming, frames: usize, jitter: Option<Jitter>) -> Self {
+        let mut starts = Vec::with_capacity(frames + 1);
+        let mut c = (timing.v_blank_lines * timing.line_clocks()) as u64;
+        for k in 0..frames {
+            starts.push(c);
+            c += FrameRaster::new(timing, jitter, k).len() as u64;
+        }
+        starts.push(c);
+        Clocks { timing, frames, jitter, starts }
+    }
+    /// Clocks a frame period (the mean, with jitter).
     pub fn period(&self) -> u64 {
-        self.timing.frame_clocks() as u64
+        match self.frames {
+            0 => self.timing.frame_clocks() as u64,
+            n => (self.starts[n] - self.starts[0]) / n as u64,
+        }
     }
     /// The blanking before frame 0.
     pub fn blank(&self) -> u64 {
-        (self.timing.v_blank_lines * self.timing.line_clocks()) as u64
+        self.starts[0]
     }
-    /// Clock on which frame k's FVAL rises.
+    /// Clock on which frame k's FVAL rises (for k past the run, as if it went on unjittered).
     pub fn frame_start(&self, k: usize) -> u64 {
-        self.blank() + k as u64 * self.period()
+        match self.starts.get(k) {
+            Some(&c) => c,
+            None => self.starts[self.frames] + (k - self.frames) as u64 * self.timing.frame_clocks() as u64,
+        }
     }
-    /// The camera bus on run clock `c`, with frame `k`'s pixels, and that frame.
-    fn bus(&self, c: u64, pixels: &[u8]) -> (CameraBus, Option<usize>) {
-        let (p, b) = (self.period(), self.blank());
+    /// The frame whose period holds clock `c` (0 before frame 0).
+    pub fn frame_at(&self, c: u64) -> usize {
+        let end = self.starts[self.frames];
+        if c >= end {
+            return self.frames + ((c - end) / self.timing.frame_clocks() as u64) as usize;
+        }
+        self.starts.partition_point(|&s| s <= c).saturating_sub(1)
+    }
+    /// The first frame whose FVAL rises on or after clock `c`.
+    pub fn first_frame_from(&self, c: u64) -> usize {
+        let end = self.starts[self.frames];
+        if c > end {
+            return self.frames + (c - end).div_ceil(self.timing.frame_clocks() as u64) as usize;
+        }
+        self.starts.partition_point(|&s| s < c)
+    }
+    /// The first clock at or after `c` that lies `phase` clocks after a frame's FVAL rising.
+    pub fn next_phase(&self, c: u64, phase: u64) -> u64 {
+        let k = self.frame_at(c);
+        let t = self.frame_start(k) + phase;
+        if t >= c {
+            t
+        } else {
+            self.frame_start(k + 1) + phase
+        }
+    }
+    /// Frame k's raster.
+    pub fn raster(&self, k: usize) -> FrameRaster {
+        FrameRaster::new(self.timing, self.jitter, k)
+    }
+    /// The camera bus on run clock `c`, with frame `k`'s pixels and raster when `c` falls in frame
+    /// `k`'s period, and that frame.
+    fn bus(&self, c: u64, frame: Option<(usize, &FrameRaster, &[u8])>) -> (CameraBus, Option<usize>) {
+        let b = self.blank();
         if c < b {
+            // The blanking lines of the frame before the run.
+            let p = self.timing.frame_clocks() as u64;
             return (self.timing.bus_at((p - b + c) as usize, |_, _| 0), None);
         }
-        let (k, r) = (((c - b) / p) as usize, ((c - b) % p) as usize);
-        if k >= self.frames {
-            return (CameraBus::default(), None);
-        }
+        let Some((k, raster, pixels)) = frame else { return (CameraBus::default(), None) };
         let w = self.timing.width;
-        (self.timing.bus_at(r, |x, y| pixels.get(y * w + x).copied().unwrap_or(0)), Some(k))
+        let r = (c - self.frame_start(k)) as usize;
+        (raster.bus_at(r, |x, y| pixels.get(y * w + x).copied().unwrap_or(0)), Some(k))
     }
-    /// Offset from FVAL rising to the clock the window's last pixel is strobed.
-    fn last_strobe(&self, req: &WindowRequest) -> u64 {
+    /// Clocks from frame k's FVAL rising to the clock the window's last pixel is strobed.
+    fn last_strobe(&self, k: usize, req: &WindowRequest) -> u64 {
         let (w, h) = delivered_extent(req);
-        let x = u64::from(req.x0) + w - 1;
-        let y = u64::from(req.y0) + h - 1;
-        self.timing.h_blank as u64 + y * self.timing.line_clocks() as u64 + x + 1
+        let x = usize::from(req.x0) + w as usize - 1;
+        let y = usize::from(req.y0) + h as usize - 1;
+        // The unit strobes a pixel one clock after it is on the bus.
+        self.raster(k).pixel_clock(x, y) as u64 + 1
     }
 }
 
@@ -138,14 +191,12 @@ impl ModelBackend {
     fn armed(&self, u: &UnitSets) -> Option<(usize, u64, WindowRequest, usize)> {
         let first = u.pending.first()?;
         // The first frame whose FVAL rises 2 clocks after the first pending set completes.
-        let b = self.clocks.blank();
-        let need = first.0 + 2;
-        let k = if need <= b { 0 } else { (need - b).div_ceil(self.clocks.period()) as usize };
+        let k = self.clocks.first_frame_from(first.0 + 2);
         let start = self.clocks.frame_start(k);
         // Of the sets complete by then, the latest wins.
         let idx = u.pending.iter().rposition(|s| s.0 + 2 <= start)?;
         let req = u.pending[idx].1;
-        (k < self.clocks.frames).then(|| (k, start + self.clocks.last_strobe(&req), req, idx))
+        (k < self.clocks.frames).then(|| (k, start + self.clocks.last_strobe(k, &req), req, idx))
     }
 }
 
@@ -210,7 +261,8 @@ pub struct HdlBackend {
     ports: Vec<CoordBus>,
     outs: Vec<UnitOutputs>,
     clock: u64,
-    frame: Option<(usize, Vec<u8>)>,
+    /// The frame on the bus: its number, raster and pixels.
+    frame: Option<(usize, FrameRaster, Vec<u8>)>,
     done: VecDeque<Delivered>,
     trace: Option<VcdTrace<Box<dyn std::io::Write>>>,
     /// Pixel clocks stepped, for speed reports.
@@ -277,14 +329,15 @@ impl HdlBackend {
 
     fn step(&mut self, frames: &mut dyn FrameSource) -> Result<(), String> {
         let c = self.clock;
-        let k = self.clocks.frame_start(0).le(&c).then(|| ((c - self.clocks.blank()) / self.clocks.period()) as usize);
-        if let Some(k) = k.filter(|&k| k < self.clocks.frames) {
-            if self.frame.as_ref().map(|f| f.0) != Some(k) {
-                self.frame = Some((k, frames.frame(k)?.to_vec()));
-            }
+        let current = self.frame.as_ref().is_some_and(|f| f.0 == self.clocks.frame_at(c));
+        if !current && c >= self.clocks.blank() {
+            let k = self.clocks.frame_at(c);
+            self.frame = match k < self.clocks.frames {
+                true => Some((k, self.clocks.raster(k), frames.frame(k)?.to_vec())),
+                false => None,
+            };
         }
-        let pixels: &[u8] = self.frame.as_ref().map(|f| f.1.as_slice()).unwrap_or(&[]);
-        let (bus, bus_frame) = self.clocks.bus(c, pixels);
+        let (bus, bus_frame) = self.clocks.bus(c, self.frame.as_ref().map(|(k, r, px)| (*k, r, px.as_slice())));
         let frame_rises = bus_frame.is_some() && Some(c) == bus_frame.map(|k| self.clocks.frame_start(k));
         for (u, port) in self.units.iter_mut().zip(self.ports.iter_mut()) {
             while u.queued.front().is_some_and(|q| q.0 <= c) {

@@ -91,9 +91,9 @@ mod tests {
 
     #[test]
     fn c40_foveal_ncc_matches_the_thesis_rate_boundary() {
-        // Hand calculation from 2.6: T = 70176 clocks / 8 MHz; a window ending on line 180
+        // Hand calculation from 2.6: T = 70192 clocks / 8 MHz; a window ending on line 180
         // plus the NCC must end exactly two frame periods after the frame started.
-        let t = 70_176.0 / 8e6;
+        let t = 70_192.0 / 8e6;
         let ncc = CostModel::C40.seconds(&Work::Match { method: Method::Ncc, template: 400, placements: 25 });
         let boundary = (16.0 + 180.0 * 272.0) / 8e6 + ncc;
         assert!((boundary - 2.0 * t).abs() < 0.1e-3, "{boundary} vs {}", 2.0 * t);

@@ -64,6 +64,8 @@ pub fn system(strategy: Strategy, cost: CostModel, target: Option<(f64, f64)>) -
         kalman: false,
         corrupt_request: None,
         drop_window: None,
+        jitter: None,
+        write_phase: None,
     }
 }
 

@@ -2,6 +2,7 @@
 use clap::{Parser, Subcommand};
 use coopwin_testbench::commands::{hardware, kernels, scene, track, CliError};
 use coopwin_testbench::cost::CostModel;
+use coopwin_hdl::camera::Jitter;
 use coopwin_testbench::system::{HdlChoice, Strategy, SystemConfig};
 use coopwin_testbench::scene::{PathKind, SceneConfig};
 use std::path::PathBuf;
@@ -113,6 +114,14 @@ enum Command {
         /// With --hdl rust-hdl: a VCD of every window unit's signals (uut$0, uut$1, ...) for the whole run
         #[arg(long)]
         vcd: Option<PathBuf>,
+        /// Fault campaign: camera blanking that varies, up to LINE extra clocks before each line
+        /// and FRAME after each frame, drawn from SEED (default 1)
+        #[arg(long, value_name = "LINE,FRAME[,SEED]", value_parser = parse_jitter)]
+        blank_jitter: Option<Jitter>,
+        /// Fault campaign: hold every coordinate write until this clock of a frame (from FVAL
+        /// rising), e.g. 0 (the FVAL edge) or 40000 (inside a window)
+        #[arg(long, value_name = "CLOCK")]
+        write_phase: Option<u64>,
     },
     /// Best placement of a template in an image (JSON: x, y, score, subpixel_x, subpixel_y)
     Match {
@@ -210,6 +219,20 @@ enum MethodArg {
 enum ProfileArg {
     C40,
     Native,
+}
+
+fn parse_jitter(s: &str) -> Result<Jitter, String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let n = |v: &str| v.parse::<u32>().map_err(|_| format!("'{v}' is not a whole number of clocks"));
+    match parts[..] {
+        [line, frame] => Ok(Jitter { seed: 1, line_max: n(line)?, frame_max: n(frame)? }),
+        [line, frame, seed] => Ok(Jitter {
+            seed: seed.parse().map_err(|_| format!("seed '{seed}' is not a whole number"))?,
+            line_max: n(line)?,
+            frame_max: n(frame)?,
+        }),
+        _ => Err("expected LINE,FRAME or LINE,FRAME,SEED".into()),
+    }
 }
 
 fn parse_point(s: &str) -> Result<(f64, f64), String> {
@@ -348,7 +371,20 @@ fn run(cli: Cli) -> Result<(), CliError> {
             println!("wrote {n} frames and groundtruth.csv to {}", out.display());
             Ok(())
         }
-        Some(Command::Track { frames, strategy, template, target, profile, coop_n, policy, out, hdl, vcd }) => {
+        Some(Command::Track {
+            frames,
+            strategy,
+            template,
+            target,
+            profile,
+            coop_n,
+            policy,
+            out,
+            hdl,
+            vcd,
+            blank_jitter,
+            write_phase,
+        }) => {
             if !(3..=8).contains(&coop_n) {
                 return Err(CliError(format!("--coop-n must be 3..8, got {coop_n}")));
             }
@@ -383,6 +419,8 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 kalman: policy == PolicyArg::Kalman,
                 corrupt_request: None,
                 drop_window: None,
+                jitter: blank_jitter,
+                write_phase,
             };
             let started = std::time::Instant::now();
             let (log, summary) = track::track(&frames, &cfg, vcd.as_deref())?;

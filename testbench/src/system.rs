@@ -12,7 +12,7 @@ use coopwin_firmware::tracker::{
     Algo, Dest, Foveal, FovealKind, Mode, Msg, Params, Peripheral, Point, Policy, Spmf, Step, Template, Watch,
 };
 use coopwin_firmware::view::WindowView;
-use coopwin_hdl::camera::RasterTiming;
+use coopwin_hdl::camera::{Jitter, RasterTiming};
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
@@ -78,6 +78,11 @@ pub struct SystemConfig {
     /// Fault injection: the processor does not read the delivered window with this index
     /// (counting from 0 over the run): its pixels are lost.
     pub drop_window: Option<usize>,
+    /// Fault injection: the camera's blanking varies from line to line and frame to frame.
+    pub jitter: Option<Jitter>,
+    /// Fault injection: every coordinate set is held until the raster reaches this clock of a
+    /// frame (counting from FVAL rising), so all writes land at one phase of the raster.
+    pub write_phase: Option<u64>,
 }
 
 /// What the system knew at the end of a frame period.
@@ -211,7 +216,7 @@ pub fn run_traced(
     progress: &mut dyn FnMut(usize),
     vcd: Option<Box<dyn std::io::Write>>,
 ) -> Result<RunLog, String> {
-    let clocks = raster(source);
+    let clocks = raster(source, cfg.jitter);
     match cfg.hdl {
         HdlChoice::Model => {
             if vcd.is_some() {
@@ -238,10 +243,11 @@ pub fn run_traced(
     }
 }
 
-/// The raster for a source's frame size: the CA-D1's blanking, scaled to the frame.
-pub fn raster(source: &dyn FrameSource) -> Clocks {
+/// The raster for a source's frame size: the CA-D1's blanking, scaled to the frame, with
+/// `jitter`'s extra blanking if any.
+pub fn raster(source: &dyn FrameSource, jitter: Option<Jitter>) -> Clocks {
     let (w, h) = source.size();
-    Clocks { timing: RasterTiming { width: w, height: h, h_blank: 16, v_blank_lines: 2 }, frames: source.len() }
+    Clocks::new(RasterTiming { width: w, height: h, h_blank: 16, v_blank_lines: 2 }, source.len(), jitter)
 }
 
 /// Window units (= processors) a strategy uses.
@@ -262,7 +268,10 @@ pub fn run_with(
 ) -> Result<RunLog, String> {
     let (w, h) = source.size();
     let n = source.len();
-    let clocks = raster(source);
+    let clocks = raster(source, cfg.jitter);
+    if let Some(phase) = cfg.write_phase.filter(|&p| p >= clocks.timing.frame_clocks() as u64) {
+        return Err(format!("write phase {phase}: a frame has {} clocks (0..{})", clocks.timing.frame_clocks(), clocks.timing.frame_clocks() - 1));
+    }
     let hz = cfg.pixel_clock_hz;
     let period = clocks.period() as f64 / hz;
     // Seconds from frame 0's FVAL rising, for reports.
@@ -343,7 +352,8 @@ pub fn run_with(
     let mut free_at = vec![0u64; np];
     // The request each processor waits on, and since when: the watchdog's state.
     let mut awaiting: Vec<Option<(WindowRequest, u64)>> = vec![None; np];
-    let mut link_state = LinkState { corrupt: cfg.corrupt_request, awaiting: &mut awaiting };
+    let mut link_state =
+        LinkState { corrupt: cfg.corrupt_request, awaiting: &mut awaiting, write_phase: cfg.write_phase, clocks: &clocks };
     let mut log = RunLog { windows: vec![0; np], frame_period: period, reference, ..RunLog::default() };
     let mut q = Queue { heap: BinaryHeap::new(), events: Vec::new() };
 
@@ -412,11 +422,12 @@ pub fn run_with(
                 // periods is written again.
                 for p in 0..np {
                     if let Some((req, since)) = link_state.awaiting[p] {
-                        if c > since + 3 * clocks.period() {
-                            backend.request(p, req, c);
-                            log.requests.push((p, c, req));
-                            log.watchdog.push((p, c));
-                            link_state.awaiting[p] = Some((req, c));
+                        if k >= 3 && since < clocks.frame_start(k - 3) {
+                            let written = cfg.write_phase.map_or(c, |phase| clocks.next_phase(c, phase));
+                            backend.request(p, req, written);
+                            log.requests.push((p, written, req));
+                            log.watchdog.push((p, written));
+                            link_state.awaiting[p] = Some((req, written));
                         }
                     }
                 }
@@ -431,7 +442,7 @@ pub fn run_with(
                 let end = begin + busy(&step.work);
                 free_at[p] = end;
                 if let Some((point, algo)) = step.report {
-                    let frame = (secs(begin) / period).floor().max(0.0) as usize;
+                    let frame = clocks.frame_at(begin);
                     let r = Report { t: secs(end), frame, point, algo };
                     emit(&mut robot, &r)?;
                     log.reports.push(r);
@@ -508,6 +519,8 @@ fn delivered_view<'s>(win: &'s Delivered, scratch: &'s mut Vec<u8>) -> Result<Wi
 struct LinkState<'a> {
     corrupt: Option<usize>,
     awaiting: &'a mut [Option<(WindowRequest, u64)>],
+    write_phase: Option<u64>,
+    clocks: &'a Clocks,
 }
 
 /// Which processor plays each role messages are addressed to.
@@ -543,9 +556,10 @@ fn apply(
 ) {
     if let Some(req) = step.request {
         let sent = if state.corrupt == Some(requests.len()) { WindowRequest { width: 1, ..req } } else { req };
-        backend.request(p, sent, at);
-        requests.push((p, at, sent));
-        state.awaiting[p] = Some((req, at));
+        let written = state.write_phase.map_or(at, |phase| state.clocks.next_phase(at, phase));
+        backend.request(p, sent, written);
+        requests.push((p, written, sent));
+        state.awaiting[p] = Some((req, written));
     }
     for (d, m) in step.sends {
         if let Some(to) = routes.to(d) {

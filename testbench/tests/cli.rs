@@ -78,11 +78,29 @@ fn bad_arguments_exit_non_zero() {
         vec!["verilog", "--out", "/tmp/x", "--units", "0"],
         vec!["experiment", "fig-9.9", "--out", "/tmp/x"],
         vec!["track", "--frames", "/tmp", "--coop-n", "12"],
+        vec!["track", "--frames", "/tmp", "--blank-jitter", "5"],
+        vec!["track", "--frames", "/tmp", "--blank-jitter", "5,x"],
+        vec!["track", "--frames", "/tmp", "--write-phase", "-3"],
     ] {
         let (ok, _, err) = coopwin(&args);
         assert!(!ok, "{args:?}");
         assert!(!err.contains("panicked"), "{err}");
     }
+}
+
+#[test]
+fn fault_options_are_checked_against_the_raster() {
+    let d = scratch("cli_faults");
+    let frames = d.join("frames");
+    let (ok, _, err) = coopwin(&["scene", "--frames", "3", "--out", frames.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    // A 256x256 frame is 70 192 clocks: a later phase is never reached within a frame.
+    let (ok, _, err) = coopwin(&["track", "--frames", frames.to_str().unwrap(), "--write-phase", "70192"]);
+    assert!(!ok);
+    one_error_line(&err);
+    assert!(err.contains("70192"), "{err}");
+    let (ok, _, err) = coopwin(&["track", "--frames", frames.to_str().unwrap(), "--blank-jitter", "8,100,3"]);
+    assert!(ok, "{err}");
 }
 
 #[test]

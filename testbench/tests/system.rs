@@ -41,7 +41,7 @@ fn c40_foveal_ncc_updates_every_two_frames_native_every_frame() {
     let t = corner0(&scene);
     let (_, c40) = run_scene(&system(Strategy::Tpdf, CostModel::C40, Some(t)), scene.clone()).unwrap();
     let (_, native) = run_scene(&system(Strategy::Tpdf, CostModel::NATIVE, Some(t)), scene).unwrap();
-    let period = 70_176.0 / 8e6;
+    let period = 70_192.0 / 8e6;
     assert!((c40.tracking.unwrap() - 2.0 * period).abs() < 0.5e-3, "{:?}", c40.tracking);
     assert!((native.tracking.unwrap() - period).abs() < 0.5e-3, "{:?}", native.tracking);
 }
