@@ -232,6 +232,9 @@ impl CoordWriter {
     }
 }
 
+/// Picoseconds per pixel clock in the VCDs the testbench writes (8 MHz).
+pub const VCD_CLOCK_PS: u64 = 125_000;
+
 /// rust-hdl's VCD writer on a stepped unit. Write errors do not stop the simulation: the first
 /// one is kept and returned by [`finish`](Self::finish).
 pub struct VcdTrace<T: Write> {
@@ -263,6 +266,11 @@ impl<T: Write> VcdTrace<T> {
             self.probe = Some(write_vcd_change(probe, unit));
         }
         self.clocks += half;
+    }
+
+    /// A clock not recorded (outside the traced span); later timestamps stay run clocks.
+    pub fn skip(&mut self) {
+        self.clocks += 1;
     }
 
     /// Flushes the trace; the first write error, if any.

@@ -33,6 +33,12 @@ pub struct Sample {
     pub pixel_strobe: bool,
     /// STRBEN flag.
     pub strben: bool,
+    /// Run clock of the sample (the VCD's timestamps are run clocks, traced span or not).
+    pub clock: u64,
+    /// START flag: a set is pending for the coming frame.
+    pub start: bool,
+    /// The pending set (the port's set registers).
+    pub pending: Set,
 }
 
 /// A coordinate set the processor queued: (xmin, xmax, ymin, ymax, decimate).
@@ -57,7 +63,22 @@ pub struct Audit {
     pub violations: Vec<String>,
 }
 
-const SIGNALS: [&str; 8] = ["fval", "lval", "coord_strobe", "coord_data", "decimate", "coord_ready", "pixel_strobe", "strben.q"];
+const SIGNALS: [&str; 14] = [
+    "fval",
+    "lval",
+    "coord_strobe",
+    "coord_data",
+    "decimate",
+    "coord_ready",
+    "pixel_strobe",
+    "strben.q",
+    "start.q",
+    "port.set_xn.q",
+    "port.set_xx.q",
+    "port.set_yn.q",
+    "port.set_yx.q",
+    "port.set_dec.q",
+];
 
 /// Reads the per-clock samples of window unit `unit` (traced as `uut$unit`) in a VCD.
 pub fn read_vcd(reader: impl BufRead, unit: usize) -> Result<Vec<Sample>, String> {
@@ -99,14 +120,16 @@ pub fn read_vcd(reader: impl BufRead, unit: usize) -> Result<Vec<Sample>, String
     let mut clock_high = false;
     let mut out = Vec::new();
     let mut started = false;
+    let mut time = 0;
     for cmd in parser {
         let cmd = cmd.map_err(|e| format!("bad VCD: {e}"))?;
         match cmd {
-            Command::Timestamp(_) => {
+            Command::Timestamp(t) => {
                 if started && clock_high {
-                    out.push(cur);
+                    out.push(Sample { clock: time / coopwin_hdl::driver::VCD_CLOCK_PS, ..cur });
                 }
                 started = true;
+                time = t;
             }
             Command::ChangeScalar(id, v) => {
                 let b = v == Value::V1;
@@ -121,19 +144,27 @@ pub fn read_vcd(reader: impl BufRead, unit: usize) -> Result<Vec<Sample>, String
                     Some(5) => cur.coord_ready = b,
                     Some(6) => cur.pixel_strobe = b,
                     Some(7) => cur.strben = b,
+                    Some(8) => cur.start = b,
+                    Some(13) => cur.pending.4 = b,
                     _ => {}
                 }
             }
             Command::ChangeVector(id, v) => {
-                if ids.get(&id) == Some(&3) {
-                    cur.coord_data = v.iter().fold(0u32, |acc, b| (acc << 1) | u32::from(b == Value::V1));
+                let n = v.iter().fold(0u32, |acc, b| (acc << 1) | u32::from(b == Value::V1));
+                match ids.get(&id) {
+                    Some(3) => cur.coord_data = n,
+                    Some(9) => cur.pending.0 = n,
+                    Some(10) => cur.pending.1 = n,
+                    Some(11) => cur.pending.2 = n,
+                    Some(12) => cur.pending.3 = n,
+                    _ => {}
                 }
             }
             _ => {}
         }
     }
     if started && clock_high {
-        out.push(cur);
+        out.push(Sample { clock: time / coopwin_hdl::driver::VCD_CLOCK_PS, ..cur });
     }
     Ok(out)
 }
@@ -156,10 +187,14 @@ pub fn read_requests(text: &str, unit: usize) -> Result<Vec<(usize, Set)>, Strin
     Ok(out)
 }
 
-/// Audits `samples` against the `requests` the processor wrote (in order, with the clock each
-/// was queued).
+/// Audits `samples` against the `requests` the processor wrote (in order, with the run clock
+/// each was queued). A trace of chosen frames starts in the blanking before its first frame with
+/// no set half-written: its requests are those not yet taken then, and the set pending then
+/// (the first sample's START and set registers) arms like any other.
 pub fn audit(samples: &[Sample], requests: &[(usize, Set)]) -> Audit {
     let mut a = Audit { clocks: samples.len(), ..Audit::default() };
+    let first = samples.first().map_or(0, |s| s.clock as usize);
+    let requests: Vec<(usize, Set)> = requests.iter().map(|r| (r.0.saturating_sub(first), r.1)).collect();
     let bad = |a: &mut Audit, t: usize, what: String| {
         if a.violations.len() < 50 {
             a.violations.push(format!("clock {t}: {what}"));
@@ -168,6 +203,13 @@ pub fn audit(samples: &[Sample], requests: &[(usize, Set)]) -> Audit {
     // The handshake: bytes taken, sets completed.
     let mut bytes: Vec<u32> = Vec::new();
     let mut complete: Vec<(usize, Set)> = Vec::new();
+    let before = match samples.first() {
+        Some(s) if s.start => {
+            complete.push((0, s.pending));
+            1
+        }
+        _ => 0,
+    };
     for t in 1..samples.len() {
         let (s, p) = (&samples[t], &samples[t - 1]);
         if s.coord_ready && !p.coord_ready {
@@ -177,9 +219,10 @@ pub fn audit(samples: &[Sample], requests: &[(usize, Set)]) -> Audit {
             bytes.push(s.coord_data);
             if bytes.len() == 4 {
                 let set = (bytes[0], bytes[1], bytes[2], bytes[3], s.decimate);
-                match requests.get(complete.len()).map(|r| &r.1) {
+                let n = complete.len() - before;
+                match requests.get(n).map(|r| &r.1) {
                     Some(r) if *r == set => {}
-                    Some(r) => bad(&mut a, t, format!("set {} taken as {set:?}, the processor wrote {r:?}", complete.len())),
+                    Some(r) => bad(&mut a, t, format!("set {n} taken as {set:?}, the processor wrote {r:?}")),
                     None => bad(&mut a, t, format!("set {set:?} taken but never written")),
                 }
                 complete.push((t, set));
@@ -196,10 +239,11 @@ pub fn audit(samples: &[Sample], requests: &[(usize, Set)]) -> Audit {
             bad(&mut a, t, "pixel strobed with STRBEN low".into());
         }
     }
-    a.sets = complete.len();
+    a.sets = complete.len() - before;
     let due = requests.iter().filter(|r| r.0 + TAKE_CLOCKS < samples.len()).count();
-    if complete.len() < due {
-        bad(&mut a, samples.len(), format!("{due} sets written in time to be taken, {} taken", complete.len()));
+    if a.sets < due {
+        let taken = a.sets;
+        bad(&mut a, samples.len(), format!("{due} sets written in time to be taken, {taken} taken"));
     }
     // Frames: each delivers exactly its armed window.
     let starts: Vec<usize> = (1..samples.len()).filter(|&t| samples[t].fval && !samples[t - 1].fval).collect();

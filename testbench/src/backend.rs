@@ -253,6 +253,14 @@ struct HdlUnit {
     ready_rises: usize,
 }
 
+/// A VCD to write: where, and which frames.
+pub struct Trace {
+    /// The VCD's destination.
+    pub out: Box<dyn std::io::Write>,
+    /// Frames to record (each from the blanking before it).
+    pub frames: std::ops::Range<usize>,
+}
+
 /// Window units simulated clock by clock, rust-hdl or Verilator (see the module docs).
 pub struct HdlBackend {
     clocks: Clocks,
@@ -265,6 +273,15 @@ pub struct HdlBackend {
     frame: Option<(usize, FrameRaster, Vec<u8>)>,
     done: VecDeque<Delivered>,
     trace: Option<VcdTrace<Box<dyn std::io::Write>>>,
+    /// Clocks the trace records: from the blanking before its first frame to the end of its
+    /// last.
+    trace_span: std::ops::Range<u64>,
+    /// Recording has begun (on the first quiet clock of the span).
+    trace_on: bool,
+    /// FVAL rising of the first traced frame.
+    trace_first: u64,
+    /// Per unit, the sets taken before the trace started (the audit starts after them).
+    pub sets_before_trace: Vec<usize>,
     /// Pixel clocks stepped, for speed reports.
     pub clocks_stepped: u64,
     /// Wall time spent inside the simulator (the bank's steps, sampled every 16th clock), for
@@ -274,8 +291,8 @@ pub struct HdlBackend {
 
 impl HdlBackend {
     /// `n` units at power-on in `bank`; with `trace` (rust-hdl only), every unit's signals go
-    /// into a VCD (scopes `uut$0`, `uut$1`, ...).
-    pub fn new(clocks: Clocks, n: usize, bank: Bank, trace: Option<Box<dyn std::io::Write>>) -> Result<Self, String> {
+    /// into a VCD (scopes `uut$0`, `uut$1`, ...) for the frames in its range.
+    pub fn new(clocks: Clocks, n: usize, bank: Bank, trace: Option<Trace>) -> Result<Self, String> {
         if let Bank::Verilator(_) = bank {
             if n > crate::verilator::UNITS {
                 return Err(format!("the Verilator network has {} units, the strategy needs {n}", crate::verilator::UNITS));
@@ -295,8 +312,22 @@ impl HdlBackend {
                 ready_rises: 0,
             })
             .collect();
+        let (mut trace_span, mut trace_first) = (0..0, 0);
         let trace = match (trace, &bank) {
-            (Some(out), Bank::RustHdl(net)) => Some(VcdTrace::new(out, net.block(), 125_000)),
+            (Some(t), Bank::RustHdl(net)) => {
+                if t.frames.start >= t.frames.end || t.frames.end > clocks.frames {
+                    return Err(format!(
+                        "VCD frames {}..{}: the run has frames 0..{}",
+                        t.frames.start, t.frames.end, clocks.frames
+                    ));
+                }
+                // From inside the vertical blanking before the first frame (no window under
+                // way), on a clock with no set half-written, so the units' state at the first
+                // sample is just their pending set (which the VCD holds).
+                trace_first = clocks.frame_start(t.frames.start);
+                trace_span = trace_first.saturating_sub(clocks.blank())..clocks.frame_start(t.frames.end);
+                Some(VcdTrace::new(t.out, net.block(), coopwin_hdl::driver::VCD_CLOCK_PS))
+            }
             _ => None,
         };
         Ok(HdlBackend {
@@ -309,13 +340,17 @@ impl HdlBackend {
             frame: None,
             done: VecDeque::new(),
             trace,
+            trace_span,
+            trace_on: false,
+            trace_first,
+            sets_before_trace: vec![0; n],
             clocks_stepped: 0,
             sim_time: std::time::Duration::ZERO,
         })
     }
 
     /// `n` rust-hdl units.
-    pub fn rust_hdl(clocks: Clocks, n: usize, trace: Option<Box<dyn std::io::Write>>) -> Result<Self, String> {
+    pub fn rust_hdl(clocks: Clocks, n: usize, trace: Option<Trace>) -> Result<Self, String> {
         Self::new(clocks, n, Bank::RustHdl(NetworkDriver::new(n)), trace)
     }
 
@@ -362,7 +397,30 @@ impl HdlBackend {
         let started = (c % 16 == 0).then(std::time::Instant::now);
         match &mut self.bank {
             Bank::RustHdl(net) => match &mut self.trace {
-                Some(t) => net.step_traced(bus, &self.ports, &mut self.outs, t),
+                Some(t) if self.trace_span.contains(&c) => {
+                    if !self.trace_on {
+                        // Quiet: no set part-taken, and CRDY1 low, so a set completed before
+                        // is already in the set registers (CRDY1 falls two clocks after those
+                        // load) and every later byte's CRDY1 rise is in the trace.
+                        let quiet = self.units.iter().all(|u| u.ready_rises % 4 == 0 && !u.last.coord_ready);
+                        // Should no quiet clock come, the audit reports the half-written set.
+                        self.trace_on = quiet || c + 2 >= self.trace_first;
+                        for (before, u) in self.sets_before_trace.iter_mut().zip(&self.units) {
+                            *before = u.ready_rises / 4;
+                        }
+                    }
+                    match self.trace_on {
+                        true => net.step_traced(bus, &self.ports, &mut self.outs, t),
+                        false => {
+                            t.skip();
+                            net.step(bus, &self.ports, &mut self.outs)
+                        }
+                    }
+                }
+                Some(t) => {
+                    t.skip();
+                    net.step(bus, &self.ports, &mut self.outs)
+                }
                 None => net.step(bus, &self.ports, &mut self.outs),
             },
             Bank::Verilator(v) => v.step(bus, &self.ports, &mut self.outs),

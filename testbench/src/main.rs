@@ -111,9 +111,13 @@ enum Command {
         /// Window units: the behavioural model, the rust-hdl blocks, or the Verilog in Verilator
         #[arg(long, value_enum, default_value_t = HdlArg::Model)]
         hdl: HdlArg,
-        /// With --hdl rust-hdl: a VCD of every window unit's signals (uut$0, uut$1, ...) for the whole run
-        #[arg(long)]
+        /// With --hdl rust-hdl: a VCD of every window unit's signals (uut$0, uut$1, ...), and
+        /// FILE.requests.csv beside it for `coopwin audit`
+        #[arg(long, value_name = "FILE")]
         vcd: Option<PathBuf>,
+        /// With --vcd: trace only frames FIRST up to END (END excluded), e.g. 10..12
+        #[arg(long, value_name = "FIRST..END", value_parser = parse_frames, requires = "vcd")]
+        vcd_frames: Option<std::ops::Range<usize>>,
         /// Fault campaign: camera blanking that varies, up to LINE extra clocks before each line
         /// and FRAME after each frame, drawn from SEED (default 1)
         #[arg(long, value_name = "LINE,FRAME[,SEED]", value_parser = parse_jitter)]
@@ -219,6 +223,12 @@ enum MethodArg {
 enum ProfileArg {
     C40,
     Native,
+}
+
+fn parse_frames(s: &str) -> Result<std::ops::Range<usize>, String> {
+    let (a, b) = s.split_once("..").ok_or("expected FIRST..END, e.g. 10..12")?;
+    let n = |v: &str| v.trim().parse::<usize>().map_err(|_| format!("'{v}' is not a frame number"));
+    Ok(n(a)?..n(b)?)
 }
 
 fn parse_jitter(s: &str) -> Result<Jitter, String> {
@@ -382,6 +392,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
             out,
             hdl,
             vcd,
+            vcd_frames,
             blank_jitter,
             write_phase,
         }) => {
@@ -423,7 +434,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 write_phase,
             };
             let started = std::time::Instant::now();
-            let (log, summary) = track::track(&frames, &cfg, vcd.as_deref())?;
+            let (log, summary) = track::track(&frames, &cfg, vcd.as_deref().map(|v| (v, vcd_frames)))?;
             let secs = started.elapsed().as_secs_f64();
             if let Some(path) = &out {
                 track::write_atomic(path, &track::csv(&log.frames))?;

@@ -3,7 +3,7 @@
 //! set is written, and a window is complete when the raster passes its last pixel), the
 //! firmware's processors from `coopwin_firmware::tracker`, each busy for as long as the cost
 //! model says its kernels take, and 20 Mbyte/s links between them. A discrete-event loop.
-use crate::backend::{Bank, Clocks, Delivered, HdlBackend, ModelBackend, WindowBackend};
+use crate::backend::{Bank, Clocks, Delivered, HdlBackend, ModelBackend, Trace, WindowBackend};
 use crate::cost::CostModel;
 use coopwin_firmware::ports::{Decimation, WindowRequest};
 use coopwin_firmware::confidence::{KalmanCoop, Source};
@@ -147,6 +147,8 @@ pub struct RunLog {
     /// The frame and point the template was cut at, if known before the run: the tracked
     /// point is that point of the part.
     pub reference: Option<(usize, (f64, f64))>,
+    /// With a VCD of chosen frames: per unit, the sets taken before the trace began.
+    pub sets_before_trace: Vec<usize>,
 }
 
 /// Frames by index, as the run needs them (in nearly increasing order).
@@ -204,17 +206,17 @@ pub enum HdlChoice {
 }
 
 /// Runs `cfg` over `source` with the window units it names, calling `progress(frame)` at each
-/// frame start. With the rust-hdl units and `vcd`, unit 0's signals are traced into it.
+/// frame start.
 pub fn run(cfg: &SystemConfig, source: &mut dyn FrameSource, progress: &mut dyn FnMut(usize)) -> Result<RunLog, String> {
     run_traced(cfg, source, progress, None)
 }
 
-/// [`run`], with a VCD of the first window unit when the units are rust-hdl's.
+/// [`run`], with a VCD of every window unit (for `vcd`'s frames) when the units are rust-hdl's.
 pub fn run_traced(
     cfg: &SystemConfig,
     source: &mut dyn FrameSource,
     progress: &mut dyn FnMut(usize),
-    vcd: Option<Box<dyn std::io::Write>>,
+    vcd: Option<Trace>,
 ) -> Result<RunLog, String> {
     let clocks = raster(source, cfg.jitter);
     match cfg.hdl {
@@ -238,6 +240,7 @@ pub fn run_traced(
             hdl.finish()?;
             log.hdl_clocks = hdl.clocks_stepped;
             log.hdl_seconds = hdl.sim_time.as_secs_f64();
+            log.sets_before_trace = hdl.sets_before_trace.clone();
             Ok(log)
         }
     }

@@ -1,11 +1,13 @@
 //! `coopwin track`: tracks a folder of PNG frames with a windowing strategy in simulated time.
 use super::{io_error, CliError};
+use crate::backend::Trace;
 use crate::metrics::{self, Summary};
 use crate::system::{self, FrameRecord, FrameSource, RunLog, SystemConfig};
 use coopwin_firmware::tracker::{Algo, Mode};
 use std::collections::VecDeque;
 use std::fmt::Write as _;
 use std::io::IsTerminal;
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 /// Smallest and largest frame side accepted.
@@ -133,9 +135,15 @@ pub fn algo_name(a: Algo) -> &'static str {
 
 /// The requests CSV beside a VCD: unit,clock,xmin,xmax,ymin,ymax,decimate (unit k is
 /// processor k, traced as `uut$k`).
+/// With a VCD of chosen frames, the sets taken before the trace began are left out.
 pub fn requests_csv(log: &RunLog) -> String {
     let mut s = String::from("unit,clock,xmin,xmax,ymin,ymax,decimate\n");
+    let mut skip = log.sets_before_trace.clone();
     for (p, clock, r) in &log.requests {
+        if let Some(n) = skip.get_mut(*p).filter(|n| **n > 0) {
+            *n -= 1;
+            continue;
+        }
         let w = crate::backend::window_of(r);
         let dec = r.decimation == coopwin_firmware::ports::Decimation::Quarter;
         let _ = writeln!(s, "{p},{clock},{},{},{},{},{}", w.xmin, w.xmax, w.ymin, w.ymax, dec as u8);
@@ -152,7 +160,12 @@ pub fn write_atomic(path: &Path, text: &str) -> Result<(), CliError> {
 
 /// Tracks the frames in `dir`; returns the run and its summary (against `groundtruth.csv`
 /// when the folder has one).
-pub fn track(dir: &Path, cfg: &SystemConfig, vcd: Option<&Path>) -> Result<(RunLog, Option<Summary>), CliError> {
+/// With `vcd`, every window unit is traced into it, for the frames in its range (all without).
+pub fn track(
+    dir: &Path,
+    cfg: &SystemConfig,
+    vcd: Option<(&Path, Option<Range<usize>>)>,
+) -> Result<(RunLog, Option<Summary>), CliError> {
     let mut frames = FolderFrames::open(dir)?;
     if let Some((x, y)) = cfg.target {
         let (w, h) = frames.size;
@@ -161,10 +174,18 @@ pub fn track(dir: &Path, cfg: &SystemConfig, vcd: Option<&Path>) -> Result<(RunL
         }
     }
     let n = frames.len();
-    let trace: Option<Box<dyn std::io::Write>> = match vcd {
-        Some(p) => Some(Box::new(std::io::BufWriter::new(
-            std::fs::File::create(p).map_err(|e| io_error("create", p, e))?,
-        ))),
+    let trace = match vcd {
+        Some((p, frames)) => {
+            let frames = frames.unwrap_or(0..n);
+            if frames.start >= frames.end || frames.end > n {
+                return Err(CliError(format!(
+                    "--vcd-frames {}..{}: the folder has frames 0..{n} (the end is excluded)",
+                    frames.start, frames.end
+                )));
+            }
+            let out = std::io::BufWriter::new(std::fs::File::create(p).map_err(|e| io_error("create", p, e))?);
+            Some(Trace { out: Box::new(out), frames })
+        }
         None => None,
     };
     let log = system::run_traced(cfg, &mut frames, &mut progress_bar(n, "tracking"), trace).map_err(CliError)?;
