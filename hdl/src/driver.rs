@@ -216,7 +216,7 @@ impl CoordWriter {
         if self.bus.strobe && last.coord_ready {
             self.bus.strobe = false;
             self.bytes_done += 1;
-            if self.bytes_done % 4 == 0 {
+            if self.bytes_done.is_multiple_of(4) {
                 self.sets_done += 1;
             }
         } else if !self.bus.strobe && !last.coord_ready {

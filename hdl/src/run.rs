@@ -78,7 +78,7 @@ fn completion_clocks(rec: &Recording) -> Vec<usize> {
     for (t, o) in rec.outputs.iter().enumerate() {
         if o.coord_ready && !ready_before {
             bytes += 1;
-            if bytes % 4 == 0 {
+            if bytes.is_multiple_of(4) {
                 out.push(t);
             }
         }

@@ -165,7 +165,7 @@ fn yosys_fits_a_unit_in_200_luts() {
         .lines()
         .filter_map(|l| l.trim().strip_prefix("SB_LUT4"))
         .filter_map(|n| n.trim().parse().ok())
-        .last()
+        .next_back()
         .expect("yosys stat lists SB_LUT4");
     assert!(luts <= 200, "{luts} LUTs");
 }

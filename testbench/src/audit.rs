@@ -232,7 +232,8 @@ pub fn audit(samples: &[Sample], requests: &[(usize, Set)]) -> Audit {
         if !s.coord_ready && p.coord_ready && s.coord_strobe && p.coord_strobe {
             bad(&mut a, t, "CRDY1 fell with CSTRB1 still high".into());
         }
-        if s.strben && !p.strben && !(p.fval && !samples.get(t.wrapping_sub(2)).is_some_and(|q| q.fval)) {
+        let after_fval_rose = p.fval && !samples.get(t.wrapping_sub(2)).is_some_and(|q| q.fval);
+        if s.strben && !p.strben && !after_fval_rose {
             bad(&mut a, t, "STRBEN rose other than on the clock after FVAL rose".into());
         }
         if s.pixel_strobe && !p.strben {
@@ -253,7 +254,7 @@ pub fn audit(samples: &[Sample], requests: &[(usize, Set)]) -> Audit {
         let end = starts.get(i + 1).copied().unwrap_or(samples.len());
         // Invalid sets are refused: they arm nothing and cancel nothing.
         let valid = |s: &Set| s.0 < s.1 && s.2 < s.3;
-        let armed = (next_set..complete.len()).filter(|&k| complete[k].0 + 2 <= f && valid(&complete[k].1)).last();
+        let armed = (next_set..complete.len()).rfind(|&k| complete[k].0 + 2 <= f && valid(&complete[k].1));
         let window = armed.map(|k| complete[k].1);
         if let Some(k) = armed {
             next_set = k + 1;

@@ -394,7 +394,7 @@ impl HdlBackend {
         }
         // Every 16th step is timed (and counted 16 times): timing every clock would itself
         // cost a third of a Verilator step.
-        let started = (c % 16 == 0).then(std::time::Instant::now);
+        let started = c.is_multiple_of(16).then(std::time::Instant::now);
         match &mut self.bank {
             Bank::RustHdl(net) => match &mut self.trace {
                 Some(t) if self.trace_span.contains(&c) => {

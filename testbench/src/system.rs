@@ -157,6 +157,10 @@ pub trait FrameSource {
     fn size(&self) -> (usize, usize);
     /// Number of frames.
     fn len(&self) -> usize;
+    /// True when the source has no frame.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
     /// Frame `k`, row-major 8-bit gray.
     fn frame(&mut self, k: usize) -> Result<&[u8], String>;
 }

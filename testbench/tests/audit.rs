@@ -2,7 +2,7 @@
 //! `vcd` crate) and checked against the coordinate sets its processor wrote. A clean run passes;
 //! a tampered request list and a tampered waveform are caught (the audit can fail).
 use coopwin_firmware::ports::Decimation;
-use coopwin_testbench::audit::{audit, read_requests, read_vcd, Sample};
+use coopwin_testbench::audit::{audit, read_requests, read_vcd, Sample, Set};
 use coopwin_testbench::backend::Trace;
 use coopwin_testbench::commands::track::requests_csv;
 use coopwin_testbench::cost::CostModel;
@@ -13,7 +13,10 @@ use coopwin_testbench::system::{run_traced, HdlChoice, Strategy};
 /// TPDF's three units on a 64x64 camera (a small trace): the Watch's full frames, the
 /// Peripheral's 25% windows and the Foveal's 24x24 windows, all in one VCD of `frames`.
 /// Returns every unit's samples and requests as the audit reads them.
-fn traced_tpdf(name: &str, frames: std::ops::Range<usize>) -> Vec<(Vec<Sample>, Vec<(usize, (u32, u32, u32, u32, bool))>)> {
+/// A unit's trace and the requests its processor wrote, as the audit reads them.
+type UnitTrace = (Vec<Sample>, Vec<(usize, Set)>);
+
+fn traced_tpdf(name: &str, frames: std::ops::Range<usize>) -> Vec<UnitTrace> {
     let scene = SceneConfig { path: PathKind::Triangle, width: 64, height: 64, frames: 10, speed: 60.0, seed: 3, ..SceneConfig::default() };
     let target = Scene::new(scene.clone()).truth(0).corner;
     let mut cfg = system(Strategy::Tpdf, CostModel::NATIVE, Some(target));

@@ -88,7 +88,7 @@ impl FrameSource for FolderFrames {
 pub fn progress_bar(total: usize, label: &'static str) -> impl FnMut(usize) {
     let tty = std::io::stderr().is_terminal();
     move |k: usize| {
-        if tty && (k % 8 == 0 || k + 1 == total) {
+        if tty && (k.is_multiple_of(8) || k + 1 == total) {
             let done = (k + 1) * 40 / total.max(1);
             eprint!("\r{label} [{}{}] {}/{}", "#".repeat(done), " ".repeat(40 - done), k + 1, total);
             if k + 1 == total {
