@@ -58,3 +58,15 @@ fn watch_lock_on_with_full_frames_strips_and_quarter_windows_model_equals_rust_h
     let cfg = watch_system(Strategy::Mpdf, CostModel::NATIVE, &SceneConfig { frames: 200, ..scene.clone() });
     both(&cfg, &scene);
 }
+
+#[test]
+fn coop_on_a_jittered_raster_model_equals_rust_hdl_and_verilator() {
+    // Random camera blanking (up to 24 extra clocks before each line, 4 000 after each frame):
+    // the Verilated network and the rust-hdl units see the same jittered bus, the model places
+    // every window on it from `FrameRaster::pixel_clock`.
+    let scene = SceneConfig { frames: 12, ..triangle(60.0, 22) };
+    let target = Scene::new(scene.clone()).truth(0).corner;
+    let mut cfg = system(Strategy::Coop, CostModel::C40, Some(target));
+    cfg.jitter = Some(coopwin_hdl::camera::Jitter { seed: 4, line_max: 24, frame_max: 4_000 });
+    both(&cfg, &scene);
+}
