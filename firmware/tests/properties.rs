@@ -4,7 +4,9 @@ use coopwin_firmware::confidence::{ConfidencePolicy, KalmanCoop, LsqTrack, SseCo
 use coopwin_firmware::corner::{CornerDetector, CornerParams};
 use coopwin_firmware::info::edge_information;
 use coopwin_firmware::matching::{best_match, best_match_decimated, score_map, MatchError, Method};
+use coopwin_firmware::handshake::{coordinate_bytes, WriteError};
 use coopwin_firmware::motion::{detect_motion, motion_mask};
+use coopwin_firmware::ports::{Decimation, WindowRequest};
 use coopwin_firmware::view::WindowView;
 use proptest::prelude::*;
 
@@ -160,6 +162,18 @@ proptest! {
                     prop_assert!(v.is_finite());
                 }
             }
+        }
+    }
+
+    #[test]
+    fn coordinate_bytes_are_the_window_or_refused(x0 in any::<u16>(), y0 in any::<u16>(), w in any::<u16>(), h in any::<u16>()) {
+        // Reference: the inclusive bounds by plain arithmetic in u32, which fit 8 bits or not.
+        let req = WindowRequest { x0, y0, width: w, height: h, decimation: Decimation::Full };
+        let bounds = |a: u16, n: u16| (n > 0 && u32::from(a) + u32::from(n) <= 256).then(|| (u32::from(a), u32::from(a) + u32::from(n) - 1));
+        match (bounds(x0, w), bounds(y0, h), coordinate_bytes(&req)) {
+            (Some(x), Some(y), Ok(b)) => prop_assert_eq!(b.map(u32::from), [x.0, x.1, y.0, y.1]),
+            (None, _, Err(e)) | (_, None, Err(e)) => prop_assert_eq!(e, WriteError::OutOfRange),
+            (x, y, got) => prop_assert!(false, "{x:?} {y:?} {got:?}"),
         }
     }
 }

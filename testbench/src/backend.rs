@@ -6,7 +6,7 @@
 //!   one frame per set, the later of two pending sets winning; the window completes on the clock
 //!   its last pixel is strobed (one clock after that pixel was on the bus).
 //! - [`HdlBackend`]: the units themselves, stepped clock by clock on the camera raster, each
-//!   written by its processor's `CoordWriter` over the four-phase handshake and read from
+//!   written by the firmware's `handshake::CoordinateWriter` over the four-phase handshake and read from
 //!   `pixel_strobe`/`pixel_out`: the rust-hdl `WindowUnit`s, or the exported `window_network`
 //!   Verilog compiled with Verilator ([`Bank`]).
 //!
@@ -15,7 +15,8 @@
 use crate::system::FrameSource;
 use coopwin_firmware::ports::{Decimation, WindowRequest};
 use coopwin_hdl::camera::{CameraBus, FrameRaster, Jitter, RasterTiming, Window};
-use coopwin_hdl::driver::{CoordBus, CoordWriter, NetworkDriver, UnitOutputs, VcdTrace};
+use coopwin_firmware::handshake::{coordinate_bytes, CoordinatePins, CoordinateWriter};
+use coopwin_hdl::driver::{CoordBus, NetworkDriver, UnitOutputs, VcdTrace};
 use std::collections::VecDeque;
 
 /// A window delivered to processor `p`.
@@ -35,8 +36,9 @@ pub struct Delivered {
 
 /// A source of windows for the system simulation.
 pub trait WindowBackend {
-    /// Processor `p` writes `req` from clock `at` on.
-    fn request(&mut self, p: usize, req: WindowRequest, at: u64);
+    /// Processor `p` writes `req` from clock `at` on; a window the port cannot carry is refused
+    /// (and nothing is written).
+    fn request(&mut self, p: usize, req: WindowRequest, at: u64) -> Result<(), String>;
     /// The next window completed on or before clock `until` (earliest first, then by unit),
     /// or `None` once the units have run to `until` without completing one.
     fn next_window(&mut self, until: u64, frames: &mut dyn FrameSource) -> Result<Option<Delivered>, String>;
@@ -201,7 +203,10 @@ impl ModelBackend {
 }
 
 impl WindowBackend for ModelBackend {
-    fn request(&mut self, p: usize, req: WindowRequest, at: u64) {
+    fn request(&mut self, p: usize, req: WindowRequest, at: u64) -> Result<(), String> {
+        if req.width == 0 || req.height == 0 {
+            return Err(format!("processor {p}: the empty window {req:?} cannot be written"));
+        }
         let (latency, repeat) = (self.latency, self.repeat);
         if let Some(u) = self.units.get_mut(p) {
             // Back-to-back sets queue in the writer, one every `repeat` clocks.
@@ -215,6 +220,7 @@ impl WindowBackend for ModelBackend {
                 u.pending.push((done, req));
             }
         }
+        Ok(())
     }
 
     fn next_window(&mut self, until: u64, frames: &mut dyn FrameSource) -> Result<Option<Delivered>, String> {
@@ -238,9 +244,28 @@ pub enum Bank {
     Verilator(crate::verilator::VerilatorNetwork),
 }
 
+/// A unit's coordinate port as the firmware's writer sees it: CRDY1 after the last edge, and
+/// the bus it drives for the next clock.
+struct Pins<'a> {
+    ready: bool,
+    bus: &'a mut CoordBus,
+}
+
+impl CoordinatePins for Pins<'_> {
+    type Error = core::convert::Infallible;
+    fn drive(&mut self, strobe: bool, data: u8, decimate: bool) -> Result<(), Self::Error> {
+        *self.bus = CoordBus { strobe, data: u32::from(data), decimate };
+        Ok(())
+    }
+    fn ready(&mut self) -> Result<bool, Self::Error> {
+        Ok(self.ready)
+    }
+}
+
 /// One unit's writer and what it is delivering.
 struct HdlUnit {
-    writer: CoordWriter,
+    /// The processor's writer: the firmware's, on simulated pins.
+    writer: CoordinateWriter,
     last: UnitOutputs,
     /// Requests not yet handed to the writer: (clock, request).
     queued: VecDeque<(u64, WindowRequest)>,
@@ -303,7 +328,7 @@ impl HdlBackend {
         }
         let units: Vec<HdlUnit> = (0..n)
             .map(|_| HdlUnit {
-                writer: CoordWriter::default(),
+                writer: CoordinateWriter::new(),
                 last: UnitOutputs::default(),
                 queued: VecDeque::new(),
                 written: VecDeque::new(),
@@ -375,11 +400,13 @@ impl HdlBackend {
         let (bus, bus_frame) = self.clocks.bus(c, self.frame.as_ref().map(|(k, r, px)| (*k, r, px.as_slice())));
         let frame_rises = bus_frame.is_some() && Some(c) == bus_frame.map(|k| self.clocks.frame_start(k));
         for (u, port) in self.units.iter_mut().zip(self.ports.iter_mut()) {
-            while u.queued.front().is_some_and(|q| q.0 <= c) {
-                if let Some((_, req)) = u.queued.pop_front() {
-                    u.writer.write(window_of(&req), req.decimation == Decimation::Quarter);
-                    u.written.push_back(req);
+            // Handed to the processor's writer as it has room (a full queue waits a clock).
+            while let Some(&(at, req)) = u.queued.front() {
+                if at > c || u.writer.write(&req).is_err() {
+                    break;
                 }
+                u.queued.pop_front();
+                u.written.push_back(req);
             }
             if frame_rises {
                 // Which set the hardware arms: mirrored only to know the window's shape.
@@ -390,7 +417,7 @@ impl HdlBackend {
                     u.active = bus_frame.map(|k| (k, req, Vec::new()));
                 }
             }
-            *port = u.writer.next(&u.last);
+            let Ok(()) = u.writer.poll(&mut Pins { ready: u.last.coord_ready, bus: port });
         }
         // Every 16th step is timed (and counted 16 times): timing every clock would itself
         // cost a third of a Verilator step.
@@ -459,10 +486,12 @@ impl HdlBackend {
 }
 
 impl WindowBackend for HdlBackend {
-    fn request(&mut self, p: usize, req: WindowRequest, at: u64) {
+    fn request(&mut self, p: usize, req: WindowRequest, at: u64) -> Result<(), String> {
+        coordinate_bytes(&req).map_err(|e| format!("processor {p}: window {req:?} cannot be written: {e:?}"))?;
         if let Some(u) = self.units.get_mut(p) {
             u.queued.push_back((at, req));
         }
+        Ok(())
     }
 
     fn next_window(&mut self, until: u64, frames: &mut dyn FrameSource) -> Result<Option<Delivered>, String> {

@@ -461,6 +461,17 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 log.reports.len(),
                 log.frames.len() as f64 / secs.max(1e-9)
             );
+            if !(log.losses.is_empty() && log.watchdog.is_empty() && log.refused.is_empty()) {
+                println!(
+                    "log: {} losses of track, {} sets written again by the watchdog, {} requests refused",
+                    log.losses.len(),
+                    log.watchdog.len(),
+                    log.refused.len()
+                );
+                for (_, clock, why) in log.refused.iter().take(3) {
+                    println!("  refused on clock {clock}: {why}");
+                }
+            }
             if let Some(s) = summary {
                 println!("{}", coopwin_testbench::report::summary_table(&[(cfg.strategy.name(), s)]));
             }

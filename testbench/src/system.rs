@@ -147,6 +147,8 @@ pub struct RunLog {
     /// The frame and point the template was cut at, if known before the run: the tracked
     /// point is that point of the part.
     pub reference: Option<(usize, (f64, f64))>,
+    /// Requests the coordinate port refused: (processor, clock, why).
+    pub refused: Vec<(usize, u64, String)>,
     /// With a VCD of chosen frames: per unit, the sets taken before the trace began.
     pub sets_before_trace: Vec<usize>,
 }
@@ -360,7 +362,13 @@ pub fn run_with(
     // The request each processor waits on, and since when: the watchdog's state.
     let mut awaiting: Vec<Option<(WindowRequest, u64)>> = vec![None; np];
     let mut link_state =
-        LinkState { corrupt: cfg.corrupt_request, awaiting: &mut awaiting, write_phase: cfg.write_phase, clocks: &clocks };
+        LinkState {
+        corrupt: cfg.corrupt_request,
+        awaiting: &mut awaiting,
+        write_phase: cfg.write_phase,
+        clocks: &clocks,
+        refused: Vec::new(),
+    };
     let mut log = RunLog { windows: vec![0; np], frame_period: period, reference, ..RunLog::default() };
     let mut q = Queue { heap: BinaryHeap::new(), events: Vec::new() };
 
@@ -430,11 +438,8 @@ pub fn run_with(
                 for p in 0..np {
                     if let Some((req, since)) = link_state.awaiting[p] {
                         if k >= 3 && since < clocks.frame_start(k - 3) {
-                            let written = cfg.write_phase.map_or(c, |phase| clocks.next_phase(c, phase));
-                            backend.request(p, req, written);
-                            log.requests.push((p, written, req));
+                            let written = link_state.write(p, req, req, c, backend, &mut log.requests);
                             log.watchdog.push((p, written));
-                            link_state.awaiting[p] = Some((req, written));
                         }
                     }
                 }
@@ -463,6 +468,7 @@ pub fn run_with(
         log.frames.push(record(n - 1, &procs, last_report));
     }
     log.robot_link = robot.into_inner().0;
+    log.refused = link_state.refused;
     Ok(log)
 }
 
@@ -528,6 +534,31 @@ struct LinkState<'a> {
     awaiting: &'a mut [Option<(WindowRequest, u64)>],
     write_phase: Option<u64>,
     clocks: &'a Clocks,
+    refused: Vec<(usize, u64, String)>,
+}
+
+impl LinkState<'_> {
+    /// Processor `p`'s request `req`, arriving as `sent`, is written to its unit from clock `at`
+    /// (held to the write phase, if any) and logged, and `p` waits for its window (the
+    /// watchdog writes it again if none comes). A request the port refuses is logged in
+    /// `refused`. Returns the clock of the write.
+    fn write(
+        &mut self,
+        p: usize,
+        req: WindowRequest,
+        sent: WindowRequest,
+        at: u64,
+        backend: &mut dyn WindowBackend,
+        requests: &mut Vec<(usize, u64, WindowRequest)>,
+    ) -> u64 {
+        let written = self.write_phase.map_or(at, |phase| self.clocks.next_phase(at, phase));
+        match backend.request(p, sent, written) {
+            Ok(()) => requests.push((p, written, sent)),
+            Err(why) => self.refused.push((p, written, why)),
+        }
+        self.awaiting[p] = Some((req, written));
+        written
+    }
 }
 
 /// Which processor plays each role messages are addressed to.
@@ -563,10 +594,7 @@ fn apply(
 ) {
     if let Some(req) = step.request {
         let sent = if state.corrupt == Some(requests.len()) { WindowRequest { width: 1, ..req } } else { req };
-        let written = state.write_phase.map_or(at, |phase| state.clocks.next_phase(at, phase));
-        backend.request(p, sent, written);
-        requests.push((p, written, sent));
-        state.awaiting[p] = Some((req, written));
+        state.write(p, req, sent, at, backend, requests);
     }
     for (d, m) in step.sends {
         if let Some(to) = routes.to(d) {

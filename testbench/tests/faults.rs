@@ -172,3 +172,26 @@ fn coordinate_writes_at_every_raster_phase_agree_with_the_model() {
     // arms frame 2. At phase 0 it arms frame 1 too (frame 0's FVAL has already risen).
     assert_eq!(first_frames, vec![(0, 1), (30_000, 1), (69_648, 1), (69_900, 1), (70_177, 1), (70_178, 2)]);
 }
+
+#[test]
+fn a_window_the_port_cannot_carry_is_refused_and_nothing_is_written() {
+    // An empty window has no bounds to write, and the units' coordinates are 8-bit: both are
+    // refused with a reason before anything reaches the port, and no window comes of them.
+    use coopwin_firmware::ports::{Decimation, WindowRequest};
+    use coopwin_hdl::camera::RasterTiming;
+    use coopwin_testbench::backend::{Clocks, HdlBackend, ModelBackend, WindowBackend};
+    let scene = SceneConfig { frames: 3, ..triangle(40.0, 1) };
+    let clocks = Clocks::new(RasterTiming { width: 256, height: 256, h_blank: 16, v_blank_lines: 2 }, 3, None);
+    let empty = WindowRequest { x0: 0, y0: 0, width: 0, height: 8, decimation: Decimation::Full };
+    let wide = WindowRequest { x0: 250, y0: 0, width: 10, height: 8, decimation: Decimation::Full };
+    let mut model = ModelBackend::new(clocks.clone(), 1);
+    let mut hdl = HdlBackend::rust_hdl(clocks.clone(), 1, None).unwrap();
+    for backend in [&mut model as &mut dyn WindowBackend, &mut hdl] {
+        let why = backend.request(0, empty, 0).unwrap_err();
+        assert!(why.contains("window"), "{why}");
+        assert!(backend.next_window(clocks.frame_start(3), &mut SceneFrames::new(scene.clone())).unwrap().is_none());
+    }
+    assert!(hdl.request(0, wide, 0).unwrap_err().contains("OutOfRange"));
+    assert!(hdl.next_window(clocks.frame_start(3), &mut SceneFrames::new(scene)).unwrap().is_none());
+    assert_eq!(hdl.clocks_stepped, clocks.frame_start(3) + 1, "the units ran the run through");
+}

@@ -1,0 +1,193 @@
+//! The processor's side of the window logic's coordinate port (thesis 2.2.1, B1.1 step 1):
+//! a window's coordinates go out one byte at a time, xmin, xmax, ymin, ymax (rows 0-based,
+//! bounds inclusive), with the four-phase handshake of the C40 comm port. A byte is driven
+//! with CSTRB1 high until the window logic raises CRDY1; CSTRB1 is then released, and the next
+//! byte waits for CRDY1 to fall.
+//!
+//! [`CoordinateWriter`] never blocks: [`CoordinateWriter::poll`] takes one step and returns,
+//! so on a board it runs from a timer interrupt and in the testbench once a pixel clock. It
+//! reaches the pins only through [`CoordinatePins`].
+use crate::ports::{Decimation, WindowRequest};
+use heapless::Deque;
+
+/// The coordinate port's pins as the processor sees them.
+pub trait CoordinatePins {
+    /// Pin access error.
+    type Error;
+    /// Drives CSTRB1, port 1's data byte and the decimation line from now on.
+    fn drive(&mut self, strobe: bool, data: u8, decimate: bool) -> Result<(), Self::Error>;
+    /// CRDY1 as the window logic drives it now.
+    fn ready(&mut self) -> Result<bool, Self::Error>;
+}
+
+/// Why a window cannot be written.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WriteError {
+    /// The window is empty, or reaches past column or row 255 (8-bit coordinates).
+    OutOfRange,
+    /// [`QUEUE_SETS`] sets are already waiting for the port.
+    QueueFull,
+}
+
+/// Coordinate sets the writer holds before refusing more.
+pub const QUEUE_SETS: usize = 4;
+
+/// The four coordinate bytes of a window: xmin, xmax, ymin, ymax.
+pub fn coordinate_bytes(req: &WindowRequest) -> Result<[u8; 4], WriteError> {
+    let last = |start: u16, len: u16| {
+        let end = u32::from(start) + u32::from(len);
+        match (u8::try_from(start), len) {
+            (Ok(first), 1..) if end <= 256 => Ok((first, (end - 1) as u8)),
+            _ => Err(WriteError::OutOfRange),
+        }
+    };
+    let (xmin, xmax) = last(req.x0, req.width)?;
+    let (ymin, ymax) = last(req.y0, req.height)?;
+    Ok([xmin, xmax, ymin, ymax])
+}
+
+/// Writes queued windows over the four-phase handshake, one step per [`poll`](Self::poll).
+#[derive(Clone, Debug, Default)]
+pub struct CoordinateWriter {
+    queue: Deque<(u8, bool), { 4 * QUEUE_SETS }>,
+    strobe: bool,
+    data: u8,
+    decimate: bool,
+    bytes_taken: u32,
+}
+
+impl CoordinateWriter {
+    /// An idle writer.
+    pub const fn new() -> Self {
+        Self { queue: Deque::new(), strobe: false, data: 0, decimate: false, bytes_taken: 0 }
+    }
+
+    /// Queues `req`'s four bytes behind any waiting. The window logic itself refuses a set
+    /// with xmin = xmax or ymin = ymax (`coord_error`); only what cannot be encoded is refused
+    /// here.
+    pub fn write(&mut self, req: &WindowRequest) -> Result<(), WriteError> {
+        let bytes = coordinate_bytes(req)?;
+        if self.queue.capacity() - self.queue.len() < bytes.len() {
+            return Err(WriteError::QueueFull);
+        }
+        let decimate = req.decimation == Decimation::Quarter;
+        for b in bytes {
+            // Room was checked above.
+            let _ = self.queue.push_back((b, decimate));
+        }
+        Ok(())
+    }
+
+    /// True while bytes wait or a byte is being handed over.
+    pub fn busy(&self) -> bool {
+        !self.queue.is_empty() || self.strobe
+    }
+
+    /// Complete sets the window logic has taken (fourth byte answered by CRDY1).
+    pub fn sets_taken(&self) -> u32 {
+        self.bytes_taken / 4
+    }
+
+    /// One step of the handshake: release CSTRB1 once CRDY1 answers; offer the next byte
+    /// once CRDY1 has fallen.
+    pub fn poll<P: CoordinatePins>(&mut self, pins: &mut P) -> Result<(), P::Error> {
+        let ready = pins.ready()?;
+        if self.strobe && ready {
+            self.strobe = false;
+            self.bytes_taken += 1;
+        } else if !self.strobe && !ready {
+            if let Some((data, decimate)) = self.queue.pop_front() {
+                (self.strobe, self.data, self.decimate) = (true, data, decimate);
+            }
+        }
+        pins.drive(self.strobe, self.data, self.decimate)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::vec::Vec;
+
+    fn window(x0: u16, y0: u16, width: u16, height: u16) -> WindowRequest {
+        WindowRequest { x0, y0, width, height, decimation: Decimation::Full }
+    }
+
+    #[test]
+    fn bytes_are_inclusive_bounds_in_port_order() {
+        // By hand: columns 10..=29, rows 200..=255.
+        assert_eq!(coordinate_bytes(&window(10, 200, 20, 56)), Ok([10, 29, 200, 255]));
+        assert_eq!(coordinate_bytes(&window(0, 0, 256, 256)), Ok([0, 255, 0, 255]));
+        assert_eq!(coordinate_bytes(&window(5, 5, 1, 1)), Ok([5, 5, 5, 5]));
+        for bad in [window(0, 0, 0, 4), window(0, 0, 4, 0), window(250, 0, 7, 4), window(256, 0, 1, 1), window(0, 300, 4, 4)] {
+            assert_eq!(coordinate_bytes(&bad), Err(WriteError::OutOfRange), "{bad:?}");
+        }
+    }
+
+    /// A window logic that answers CRDY1 `delay` polls after it sees CSTRB1 and releases it
+    /// `delay` polls after CSTRB1 falls, recording each byte it takes.
+    struct Responder {
+        delay: usize,
+        seen: usize,
+        ready: bool,
+        taken: Vec<(u8, bool)>,
+        driven: (bool, u8, bool),
+    }
+
+    impl CoordinatePins for Responder {
+        type Error = core::convert::Infallible;
+        fn drive(&mut self, strobe: bool, data: u8, decimate: bool) -> Result<(), Self::Error> {
+            self.driven = (strobe, data, decimate);
+            Ok(())
+        }
+        fn ready(&mut self) -> Result<bool, Self::Error> {
+            let strobe = self.driven.0;
+            if strobe != self.ready {
+                self.seen += 1;
+                if self.seen > self.delay {
+                    self.ready = strobe;
+                    self.seen = 0;
+                    if strobe {
+                        self.taken.push((self.driven.1, self.driven.2));
+                    }
+                }
+            }
+            Ok(self.ready)
+        }
+    }
+
+    #[test]
+    fn sets_go_out_byte_by_byte_in_order_at_any_response_delay() {
+        for delay in 0..4 {
+            let mut w = CoordinateWriter::new();
+            let mut pins = Responder { delay, seen: 0, ready: false, taken: Vec::new(), driven: (false, 0, false) };
+            w.write(&window(1, 2, 3, 4)).unwrap();
+            w.write(&WindowRequest { decimation: Decimation::Quarter, ..window(100, 50, 40, 40) }).unwrap();
+            let mut polls = 0;
+            while w.busy() || pins.ready {
+                w.poll(&mut pins).unwrap();
+                polls += 1;
+                assert!(polls < 200, "delay {delay}: the handshake stalled");
+            }
+            let expected = [(1, false), (3, false), (2, false), (5, false), (100, true), (139, true), (50, true), (89, true)];
+            assert_eq!(pins.taken, expected, "delay {delay}");
+            assert_eq!(w.sets_taken(), 2);
+        }
+    }
+
+    #[test]
+    fn a_full_queue_refuses_and_keeps_what_it_holds() {
+        let mut w = CoordinateWriter::new();
+        for k in 0..QUEUE_SETS as u16 {
+            w.write(&window(k, 0, 2, 2)).unwrap();
+        }
+        assert_eq!(w.write(&window(9, 9, 2, 2)), Err(WriteError::QueueFull));
+        assert_eq!(w.write(&window(0, 0, 0, 2)), Err(WriteError::OutOfRange));
+        let mut pins = Responder { delay: 0, seen: 0, ready: false, taken: Vec::new(), driven: (false, 0, false) };
+        while w.busy() || pins.ready {
+            w.poll(&mut pins).unwrap();
+        }
+        let xmins: Vec<u8> = pins.taken.chunks(4).map(|c| c[0].0).collect();
+        assert_eq!(xmins, [0, 1, 2, 3]);
+    }
+}
