@@ -146,11 +146,13 @@ pub struct Step {
     pub sends: heapless::Vec<(Dest, Msg), 4>,
     /// A position to report to the robot controller.
     pub report: Option<(Point, Algo)>,
+    /// Tracking was lost on this step; the last position tracked.
+    pub lost: Option<Point>,
 }
 
 impl Step {
     fn new(work: Work) -> Self {
-        Step { work, request: None, sends: heapless::Vec::new(), report: None }
+        Step { work, request: None, sends: heapless::Vec::new(), report: None, lost: None }
     }
     fn send(mut self, d: Dest, m: Msg) -> Self {
         // Four slots cover every processor's sends; a fifth is a bug, dropped rather than panic.
@@ -605,6 +607,10 @@ impl Foveal {
                 self.partner = Some(*r);
                 self.decide(t)
             }
+            Msg::Lost(_) if self.kind == FovealKind::CoopPartner => {
+                self.tracking = None;
+                Step::new(Work::None)
+            }
             _ => Step::new(Work::None),
         }
     }
@@ -652,8 +658,10 @@ impl Foveal {
             _ => (None, Algo::Ncc),
         };
         let step = self.follow(Step::new(Work::Decision), found, algo);
-        match (step.request, found) {
-            (Some(_), Some(p)) => step.send(Dest::FovealCd, Msg::Follow(p)),
+        match (step.request, found, step.lost) {
+            (Some(_), Some(p), _) => step.send(Dest::FovealCd, Msg::Follow(p)),
+            // The partner stops with the master; the Peripheral takes over.
+            (_, _, Some(last)) => step.send(Dest::FovealCd, Msg::Lost(last)),
             _ => step,
         }
     }
@@ -668,7 +676,9 @@ impl Foveal {
             }
             (None, Some(last)) => {
                 self.tracking = None;
-                step.send(Dest::Peripheral, Msg::Lost(last))
+                let mut s = step.send(Dest::Peripheral, Msg::Lost(last));
+                s.lost = Some(last);
+                s
             }
             (None, None) => step,
         }
@@ -723,6 +733,7 @@ impl<'b> Spmf<'b> {
         let mut out = Step::new(step.work);
         out.report = step.report;
         out.request = step.request;
+        out.lost = step.lost;
         let mut mode = self.mode;
         let mut queue: heapless::Deque<Msg, 8> = heapless::Deque::new();
         for (_, m) in step.sends {

@@ -359,6 +359,8 @@ pub fn run_with(
         return Err(format!("internal: {np} processors for {} units", units(cfg.strategy)));
     }
     let mut free_at = vec![0u64; np];
+    // The frame of the last window each processor received.
+    let mut window_frame = vec![0usize; np];
     // The request each processor waits on, and since when: the watchdog's state.
     let mut awaiting: Vec<Option<(WindowRequest, u64)>> = vec![None; np];
     let mut link_state =
@@ -379,7 +381,7 @@ pub fn run_with(
             (Proc::Spmf(s), t) => s.start(t),
             (Proc::Peripheral(pp), Some(t)) => pp.start_at(t),
             (Proc::Foveal(f), Some(t)) if Some(i) == routes.foveal => f.start_at(t),
-            _ => Step { work: coopwin_firmware::tracker::Work::None, request: None, sends: Default::default(), report: None },
+            _ => Step { work: coopwin_firmware::tracker::Work::None, request: None, sends: Default::default(), report: None, lost: None },
         };
         apply(i, step, 0, backend, &mut q, &routes, &link, &mut log.requests, &mut link_state);
     }
@@ -413,16 +415,8 @@ pub fn run_with(
             };
             let end = begin + busy(&step.work);
             free_at[p] = end;
-            if let Some((point, algo)) = step.report {
-                let r = Report { t: secs(end), frame: win.frame, point, algo };
-                emit(&mut robot, &r)?;
-                log.reports.push(r);
-                last_report = Some(r);
-            }
-            if step.sends.iter().any(|(_, m)| matches!(m, Msg::Lost(_))) {
-                log.losses.push(secs(end));
-                last_report = None;
-            }
+            window_frame[p] = win.frame;
+            publish(&step, secs(end), win.frame, &mut log, &mut robot, &mut last_report)?;
             apply(p, step, end, backend, &mut q, &routes, &link, &mut log.requests, &mut link_state);
             continue;
         }
@@ -453,13 +447,9 @@ pub fn run_with(
                 };
                 let end = begin + busy(&step.work);
                 free_at[p] = end;
-                if let Some((point, algo)) = step.report {
-                    let frame = clocks.frame_at(begin);
-                    let r = Report { t: secs(end), frame, point, algo };
-                    emit(&mut robot, &r)?;
-                    log.reports.push(r);
-                    last_report = Some(r);
-                }
+                // A report on a message (COOP's decision once the partner's result is in)
+                // measures the processor's last window.
+                publish(&step, secs(end), window_frame[p], &mut log, &mut robot, &mut last_report)?;
                 apply(p, step, end, backend, &mut q, &routes, &link, &mut log.requests, &mut link_state);
             }
         }
@@ -487,6 +477,30 @@ impl embedded_io::Write for Wire {
     fn flush(&mut self) -> Result<(), Self::Error> {
         Ok(())
     }
+}
+
+/// What a step finished at `t` seconds tells the outside: its position report, measured in
+/// `frame`, goes to the robot controller and the log; a loss of track is logged and ends the
+/// last report's validity.
+fn publish(
+    step: &Step,
+    t: f64,
+    frame: usize,
+    log: &mut RunLog,
+    robot: &mut FramedPositionSink<Wire>,
+    last: &mut Option<Report>,
+) -> Result<(), String> {
+    if let Some((point, algo)) = step.report {
+        let r = Report { t, frame, point, algo };
+        emit(robot, &r)?;
+        log.reports.push(r);
+        *last = Some(r);
+    }
+    if step.lost.is_some() {
+        log.losses.push(t);
+        *last = None;
+    }
+    Ok(())
 }
 
 /// Sends a report to the robot controller through the firmware's position sink.
