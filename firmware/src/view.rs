@@ -203,8 +203,14 @@ impl<'a> WindowView<'a> {
         let out = buf.get_mut(..n)?;
         if self.width > 0 {
             for (y, dst) in out.chunks_exact_mut(self.width).enumerate() {
-                for (d, s) in dst.iter_mut().zip(self.row_iter(y)) {
-                    *d = s;
+                match self.row(y) {
+                    // Full resolution: a row is a slice (the Watch copies whole frames).
+                    Some(src) => dst.copy_from_slice(src),
+                    None => {
+                        for (d, s) in dst.iter_mut().zip(self.row_iter(y)) {
+                            *d = s;
+                        }
+                    }
                 }
             }
         }

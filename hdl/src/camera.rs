@@ -223,10 +223,14 @@ impl Window {
     /// order, every other pixel of every other row when `decimate`.
     pub fn crop(&self, frame: &[u8], width: usize, decimate: bool) -> Vec<u8> {
         let step = if decimate { 2 } else { 1 };
-        let mut out = Vec::new();
-        for y in (self.ymin..=self.ymax).step_by(step) {
-            for x in (self.xmin..=self.xmax).step_by(step) {
-                out.push(frame[y as usize * width + x as usize]);
+        let (x0, x1) = (self.xmin as usize, self.xmax as usize + 1);
+        let mut out = Vec::with_capacity((x1 - x0).div_ceil(step) * (self.ymax - self.ymin + 1) as usize);
+        for y in (self.ymin as usize..=self.ymax as usize).step_by(step) {
+            let row = &frame[y * width + x0..y * width + x1];
+            if decimate {
+                out.extend(row.iter().step_by(2));
+            } else {
+                out.extend_from_slice(row);
             }
         }
         out

@@ -296,6 +296,8 @@ pub struct HdlBackend {
     clock: u64,
     /// The frame on the bus: its number, raster and pixels.
     frame: Option<(usize, FrameRaster, Vec<u8>)>,
+    /// The clock the next frame's FVAL rises (when `frame` is replaced).
+    next_frame_at: u64,
     done: VecDeque<Delivered>,
     trace: Option<VcdTrace<Box<dyn std::io::Write>>>,
     /// Clocks the trace records: from the blanking before its first frame to the end of its
@@ -338,6 +340,7 @@ impl HdlBackend {
             })
             .collect();
         let (mut trace_span, mut trace_first) = (0..0, 0);
+        let blank = clocks.blank();
         let trace = match (trace, &bank) {
             (Some(t), Bank::RustHdl(net)) => {
                 if t.frames.start >= t.frames.end || t.frames.end > clocks.frames {
@@ -363,6 +366,7 @@ impl HdlBackend {
             outs: vec![UnitOutputs::default(); n],
             clock: 0,
             frame: None,
+            next_frame_at: blank,
             done: VecDeque::new(),
             trace,
             trace_span,
@@ -389,12 +393,11 @@ impl HdlBackend {
 
     fn step(&mut self, frames: &mut dyn FrameSource) -> Result<(), String> {
         let c = self.clock;
-        let current = self.frame.as_ref().is_some_and(|f| f.0 == self.clocks.frame_at(c));
-        if !current && c >= self.clocks.blank() {
+        if c >= self.next_frame_at {
             let k = self.clocks.frame_at(c);
-            self.frame = match k < self.clocks.frames {
-                true => Some((k, self.clocks.raster(k), frames.frame(k)?.to_vec())),
-                false => None,
+            (self.frame, self.next_frame_at) = match k < self.clocks.frames {
+                true => (Some((k, self.clocks.raster(k), frames.frame(k)?.to_vec())), self.clocks.frame_start(k + 1)),
+                false => (None, u64::MAX),
             };
         }
         let (bus, bus_frame) = self.clocks.bus(c, self.frame.as_ref().map(|(k, r, px)| (*k, r, px.as_slice())));

@@ -42,7 +42,7 @@ fn run(cmd: &mut Command, what: &str) -> Result<(), String> {
 /// Builds (or reuses) the shared library for the current Verilog, in the system temp folder.
 pub fn build() -> Result<PathBuf, String> {
     let files = coopwin_hdl::verilog::exported(UNITS)?;
-    let key = crate::system::fnv1a(format!("{}{}{HARNESS}{VERILATOR_FLAGS:?}", files[0].1, files[1].1).as_bytes());
+    let key = crate::system::fingerprint(format!("{}{}{HARNESS}{VERILATOR_FLAGS:?}", files[0].1, files[1].1).as_bytes());
     let dir = std::env::temp_dir().join(format!("coopwin-verilator-{key:016x}"));
     let lib = dir.join("libwindow_network.so");
     if lib.exists() {
