@@ -24,6 +24,8 @@ const EXAMPLES: &str = "Examples:
   coopwin experiment table-4.1 --out results
   coopwin track --frames scenes/tri --strategy coop --target 56,56 --hdl rust-hdl --vcd run.vcd
   coopwin audit run.vcd --requests run.requests.csv
+  coopwin track --frames scenes/tri --hdl rust-hdl --vcd part.vcd --vcd-frames 100..103
+  coopwin track --frames scenes/tri --hdl rust-hdl --blank-jitter 40,6000,7 --write-phase 70177
   coopwin match --image window.png --template tpl.png --method ncc
   coopwin corner --image window.png --threshold 50
   coopwin motion --prev a.png --next b.png --threshold 30
