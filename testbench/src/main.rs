@@ -236,15 +236,20 @@ fn parse_frames(s: &str) -> Result<std::ops::Range<usize>, String> {
 fn parse_jitter(s: &str) -> Result<Jitter, String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
     let n = |v: &str| v.parse::<u32>().map_err(|_| format!("'{v}' is not a whole number of clocks"));
-    match parts[..] {
-        [line, frame] => Ok(Jitter { seed: 1, line_max: n(line)?, frame_max: n(frame)? }),
-        [line, frame, seed] => Ok(Jitter {
+    let j = match parts[..] {
+        [line, frame] => Jitter { seed: 1, line_max: n(line)?, frame_max: n(frame)? },
+        [line, frame, seed] => Jitter {
             seed: seed.parse().map_err(|_| format!("seed '{seed}' is not a whole number"))?,
             line_max: n(line)?,
             frame_max: n(frame)?,
-        }),
-        _ => Err("expected LINE,FRAME or LINE,FRAME,SEED".into()),
+        },
+        _ => return Err("expected LINE,FRAME or LINE,FRAME,SEED".into()),
+    };
+    // Beyond these a frame takes seconds of camera time: a stalled camera, not jitter.
+    if j.line_max > 4_096 || j.frame_max > 8_000_000 {
+        return Err(format!("at most 4096 clocks a line and 8000000 a frame, got {},{}", j.line_max, j.frame_max));
     }
+    Ok(j)
 }
 
 fn parse_point(s: &str) -> Result<(f64, f64), String> {

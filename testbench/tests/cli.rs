@@ -80,6 +80,7 @@ fn bad_arguments_exit_non_zero() {
         vec!["track", "--frames", "/tmp", "--coop-n", "12"],
         vec!["track", "--frames", "/tmp", "--blank-jitter", "5"],
         vec!["track", "--frames", "/tmp", "--blank-jitter", "5,x"],
+        vec!["track", "--frames", "/tmp", "--blank-jitter", "5000,10"],
         vec!["track", "--frames", "/tmp", "--write-phase", "-3"],
     ] {
         let (ok, _, err) = coopwin(&args);
