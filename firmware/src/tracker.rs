@@ -12,8 +12,9 @@
 //! - [`Spmf`]: the single processor that runs Watch, Detection and Tracking in turn (2.3.1).
 //!
 //! The hardware is reached only through the [`Step`]s: the caller (a board's main loop, or the
-//! testbench's simulation) turns requests into coordinate writes and messages into link
-//! traffic.
+//! testbench's simulation) turns requests into coordinate writes
+//! ([`crate::handshake::CoordinateWriter`]) and messages into link traffic
+//! ([`crate::ports::FramedLink`]); the testbench does both through these same types.
 use crate::confidence::{ConfidenceError, ConfidencePolicy, KalmanCoop, SseCoop, Source};
 use crate::corner::{CornerDetector, CornerParams};
 use crate::matching::{best_match, Method};
@@ -114,15 +115,6 @@ pub enum Msg {
     Follow(Point),
 }
 
-impl Msg {
-    /// Bytes on the link (16-byte messages, as `ports::Message`; a template carries its pixels).
-    pub fn bytes(&self) -> usize {
-        match self {
-            Msg::Template(t) => 16 + t.n * t.n,
-            _ => 16,
-        }
-    }
-}
 
 /// Where a message goes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -267,6 +259,27 @@ impl Template {
     /// Side N.
     pub fn side(&self) -> usize {
         self.n
+    }
+
+    /// The N x N pixels, row by row.
+    pub fn pixels(&self) -> &[u8] {
+        self.px.get(..self.n * self.n).unwrap_or(&[])
+    }
+
+    /// Offset of the tracked point from the top-left pixel.
+    pub fn anchor(&self) -> Point {
+        self.anchor
+    }
+
+    /// A template from its side, anchor and N x N pixels (as a link carries it), or `None`
+    /// if N is 0 or over [`MAX_TEMPLATE`] or the pixels are not N x N.
+    pub fn from_parts(n: usize, anchor: Point, pixels: &[u8]) -> Option<Template> {
+        if n == 0 || n > MAX_TEMPLATE || pixels.len() != n * n {
+            return None;
+        }
+        let mut px = [0u8; MAX_TEMPLATE * MAX_TEMPLATE];
+        px[..n * n].copy_from_slice(pixels);
+        Some(Template { px, n, anchor })
     }
 
     /// The tracked point for a template placed with its top-left at `(x, y)`.

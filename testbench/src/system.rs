@@ -7,7 +7,7 @@ use crate::backend::{Bank, Clocks, Delivered, HdlBackend, ModelBackend, Trace, W
 use crate::cost::CostModel;
 use coopwin_firmware::ports::{Decimation, WindowRequest};
 use coopwin_firmware::confidence::{KalmanCoop, Source};
-use coopwin_firmware::ports::{FramedPositionSink, PositionSink, PositionUpdate};
+use coopwin_firmware::ports::{FramedLink, FramedPositionSink, Link, PositionSink, PositionUpdate};
 use coopwin_firmware::tracker::{
     Algo, Dest, Foveal, FovealKind, Mode, Msg, Params, Peripheral, Point, Policy, Spmf, Step, Template, Watch,
 };
@@ -177,7 +177,8 @@ enum Proc<'b> {
 #[derive(Clone, Debug, PartialEq)]
 enum Event {
     FrameStart(usize),
-    Deliver { p: usize, msg: Msg },
+    /// The message at the head of the link `from` -> `p` has arrived.
+    Deliver { p: usize, from: usize },
 }
 
 /// Events in clock order (ties in the order they were queued).
@@ -359,6 +360,7 @@ pub fn run_with(
         return Err(format!("internal: {np} processors for {} units", units(cfg.strategy)));
     }
     let mut free_at = vec![0u64; np];
+    let mut links = Links::new(np, &link);
     // The frame of the last window each processor received.
     let mut window_frame = vec![0usize; np];
     // The request each processor waits on, and since when: the watchdog's state.
@@ -383,7 +385,7 @@ pub fn run_with(
             (Proc::Foveal(f), Some(t)) if Some(i) == routes.foveal => f.start_at(t),
             _ => Step { work: coopwin_firmware::tracker::Work::None, request: None, sends: Default::default(), report: None, lost: None },
         };
-        apply(i, step, 0, backend, &mut q, &routes, &link, &mut log.requests, &mut link_state);
+        apply(i, step, 0, backend, &mut q, &routes, &mut links, &mut log.requests, &mut link_state)?;
     }
     for k in 0..n {
         q.push(clocks.frame_start(k), Event::FrameStart(k));
@@ -391,7 +393,7 @@ pub fn run_with(
 
     let mut last_report: Option<Report> = None;
     let mut scratch = Vec::new();
-    let mut robot = FramedPositionSink::new(Wire(Vec::new()));
+    let mut robot = FramedPositionSink::new(Pipe::default());
     loop {
         let until = q.peek().unwrap_or(u64::MAX);
         if let Some(win) = backend.next_window(until, source)? {
@@ -417,7 +419,7 @@ pub fn run_with(
             free_at[p] = end;
             window_frame[p] = win.frame;
             publish(&step, secs(end), win.frame, &mut log, &mut robot, &mut last_report)?;
-            apply(p, step, end, backend, &mut q, &routes, &link, &mut log.requests, &mut link_state);
+            apply(p, step, end, backend, &mut q, &routes, &mut links, &mut log.requests, &mut link_state)?;
             continue;
         }
         let Some((c, ev)) = q.pop() else { break };
@@ -438,7 +440,8 @@ pub fn run_with(
                     }
                 }
             }
-            Event::Deliver { p, msg } => {
+            Event::Deliver { p, from } => {
+                let msg = links.receive(from, p)?;
                 let begin = c.max(free_at[p]);
                 let step = match &mut procs[p] {
                     Proc::Peripheral(x) => x.on_message(&msg),
@@ -450,33 +453,16 @@ pub fn run_with(
                 // A report on a message (COOP's decision once the partner's result is in)
                 // measures the processor's last window.
                 publish(&step, secs(end), window_frame[p], &mut log, &mut robot, &mut last_report)?;
-                apply(p, step, end, backend, &mut q, &routes, &link, &mut log.requests, &mut link_state);
+                apply(p, step, end, backend, &mut q, &routes, &mut links, &mut log.requests, &mut link_state)?;
             }
         }
     }
     if n > 0 {
         log.frames.push(record(n - 1, &procs, last_report));
     }
-    log.robot_link = robot.into_inner().0;
+    log.robot_link = robot.into_inner().0.into();
     log.refused = link_state.refused;
     Ok(log)
-}
-
-/// A byte buffer as the firmware's `embedded_io::Write`: the simulated robot link.
-pub struct Wire(pub Vec<u8>);
-
-impl embedded_io::ErrorType for Wire {
-    type Error = core::convert::Infallible;
-}
-
-impl embedded_io::Write for Wire {
-    fn write(&mut self, buf: &[u8]) -> Result<usize, Self::Error> {
-        self.0.extend_from_slice(buf);
-        Ok(buf.len())
-    }
-    fn flush(&mut self) -> Result<(), Self::Error> {
-        Ok(())
-    }
 }
 
 /// What a step finished at `t` seconds tells the outside: its position report, measured in
@@ -487,7 +473,7 @@ fn publish(
     t: f64,
     frame: usize,
     log: &mut RunLog,
-    robot: &mut FramedPositionSink<Wire>,
+    robot: &mut FramedPositionSink<Pipe>,
     last: &mut Option<Report>,
 ) -> Result<(), String> {
     if let Some((point, algo)) = step.report {
@@ -504,7 +490,7 @@ fn publish(
 }
 
 /// Sends a report to the robot controller through the firmware's position sink.
-fn emit(sink: &mut FramedPositionSink<Wire>, r: &Report) -> Result<(), String> {
+fn emit(sink: &mut FramedPositionSink<Pipe>, r: &Report) -> Result<(), String> {
     let source = if r.algo == Algo::Cd { Source::Cd } else { Source::Ncc };
     let update = PositionUpdate { t_us: (r.t.max(0.0) * 1e6) as u32, x: r.point.x, y: r.point.y, source };
     sink.emit(&update).map_err(|e| format!("robot link: {e:?}"))
@@ -613,18 +599,81 @@ fn apply(
     backend: &mut dyn WindowBackend,
     q: &mut Queue,
     routes: &Routes,
-    link: &dyn Fn(usize) -> u64,
+    links: &mut Links,
     requests: &mut Vec<(usize, u64, WindowRequest)>,
     state: &mut LinkState,
-) {
+) -> Result<(), String> {
     if let Some(req) = step.request {
         let sent = if state.corrupt == Some(requests.len()) { WindowRequest { width: 1, ..req } } else { req };
         state.write(p, req, sent, at, backend, requests);
     }
     for (d, m) in step.sends {
         if let Some(to) = routes.to(d) {
-            q.push(at + link(m.bytes()), Event::Deliver { p: to, msg: m });
+            let arrives = links.send(p, to, &m, at)?;
+            q.push(arrives, Event::Deliver { p: to, from: p });
         }
+    }
+    Ok(())
+}
+
+/// An in-memory byte stream: what one processor writes, the other reads (and the robot link's
+/// record of what it was sent).
+#[derive(Default)]
+struct Pipe(std::collections::VecDeque<u8>);
+
+impl embedded_io::ErrorType for Pipe {
+    type Error = core::convert::Infallible;
+}
+
+impl embedded_io::Read for Pipe {
+    fn read(&mut self, buf: &mut [u8]) -> Result<usize, Self::Error> {
+        let n = buf.len().min(self.0.len());
+        for (b, v) in buf.iter_mut().zip(self.0.drain(..n)) {
+            *b = v;
+        }
+        Ok(n)
+    }
+}
+
+impl embedded_io::Write for Pipe {
+    fn write(&mut self, buf: &[u8]) -> Result<usize, Self::Error> {
+        self.0.extend(buf);
+        Ok(buf.len())
+    }
+    fn flush(&mut self) -> Result<(), Self::Error> {
+        Ok(())
+    }
+}
+
+/// The processors' comm-port links (thesis 2.2), one per ordered pair. Messages travel as
+/// bytes through the firmware's `FramedLink`, first in first out: each takes the link time of
+/// its bytes, from when it is sent or the one before it has arrived, whichever is later.
+struct Links<'c> {
+    np: usize,
+    pairs: Vec<(FramedLink<Pipe>, u64)>,
+    /// Clocks to carry a message of so many bytes.
+    time: &'c dyn Fn(usize) -> u64,
+}
+
+impl<'c> Links<'c> {
+    fn new(np: usize, time: &'c dyn Fn(usize) -> u64) -> Self {
+        Links { np, pairs: (0..np * np).map(|_| (FramedLink::new(Pipe::default()), 0)).collect(), time }
+    }
+
+    /// Sends `m` from processor `from` to `to` at clock `at`; the clock it has arrived.
+    fn send(&mut self, from: usize, to: usize, m: &Msg, at: u64) -> Result<u64, String> {
+        let (link, free) = self.pairs.get_mut(from * self.np + to).ok_or("internal: no such link")?;
+        let before = link.io_mut().0.len();
+        link.send(m).map_err(|e| format!("link {from} -> {to}: {e:?}"))?;
+        let bytes = link.io_mut().0.len() - before;
+        *free = at.max(*free) + (self.time)(bytes);
+        Ok(*free)
+    }
+
+    /// The message at the head of the link from `from` to `to`.
+    fn receive(&mut self, from: usize, to: usize) -> Result<Msg, String> {
+        let (link, _) = self.pairs.get_mut(from * self.np + to).ok_or("internal: no such link")?;
+        link.receive().map_err(|e| format!("link {from} -> {to}: {e:?}"))
     }
 }
 
