@@ -6,7 +6,8 @@ use coopwin_firmware::info::edge_information;
 use coopwin_firmware::matching::{best_match, best_match_decimated, score_map, MatchError, Method};
 use coopwin_firmware::handshake::{coordinate_bytes, WriteError};
 use coopwin_firmware::motion::{detect_motion, motion_mask};
-use coopwin_firmware::ports::{Decimation, WindowRequest};
+use coopwin_firmware::ports::{Decimation, MessageDecoder, WindowRequest};
+use coopwin_firmware::tracker::Msg;
 use coopwin_firmware::view::WindowView;
 use proptest::prelude::*;
 
@@ -161,6 +162,19 @@ proptest! {
                 if let Some(v) = kal.score(s) {
                     prop_assert!(v.is_finite());
                 }
+            }
+        }
+    }
+
+    #[test]
+    fn link_decoding_never_panics(payloads in proptest::collection::vec(proptest::collection::vec(any::<u8>(), 0..40), 0..80)) {
+        // Arbitrary payloads, template chunks among them (tags 8 and 9 are common here): the
+        // decoder answers each with a message, an error or nothing, and never panics.
+        let mut dec = MessageDecoder::new();
+        for p in &payloads {
+            let biased: Vec<u8> = p.iter().enumerate().map(|(i, &b)| if i == 0 { b % 11 } else { b }).collect();
+            if let Some(Ok(Msg::Template(t))) = dec.feed(&biased) {
+                prop_assert_eq!(t.pixels().len(), t.side() * t.side());
             }
         }
     }
