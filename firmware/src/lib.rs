@@ -12,7 +12,8 @@
 //! * [`confidence`]: the least-squares window confidence measure and COOP decision (4.3),
 //!   and a Kalman-filter policy (5.2);
 //! * [`ports`]: hardware traits and framed byte encodings over `embedded-io`;
-//! * [`handshake`]: the processor's side of the window logic's coordinate port (2.2.1).
+//! * [`window_ports`]: the processor's side of a window unit's coordinate and pixel ports
+//!   (2.2.1).
 #![no_std]
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
@@ -22,7 +23,7 @@ extern crate std;
 
 pub mod confidence;
 pub mod corner;
-pub mod handshake;
+pub mod window_ports;
 pub mod info;
 pub mod matching;
 pub mod motion;

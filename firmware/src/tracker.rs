@@ -13,7 +13,7 @@
 //!
 //! The hardware is reached only through the [`Step`]s: the caller (a board's main loop, or the
 //! testbench's simulation) turns requests into coordinate writes
-//! ([`crate::handshake::CoordinateWriter`]) and messages into link traffic
+//! ([`crate::window_ports::CoordinateWriter`]) and messages into link traffic
 //! ([`crate::ports::FramedLink`]); the testbench does both through these same types.
 use crate::confidence::{ConfidenceError, ConfidencePolicy, KalmanCoop, SseCoop, Source};
 use crate::corner::{CornerDetector, CornerParams};

@@ -4,7 +4,7 @@ use coopwin_firmware::confidence::{ConfidencePolicy, KalmanCoop, LsqTrack, SseCo
 use coopwin_firmware::corner::{CornerDetector, CornerParams};
 use coopwin_firmware::info::edge_information;
 use coopwin_firmware::matching::{best_match, best_match_decimated, score_map, MatchError, Method};
-use coopwin_firmware::handshake::{coordinate_bytes, WriteError};
+use coopwin_firmware::window_ports::{coordinate_bytes, WriteError};
 use coopwin_firmware::motion::{detect_motion, motion_mask};
 use coopwin_firmware::ports::{Decimation, MessageDecoder, WindowRequest};
 use coopwin_firmware::tracker::Msg;

@@ -6,8 +6,9 @@
 //!   one frame per set, the later of two pending sets winning; the window completes on the clock
 //!   its last pixel is strobed (one clock after that pixel was on the bus).
 //! - [`HdlBackend`]: the units themselves, stepped clock by clock on the camera raster, each
-//!   written by the firmware's `handshake::CoordinateWriter` over the four-phase handshake and read from
-//!   `pixel_strobe`/`pixel_out`: the rust-hdl `WindowUnit`s, or the exported `window_network`
+//!   written by the firmware's `window_ports::CoordinateWriter` over the four-phase handshake and
+//!   read from `pixel_strobe`/`pixel_out` by its `window_ports::PixelReceiver`: the rust-hdl
+//!   `WindowUnit`s, or the exported `window_network`
 //!   Verilog compiled with Verilator ([`Bank`]).
 //!
 //! Clock 0 of a run is the start of the vertical blanking before frame 0; frame k's FVAL rises
@@ -15,7 +16,7 @@
 use crate::system::FrameSource;
 use coopwin_firmware::ports::{Decimation, WindowRequest};
 use coopwin_hdl::camera::{CameraBus, FrameRaster, Jitter, RasterTiming, Window};
-use coopwin_firmware::handshake::{coordinate_bytes, CoordinatePins, CoordinateWriter};
+use coopwin_firmware::window_ports::{coordinate_bytes, CoordinatePins, CoordinateWriter, PixelReceiver};
 use coopwin_hdl::driver::{CoordBus, NetworkDriver, UnitOutputs, VcdTrace};
 use std::collections::VecDeque;
 
@@ -273,8 +274,9 @@ struct HdlUnit {
     written: VecDeque<WindowRequest>,
     /// Completed sets not yet armed: (completion clock, request).
     complete: Vec<(u64, WindowRequest)>,
-    /// The set armed for the frame in progress and the pixels strobed so far.
-    active: Option<(usize, WindowRequest, Vec<u8>)>,
+    /// The set armed for the frame in progress: its frame, request, pixel buffer, and the
+    /// firmware's receiver storing the strobed pixels into it.
+    active: Option<(usize, WindowRequest, Vec<u8>, PixelReceiver)>,
     ready_rises: usize,
 }
 
@@ -417,7 +419,8 @@ impl HdlBackend {
                 if let Some(idx) = u.complete.iter().rposition(valid) {
                     let req = u.complete[idx].1;
                     u.complete.drain(..=idx);
-                    u.active = bus_frame.map(|k| (k, req, Vec::new()));
+                    let (w, h) = req.delivered_size();
+                    u.active = bus_frame.map(|k| (k, req, vec![0; w * h], PixelReceiver::expect(&req)));
                 }
             }
             let Ok(()) = u.writer.poll(&mut Pins { ready: u.last.coord_ready, bus: port });
@@ -469,16 +472,12 @@ impl HdlBackend {
             }
             u.last = out;
             if out.pixel_strobe {
-                match &mut u.active {
-                    Some((_, _, px)) => px.push(out.pixel_out),
-                    None => return Err(format!("unit {p} strobed a pixel on clock {c} with no window armed")),
-                }
-                if let Some((k, req, px)) = &u.active {
-                    let (w, h) = req.delivered_size();
-                    if px.len() == w * h {
-                        self.done.push_back(Delivered { p, frame: *k, clock: c, req: *req, pixels: px.clone() });
-                        u.active = None;
-                    }
+                let Some((k, req, px, rx)) = &mut u.active else {
+                    return Err(format!("unit {p} strobed a pixel on clock {c} with no window armed"));
+                };
+                if rx.poll(true, out.pixel_out, px).map_err(|e| format!("unit {p}, clock {c}: {e:?}"))? {
+                    self.done.push_back(Delivered { p, frame: *k, clock: c, req: *req, pixels: std::mem::take(px) });
+                    u.active = None;
                 }
             }
         }

@@ -1,12 +1,15 @@
-//! The processor's side of the window logic's coordinate port (thesis 2.2.1, B1.1 step 1):
-//! a window's coordinates go out one byte at a time, xmin, xmax, ymin, ymax (rows 0-based,
-//! bounds inclusive), with the four-phase handshake of the C40 comm port. A byte is driven
-//! with CSTRB1 high until the window logic raises CRDY1; CSTRB1 is then released, and the next
-//! byte waits for CRDY1 to fall.
+//! The processor's side of a window unit's two ports (thesis 2.2.1, B1.1):
 //!
-//! [`CoordinateWriter`] never blocks: [`CoordinateWriter::poll`] takes one step and returns,
-//! so on a board it runs from a timer interrupt and in the testbench once a pixel clock. It
-//! reaches the pins only through [`CoordinatePins`].
+//! - port 1, coordinates out: a window's bounds go one byte at a time, xmin, xmax, ymin, ymax
+//!   (rows 0-based, bounds inclusive), with the four-phase handshake of the C40 comm port. A
+//!   byte is driven with CSTRB1 high until the window logic raises CRDY1; CSTRB1 is then
+//!   released, and the next byte waits for CRDY1 to fall ([`CoordinateWriter`]);
+//! - port 4, pixels in: the window's pixels arrive in raster order, one per CSTRB4 strobe, and
+//!   are stored into the caller's buffer until the window is whole ([`PixelReceiver`]).
+//!
+//! Neither blocks: each `poll` takes one step and returns, so on a board they run from a timer
+//! interrupt or a DMA-complete handler, and in the testbench once a pixel clock. The writer
+//! reaches its pins only through [`CoordinatePins`].
 use crate::ports::{Decimation, WindowRequest};
 use heapless::Deque;
 
@@ -104,6 +107,48 @@ impl CoordinateWriter {
     }
 }
 
+/// Why a strobed pixel could not be stored.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ReceiveError {
+    /// A pixel strobed with no window expected, or after the window was whole.
+    Unexpected,
+    /// The buffer is smaller than the window.
+    BufferTooSmall,
+}
+
+/// Collects one window's strobed pixels into a caller's buffer.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PixelReceiver {
+    expected: usize,
+    got: usize,
+}
+
+impl PixelReceiver {
+    /// Expects the window `req`: its delivered size in pixels (a quarter of it at 25%).
+    pub fn expect(req: &WindowRequest) -> Self {
+        let (w, h) = req.delivered_size();
+        Self { expected: w * h, got: 0 }
+    }
+
+    /// Pixels stored so far.
+    pub fn received(&self) -> usize {
+        self.got
+    }
+
+    /// One clock of port 4: with `strobe`, `data` is the next pixel and goes into `buf`.
+    /// True once the window is whole.
+    pub fn poll(&mut self, strobe: bool, data: u8, buf: &mut [u8]) -> Result<bool, ReceiveError> {
+        if strobe {
+            if self.got >= self.expected {
+                return Err(ReceiveError::Unexpected);
+            }
+            *buf.get_mut(self.got).ok_or(ReceiveError::BufferTooSmall)? = data;
+            self.got += 1;
+        }
+        Ok(self.expected > 0 && self.got == self.expected)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -189,5 +234,25 @@ mod tests {
         }
         let xmins: Vec<u8> = pins.taken.chunks(4).map(|c| c[0].0).collect();
         assert_eq!(xmins, [0, 1, 2, 3]);
+    }
+
+    #[test]
+    fn the_receiver_stores_strobed_pixels_until_the_window_is_whole() {
+        // A 5x3 window at 25%: 3 x 2 = 6 pixels, taken only on strobes.
+        let req = WindowRequest { decimation: Decimation::Quarter, ..window(0, 0, 5, 3) };
+        let mut rx = PixelReceiver::expect(&req);
+        let mut buf = [0u8; 6];
+        let clocks = [(true, 1), (false, 99), (true, 2), (true, 3), (false, 98), (true, 4), (true, 5), (true, 6)];
+        let done: Vec<bool> = clocks.iter().map(|&(s, d)| rx.poll(s, d, &mut buf).unwrap()).collect();
+        assert_eq!(buf, [1, 2, 3, 4, 5, 6]);
+        assert_eq!(done, [false, false, false, false, false, false, false, true]);
+        assert_eq!(rx.poll(true, 7, &mut buf), Err(ReceiveError::Unexpected));
+        assert_eq!(rx.poll(false, 7, &mut buf), Ok(true));
+        let mut small = [0u8; 2];
+        let mut rx = PixelReceiver::expect(&window(0, 0, 2, 2));
+        assert_eq!(rx.poll(true, 1, &mut small), Ok(false));
+        assert_eq!(rx.poll(true, 2, &mut small), Ok(false));
+        assert_eq!(rx.poll(true, 3, &mut small), Err(ReceiveError::BufferTooSmall));
+        assert_eq!(PixelReceiver::default().poll(true, 1, &mut small), Err(ReceiveError::Unexpected));
     }
 }
