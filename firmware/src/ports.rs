@@ -141,6 +141,8 @@ pub enum DecodeError {
     BadTag,
     /// Wrong payload length.
     BadLength,
+    /// A position that is NaN or infinite.
+    NotFinite,
     /// A template chunk out of sequence, or without its header.
     BrokenTemplate,
 }
@@ -378,9 +380,14 @@ fn point_payload(t: u8, p: &Point) -> Vec<u8, MAX_PAYLOAD> {
 }
 
 fn payload_point(b: &[u8]) -> Result<Point, DecodeError> {
-    match b.len() {
-        9 => Ok(Point { x: f32::from_bits(le32(b, 1)), y: f32::from_bits(le32(b, 5)) }),
-        _ => Err(DecodeError::BadLength),
+    if b.len() != 9 {
+        return Err(DecodeError::BadLength);
+    }
+    let p = Point { x: f32::from_bits(le32(b, 1)), y: f32::from_bits(le32(b, 5)) };
+    // No processor sends a NaN or infinite position; one on the link would poison tracking.
+    match p.x.is_finite() && p.y.is_finite() {
+        true => Ok(p),
+        false => Err(DecodeError::NotFinite),
     }
 }
 
@@ -658,6 +665,8 @@ mod tests {
         assert_eq!(message_payloads(&Msg::Template(template(20))).count(), 15);
         assert_eq!(MessageDecoder::new().feed(&[42, 0]), Some(Err(DecodeError::BadTag)));
         assert_eq!(MessageDecoder::new().feed(&[3, 0, 0]), Some(Err(DecodeError::BadLength)));
+        let nan = [&[3u8][..], &f32::NAN.to_le_bytes(), &1.0f32.to_le_bytes()].concat();
+        assert_eq!(MessageDecoder::new().feed(&nan), Some(Err(DecodeError::NotFinite)));
         assert_eq!(MessageDecoder::new().feed(&[9, 0, 1, 2]), Some(Err(DecodeError::BrokenTemplate)));
         assert_eq!(MessageDecoder::new().feed(&[]), None);
         assert_eq!(FrameDecoder::new().feed(SYNC), None);
