@@ -975,17 +975,21 @@ mod tests {
         assert_eq!(&det.bits[..3], &[0b0110, 0b0110, 0b0110]);
     }
 
-    /// The bit-row pipeline of `detect` (run labelling, opening, bounding points) gives
-    /// exactly the byte-map functions' results on random maps of every density.
-    #[test]
-    fn bit_pipeline_matches_byte_functions() {
-        let mut seed = 0x1234_5678_9abc_def0u64;
-        let mut rnd = move || {
+    /// A xorshift64 generator for the random-map tests.
+    fn xorshift(mut seed: u64) -> impl FnMut() -> u64 {
+        move || {
             seed ^= seed << 13;
             seed ^= seed >> 7;
             seed ^= seed << 17;
             seed
-        };
+        }
+    }
+
+    /// The bit-row pipeline of `detect` (run labelling, opening, bounding points) gives
+    /// exactly the byte-map functions' results on random maps of every density.
+    #[test]
+    fn bit_pipeline_matches_byte_functions() {
+        let mut rnd = xorshift(0x1234_5678_9abc_def0);
         let mut runs = Runs::new();
         for case in 0..3000 {
             let w = 1 + (rnd() % 64) as usize;
@@ -1023,13 +1027,7 @@ mod tests {
     /// including strided (decimated) views and a detector reused across sizes.
     #[test]
     fn sobel_rows_match_sobel_at() {
-        let mut seed = 0x0ddb_a11c_afe5_eed5u64;
-        let mut rnd = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            seed
-        };
+        let mut rnd = xorshift(0x0ddb_a11c_afe5_eed5);
         let mut det = CornerDetector::new();
         for case in 0..600 {
             let (w, h) = (1 + (rnd() % 64) as usize, 1 + (rnd() % 64) as usize);

@@ -41,17 +41,29 @@ pub struct UnitOutputs {
 /// Settling iterations allowed per clock phase; the design settles in a handful.
 const MAX_SETTLE: usize = 64;
 
+/// rust-hdl's `simulate` loop (update every block until a pass changes nothing), returning
+/// the passes it took: they are the cost of a clock.
+fn settle<B: Block>(b: &mut B) -> usize {
+    (1..=MAX_SETTLE)
+        .find(|_| {
+            b.update_all();
+            !b.has_changed()
+        })
+        .unwrap_or(MAX_SETTLE)
+}
+
 /// A `WindowUnit` stepped one pixel clock at a time.
 pub struct UnitDriver<const W: usize> {
     uut: WindowUnit<W>,
+    passes: u64,
 }
 
 impl<const W: usize> Default for UnitDriver<W> {
     fn default() -> Self {
         let mut uut = WindowUnit::<W>::default();
         uut.connect_all();
-        simulate(&mut uut, MAX_SETTLE);
-        Self { uut }
+        settle(&mut uut);
+        Self { uut, passes: 0 }
     }
 }
 
@@ -59,6 +71,11 @@ impl<const W: usize> UnitDriver<W> {
     /// The block, for reading its signals.
     pub fn unit(&self) -> &WindowUnit<W> {
         &self.uut
+    }
+
+    /// Settling passes over the block tree since power-on (both clock phases of every step).
+    pub fn passes(&self) -> u64 {
+        self.passes
     }
 
     /// Applies `cam` and `port` with the clock low, takes the rising edge, and returns the
@@ -70,12 +87,12 @@ impl<const W: usize> UnitDriver<W> {
 
     fn apply(&mut self, cam: CameraBus, port: CoordBus) {
         set_inputs(&mut self.uut, cam, port);
-        simulate(&mut self.uut, MAX_SETTLE);
+        self.passes += settle(&mut self.uut) as u64;
     }
 
     fn rise(&mut self) -> UnitOutputs {
         set_clock(&mut self.uut, true);
-        simulate(&mut self.uut, MAX_SETTLE);
+        self.passes += settle(&mut self.uut) as u64;
         outputs(&self.uut)
     }
 }
@@ -126,7 +143,7 @@ impl<const W: usize> NetworkDriver<W> {
     pub fn new(n: usize) -> Self {
         let mut units: Vec<WindowUnit<W>> = (0..n).map(|_| WindowUnit::default()).collect();
         units.connect_all();
-        simulate(&mut units, MAX_SETTLE);
+        settle(&mut units);
         Self { units }
     }
 
@@ -164,14 +181,14 @@ impl<const W: usize> NetworkDriver<W> {
         for (u, p) in self.units.iter_mut().zip(ports) {
             set_inputs(u, cam, *p);
         }
-        simulate(&mut self.units, MAX_SETTLE);
+        settle(&mut self.units);
     }
 
     fn rise(&mut self, out: &mut [UnitOutputs]) {
         for u in self.units.iter_mut() {
             set_clock(u, true);
         }
-        simulate(&mut self.units, MAX_SETTLE);
+        settle(&mut self.units);
         for (o, u) in out.iter_mut().zip(&self.units) {
             *o = outputs(u);
         }

@@ -53,7 +53,8 @@ pub struct Clocks {
     pub timing: RasterTiming,
     /// Frames in the run.
     pub frames: usize,
-    jitter: Option<Jitter>,
+    /// Each frame's raster.
+    rasters: Vec<FrameRaster>,
     /// Clock on which each frame's FVAL rises, and the end of the last frame.
     starts: Vec<u64>,
 }
@@ -61,14 +62,15 @@ pub struct Clocks {
 impl Clocks {
     /// `frames` frames of `timing`, with `jitter`'s extra blanking if any.
     pub fn new(timing: RasterTiming, frames: usize, jitter: Option<Jitter>) -> Self {
-        let mut starts = Vec::with_capacity(frames + 1);
-        let mut c = (timing.v_blank_lines * timing.line_clocks()) as u64;
-        for k in 0..frames {
-            starts.push(c);
-            c += FrameRaster::new(timing, jitter, k).len() as u64;
-        }
-        starts.push(c);
-        Clocks { timing, frames, jitter, starts }
+        let rasters: Vec<FrameRaster> = (0..frames).map(|k| FrameRaster::new(timing, jitter, k)).collect();
+        let blank = (timing.v_blank_lines * timing.line_clocks()) as u64;
+        let starts = std::iter::once(blank)
+            .chain(rasters.iter().scan(blank, |c, r| {
+                *c += r.len() as u64;
+                Some(*c)
+            }))
+            .collect();
+        Clocks { timing, frames, rasters, starts }
     }
     /// Clocks a frame period (the mean, with jitter).
     pub fn period(&self) -> u64 {
@@ -114,20 +116,17 @@ impl Clocks {
             self.frame_start(k + 1) + phase
         }
     }
-    /// Frame k's raster.
-    pub fn raster(&self, k: usize) -> FrameRaster {
-        FrameRaster::new(self.timing, self.jitter, k)
-    }
-    /// The camera bus on run clock `c`, with frame `k`'s pixels and raster when `c` falls in frame
-    /// `k`'s period, and that frame.
-    fn bus(&self, c: u64, frame: Option<(usize, &FrameRaster, &[u8])>) -> (CameraBus, Option<usize>) {
+    /// The camera bus on run clock `c`, with frame `k`'s pixels when `c` falls in frame `k`'s
+    /// period, and that frame.
+    fn bus(&self, c: u64, frame: Option<(usize, &[u8])>) -> (CameraBus, Option<usize>) {
         let b = self.blank();
         if c < b {
             // The blanking lines of the frame before the run.
             let p = self.timing.frame_clocks() as u64;
             return (self.timing.bus_at((p - b + c) as usize, |_, _| 0), None);
         }
-        let Some((k, raster, pixels)) = frame else { return (CameraBus::default(), None) };
+        let Some((k, pixels)) = frame else { return (CameraBus::default(), None) };
+        let Some(raster) = self.rasters.get(k) else { return (CameraBus::default(), None) };
         let w = self.timing.width;
         let r = (c - self.frame_start(k)) as usize;
         (raster.bus_at(r, |x, y| pixels.get(y * w + x).copied().unwrap_or(0)), Some(k))
@@ -138,7 +137,7 @@ impl Clocks {
         let x = usize::from(req.x0) + w as usize - 1;
         let y = usize::from(req.y0) + h as usize - 1;
         // The unit strobes a pixel one clock after it is on the bus.
-        self.raster(k).pixel_clock(x, y) as u64 + 1
+        self.rasters.get(k).map_or(0, |r| r.pixel_clock(x, y)) as u64 + 1
     }
 }
 
@@ -296,8 +295,8 @@ pub struct HdlBackend {
     ports: Vec<CoordBus>,
     outs: Vec<UnitOutputs>,
     clock: u64,
-    /// The frame on the bus: its number, raster and pixels.
-    frame: Option<(usize, FrameRaster, Vec<u8>)>,
+    /// The frame on the bus: its number and pixels.
+    frame: Option<(usize, Vec<u8>)>,
     /// The clock the next frame's FVAL rises (when `frame` is replaced).
     next_frame_at: u64,
     done: VecDeque<Delivered>,
@@ -398,11 +397,11 @@ impl HdlBackend {
         if c >= self.next_frame_at {
             let k = self.clocks.frame_at(c);
             (self.frame, self.next_frame_at) = match k < self.clocks.frames {
-                true => (Some((k, self.clocks.raster(k), frames.frame(k)?.to_vec())), self.clocks.frame_start(k + 1)),
+                true => (Some((k, frames.frame(k)?.to_vec())), self.clocks.frame_start(k + 1)),
                 false => (None, u64::MAX),
             };
         }
-        let (bus, bus_frame) = self.clocks.bus(c, self.frame.as_ref().map(|(k, r, px)| (*k, r, px.as_slice())));
+        let (bus, bus_frame) = self.clocks.bus(c, self.frame.as_ref().map(|(k, px)| (*k, px.as_slice())));
         let frame_rises = bus_frame.is_some() && Some(c) == bus_frame.map(|k| self.clocks.frame_start(k));
         for (u, port) in self.units.iter_mut().zip(self.ports.iter_mut()) {
             // Handed to the processor's writer as it has room (a full queue waits a clock).
