@@ -11,6 +11,10 @@
 //! * [`info`]: information content measures (3.4.1);
 //! * [`confidence`]: the least-squares window confidence measure and COOP decision (4.3),
 //!   and a Kalman-filter policy (5.2);
+//! * [`guard`]: guarded cooperation, the COOP decision that follows the corner detector only
+//!   where it measures the tracked point;
+//! * [`tracker`]: the window processors (Watch, Peripheral, Foveal, SPMF);
+//! * [`types`]: the shared vocabulary (points);
 //! * [`ports`]: hardware traits and framed byte encodings over `embedded-io`;
 //! * [`window_ports`]: the processor's side of a window unit's coordinate and pixel ports
 //!   (2.2.1).
@@ -23,10 +27,12 @@ extern crate std;
 
 pub mod confidence;
 pub mod corner;
+pub mod guard;
 pub mod window_ports;
 pub mod info;
 pub mod matching;
 pub mod motion;
 pub mod ports;
 pub mod tracker;
+pub mod types;
 pub mod view;

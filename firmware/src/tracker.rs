@@ -15,8 +15,9 @@
 //! testbench's simulation) turns requests into coordinate writes
 //! ([`crate::window_ports::CoordinateWriter`]) and messages into link traffic
 //! ([`crate::ports::FramedLink`]); the testbench does both through these same types.
-use crate::confidence::{ConfidenceError, ConfidencePolicy, KalmanCoop, SseCoop, Source};
+use crate::confidence::{ConfidencePolicy, KalmanCoop, SseCoop, Source};
 use crate::corner::{CornerDetector, CornerParams};
+use crate::guard::{Guard, GuardParams, Measured};
 use crate::matching::{best_match, Method};
 use crate::motion::detect_motion;
 use crate::ports::{Decimation, WindowRequest};
@@ -25,14 +26,7 @@ use crate::view::WindowView;
 /// Largest template side.
 pub const MAX_TEMPLATE: usize = 32;
 
-/// A point in frame coordinates (pixel centres at integers).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Point {
-    /// Column.
-    pub x: f32,
-    /// Row.
-    pub y: f32,
-}
+pub use crate::types::Point;
 
 /// What produced a tracked position.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -295,15 +289,15 @@ fn placements(win: &WindowView<'_>, n: usize, step: usize) -> u32 {
     (w.saturating_sub(t) + 1) as u32 * (h.saturating_sub(t) + 1) as u32
 }
 
-/// NCC tracking of `tpl` in `win`: the new point, or `None` if the best score is under
-/// `ncc_min` (the target has left the window, or no longer looks like the template).
-fn ncc_track(win: &WindowView<'_>, tpl: &Template, p: &Params) -> (Option<Point>, Work) {
+/// NCC tracking of `tpl` in `win`: the new point and its score, or `None` if the best score
+/// is under `ncc_min` (the target has left the window, or no longer looks like the template).
+fn ncc_track(win: &WindowView<'_>, tpl: &Template, p: &Params) -> (Option<(Point, f32)>, Work) {
     let n = tpl.side();
     let work = Work::Match { method: Method::Ncc, template: (n * n) as u32, placements: placements(win, n, 1) };
     let Some(tv) = tpl.view() else { return (None, work) };
     let Ok(m) = best_match(Method::Ncc, win, &tv) else { return (None, work) };
-    let ok = m.score as f32 >= p.ncc_min;
-    (ok.then(|| tpl.point_at(m.frame_x, m.frame_y)), work)
+    let score = m.score as f32;
+    ((score >= p.ncc_min).then(|| (tpl.point_at(m.frame_x, m.frame_y), score)), work)
 }
 
 /// The corner in `win`, or `None` when the detector finds none.
@@ -520,27 +514,56 @@ pub enum FovealKind {
     CoopPartner,
 }
 
-/// The COOP master's confidence policy: the thesis's least-squares SSE (4.3), or the Kalman
-/// filter it proposes as future work (5.2).
+/// The COOP master's decision: guarded cooperation (the default), the thesis's
+/// least-squares SSE (4.3), or the Kalman filter it proposes as future work (5.2).
 #[derive(Clone, Debug)]
 pub enum Policy {
+    /// CD only where it measures the tracked point ([`crate::guard`]).
+    Guarded(Guard),
     /// Lower SSE about the least-squares line of the last n positions wins.
     Sse(SseCoop),
     /// Lower smoothed Kalman innovation wins.
     Kalman(KalmanCoop),
 }
 
-impl ConfidencePolicy for Policy {
-    fn push(&mut self, src: Source, t: f64, x: f64, y: f64) -> Result<(), ConfidenceError> {
-        match self {
-            Policy::Sse(p) => p.push(src, t, x, y),
-            Policy::Kalman(p) => p.push(src, t, x, y),
+impl Policy {
+    /// The position to follow for one window's NCC result (point, score) and corner.
+    fn decide(&mut self, t: f64, ncc: Option<(Point, f32)>, corner: Option<Point>) -> Option<(Point, Algo)> {
+        let smooth: &mut dyn ConfidencePolicy = match self {
+            Policy::Guarded(g) => {
+                return g.decide(t, Measured { ncc, corner }).map(|(p, s)| (p, Algo::from(s)));
+            }
+            Policy::Sse(p) => p,
+            Policy::Kalman(p) => p,
+        };
+        let own = ncc.map(|(p, _)| p);
+        // A rejected (non-finite) sample leaves that source's history as it was.
+        if let Some(p) = own {
+            let _ = smooth.push(Source::Ncc, t, f64::from(p.x), f64::from(p.y));
+        }
+        if let Some(p) = corner {
+            let _ = smooth.push(Source::Cd, t, f64::from(p.x), f64::from(p.y));
+        }
+        match (smooth.choose(), own, corner) {
+            (Source::Ncc, Some(p), _) | (Source::Cd, Some(p), None) => Some((p, Algo::Ncc)),
+            (Source::Cd, _, Some(p)) | (Source::Ncc, None, Some(p)) => Some((p, Algo::Cd)),
+            _ => None,
         }
     }
-    fn choose(&self) -> Source {
-        match self {
-            Policy::Sse(p) => p.choose(),
-            Policy::Kalman(p) => p.choose(),
+
+    /// A track starts at `p`.
+    fn begin(&mut self, p: Point) {
+        if let Policy::Guarded(g) = self {
+            g.begin(p);
+        }
+    }
+}
+
+impl From<Source> for Algo {
+    fn from(s: Source) -> Self {
+        match s {
+            Source::Ncc => Algo::Ncc,
+            Source::Cd => Algo::Cd,
         }
     }
 }
@@ -554,28 +577,24 @@ pub struct Foveal {
     params: Params,
     coop: Policy,
     /// COOP master: own result of the current window, waiting for the partner's.
-    own: Option<Option<Point>>,
+    own: Option<Option<(Point, f32)>>,
     partner: Option<Option<Point>>,
 }
 
 impl Foveal {
-    /// A Foveal processor; `coop_n` is COOP's data set size (3..=8, the thesis chose 4).
-    pub fn new(
-        kind: FovealKind,
-        params: Params,
-        template: Option<Template>,
-        coop_n: usize,
-    ) -> Result<Self, ConfidenceError> {
-        Ok(Foveal {
+    /// A Foveal processor; a COOP master decides with guarded cooperation
+    /// ([`Foveal::with_policy`] chooses another policy).
+    pub fn new(kind: FovealKind, params: Params, template: Option<Template>) -> Self {
+        Foveal {
             kind,
             template,
             detector: CornerDetector::default(),
             tracking: None,
             params,
-            coop: Policy::Sse(SseCoop::new(coop_n)?),
+            coop: Policy::Guarded(Guard::new(GuardParams::default())),
             own: None,
             partner: None,
-        })
+        }
     }
 
     /// The same processor with another confidence policy (COOP master).
@@ -587,6 +606,7 @@ impl Foveal {
     /// Starts tracking at `p` (the target given at start).
     pub fn start_at(&mut self, p: Point) -> Step {
         self.tracking = Some(p);
+        self.coop.begin(p);
         let step = Step::new(Work::None).ask(Some(self.params.foveal_window(p)));
         if self.kind == FovealKind::CoopMaster {
             step.send(Dest::FovealCd, Msg::Follow(p))
@@ -630,25 +650,29 @@ impl Foveal {
 
     /// A Foveal window arrived, at time `t` seconds (for the confidence fits).
     pub fn on_window(&mut self, win: &WindowView<'_>, t: f64) -> Step {
-        let (found, work) = match self.kind {
-            FovealKind::Cd | FovealKind::CoopPartner => cd_track(win, &mut self.detector, &self.params),
-            FovealKind::Ncc | FovealKind::CoopMaster => match &self.template {
-                Some(tpl) => ncc_track(win, tpl, &self.params),
-                None => (None, Work::None),
-            },
-        };
-        let step = Step::new(work);
         match self.kind {
-            FovealKind::CoopPartner => step.send(Dest::Foveal, Msg::Result(found)),
-            FovealKind::CoopMaster => {
-                self.own = Some(found);
-                let mut s = self.decide(t);
-                s.work = work;
-                s
+            FovealKind::Cd | FovealKind::CoopPartner => {
+                let (found, work) = cd_track(win, &mut self.detector, &self.params);
+                let step = Step::new(work);
+                if self.kind == FovealKind::CoopPartner {
+                    step.send(Dest::Foveal, Msg::Result(found))
+                } else {
+                    self.follow(step, found, Algo::Cd)
+                }
             }
-            FovealKind::Ncc | FovealKind::Cd => {
-                let algo = if self.kind == FovealKind::Ncc { Algo::Ncc } else { Algo::Cd };
-                self.follow(step, found, algo)
+            FovealKind::Ncc | FovealKind::CoopMaster => {
+                let (found, work) = match &self.template {
+                    Some(tpl) => ncc_track(win, tpl, &self.params),
+                    None => (None, Work::None),
+                };
+                if self.kind == FovealKind::CoopMaster {
+                    self.own = Some(found);
+                    let mut s = self.decide(t);
+                    s.work = work;
+                    s
+                } else {
+                    self.follow(Step::new(work), found.map(|(p, _)| p), Algo::Ncc)
+                }
             }
         }
     }
@@ -659,17 +683,8 @@ impl Foveal {
         let (Some(own), Some(partner)) = (self.own, self.partner) else { return Step::new(Work::None) };
         self.own = None;
         self.partner = None;
-        if let Some(p) = own {
-            let _ = self.coop.push(Source::Ncc, t, f64::from(p.x), f64::from(p.y));
-        }
-        if let Some(p) = partner {
-            let _ = self.coop.push(Source::Cd, t, f64::from(p.x), f64::from(p.y));
-        }
-        let (found, algo) = match (self.coop.choose(), own, partner) {
-            (Source::Ncc, Some(p), _) | (Source::Cd, Some(p), None) => (Some(p), Algo::Ncc),
-            (Source::Cd, _, Some(p)) | (Source::Ncc, None, Some(p)) => (Some(p), Algo::Cd),
-            _ => (None, Algo::Ncc),
-        };
+        let chosen = self.coop.decide(t, own, partner);
+        let (found, algo) = (chosen.map(|c| c.0), chosen.map_or(Algo::Ncc, |c| c.1));
         let step = self.follow(Step::new(Work::Decision), found, algo);
         match (step.request, found, step.lost) {
             (Some(_), Some(p), _) => step.send(Dest::FovealCd, Msg::Follow(p)),
@@ -709,14 +724,14 @@ pub struct Spmf<'b> {
 
 impl<'b> Spmf<'b> {
     /// SPMF over the whole frame; `prev` stores the last Watch window.
-    pub fn new(params: Params, prev: &'b mut [u8], template: Option<Template>) -> Result<Self, ConfidenceError> {
+    pub fn new(params: Params, prev: &'b mut [u8], template: Option<Template>) -> Self {
         let full = WindowRequest { x0: 0, y0: 0, width: params.frame_w, height: params.frame_h, decimation: Decimation::Full };
-        Ok(Spmf {
+        Spmf {
             watch: Watch::new(full, prev, params, template.is_some()),
             peripheral: Peripheral::new(params, template.clone()),
-            foveal: Foveal::new(FovealKind::Ncc, params, template, 4)?,
+            foveal: Foveal::new(FovealKind::Ncc, params, template),
             mode: Mode::Watch,
-        })
+        }
     }
 
     /// The first request: Watch, or straight to Tracking at a given target.

@@ -4,7 +4,7 @@ use crate::cost::CostModel;
 use crate::metrics::{self, Summary};
 use crate::plot::{self, Chart, Series};
 use crate::scene::{PathKind, Scene, SceneConfig, Truth};
-use crate::system::{self, FrameSource, HdlChoice, RunLog, Strategy, SystemConfig};
+use crate::system::{self, CoopPolicy, FrameSource, HdlChoice, RunLog, Strategy, SystemConfig};
 use coopwin_firmware::info::{corner_information, edge_information};
 use coopwin_firmware::tracker::Params;
 use std::collections::VecDeque;
@@ -61,7 +61,7 @@ pub fn system(strategy: Strategy, cost: CostModel, target: Option<(f64, f64)>) -
         model: None,
         pixel_clock_hz: coopwin_hdl::camera::CA_D1_PIXEL_CLOCK_HZ,
         hdl: crate::system::HdlChoice::Model,
-        kalman: false,
+        policy: CoopPolicy::Guarded,
         corrupt_request: None,
         drop_window: None,
         jitter: None,
@@ -301,22 +301,23 @@ pub fn run(
             let target = Some(corner0(&scene));
             let mut runs: Vec<(String, Summary, RunLog)> = Vec::new();
             let rows = [
-                ("NCC", Strategy::Tpdf, 4, false),
-                ("CD", Strategy::TpdfCd, 4, false),
-                ("COOP n=3", Strategy::Coop, 3, false),
-                ("COOP n=4", Strategy::Coop, 4, false),
-                ("COOP n=5", Strategy::Coop, 5, false),
-                ("COOP Kalman (5.2)", Strategy::Coop, 4, true),
+                ("NCC", Strategy::Tpdf, 4, CoopPolicy::Sse),
+                ("CD", Strategy::TpdfCd, 4, CoopPolicy::Sse),
+                ("COOP n=3", Strategy::Coop, 3, CoopPolicy::Sse),
+                ("COOP n=4", Strategy::Coop, 4, CoopPolicy::Sse),
+                ("COOP n=5", Strategy::Coop, 5, CoopPolicy::Sse),
+                ("COOP Kalman (5.2)", Strategy::Coop, 4, CoopPolicy::Kalman),
+                ("COOP guarded", Strategy::Coop, 4, CoopPolicy::Guarded),
             ];
-            for (label, strategy, n, kalman) in rows {
+            for (label, strategy, n, policy) in rows {
                 progress(label);
                 let mut cfg = hw(system(strategy, profile, target));
                 cfg.coop_n = n;
-                cfg.kalman = kalman;
+                cfg.policy = policy;
                 let (log, m) = run_scene(&cfg, scene.clone())?;
                 runs.push((label.to_string(), m, log));
             }
-            let thesis = ["0.63", "0.97", "0.61", "0.59", "0.60", "-"];
+            let thesis = ["0.63", "0.97", "0.61", "0.59", "0.60", "-", "-"];
             md.push_str("Triangle path at 40 px/s, the lamp brightening the scene ~25% over the middle third (Fig. 4.2).\n\n| method | RMS thesis px | RMS ours px | RLT ours % |\n|---|---|---|---|\n");
             let mut csv = String::from("method,rms,rlt,mean_x,mean_y\n");
             for ((label, m, _), t) in runs.iter().zip(thesis) {

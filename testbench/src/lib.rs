@@ -7,6 +7,7 @@ pub mod cost;
 pub mod experiments;
 pub mod metrics;
 pub mod plot;
+pub mod real_images;
 pub mod report;
 pub mod scene;
 pub mod system;

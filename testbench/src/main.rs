@@ -2,8 +2,9 @@
 use clap::{Parser, Subcommand};
 use coopwin_testbench::commands::{hardware, kernels, scene, track, CliError};
 use coopwin_testbench::cost::CostModel;
+use coopwin_testbench::real_images;
 use coopwin_hdl::camera::Jitter;
-use coopwin_testbench::system::{HdlChoice, Strategy, SystemConfig};
+use coopwin_testbench::system::{CoopPolicy, HdlChoice, Strategy, SystemConfig};
 use coopwin_testbench::scene::{PathKind, SceneConfig};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -56,7 +57,7 @@ enum Command {
     },
     /// Write a synthetic scene (PNG frames + groundtruth.csv) with a moving textured part
     Scene {
-        /// The target's path: pendulum (Fig. 2.8) or triangle (Fig. 3.4)
+        /// The target's path: pendulum (Fig. 2.8), triangle (Fig. 3.4), or a swing inside the view
         #[arg(long, value_enum, default_value_t = PathArg::Triangle)]
         path: PathArg,
         /// Target speed in pixels per second
@@ -80,6 +81,9 @@ enum Command {
         /// Random seed (texture, clutter, noise)
         #[arg(long, default_value_t = 1)]
         seed: u64,
+        /// Real photographs (fixtures/real/) for the part's surface and the background
+        #[arg(long)]
+        photo: bool,
         /// Output folder
         #[arg(long)]
         out: PathBuf,
@@ -104,8 +108,9 @@ enum Command {
         /// COOP's confidence data set size n (3..8)
         #[arg(long, default_value_t = 4)]
         coop_n: usize,
-        /// COOP's confidence policy: least-squares SSE (thesis 4.3) or a Kalman filter (5.2)
-        #[arg(long, value_enum, default_value_t = PolicyArg::Sse)]
+        /// COOP's decision: guarded cooperation, the thesis's least-squares SSE (4.3), or a
+        /// Kalman filter (5.2)
+        #[arg(long, value_enum, default_value_t = PolicyArg::Guarded)]
         policy: PolicyArg,
         /// CSV to write (frame,x,y,mode,source,measured_frame)
         #[arg(long)]
@@ -178,7 +183,7 @@ enum Command {
     },
     /// Reproduce a table or figure of the thesis (CSV, SVG/PNG chart, markdown)
     Experiment {
-        /// table-2.3, fig-2.9, fig-2.10, fig-3.5, fig-3.7, fig-3.10, table-4.1, or all
+        /// table-2.3, fig-2.9, fig-2.10, fig-3.5, fig-3.7, fig-3.10, table-4.1, real-images, or all
         name: String,
         /// Output folder
         #[arg(long)]
@@ -189,12 +194,20 @@ enum Command {
         /// Window units: the behavioural model, the rust-hdl blocks, or the Verilog in Verilator
         #[arg(long, value_enum, default_value_t = HdlArg::Model)]
         hdl: HdlArg,
+        /// With real-images: also write its sequences (PNG frames + groundtruth.csv) under DIR,
+        /// the input of scripts/opencv_real.py
+        #[arg(long, value_name = "DIR")]
+        sequences: Option<PathBuf>,
     },
 }
 
 #[derive(Clone, Copy, PartialEq, clap::ValueEnum)]
 enum PolicyArg {
+    /// The corner detector only where it measures the tracked point
+    Guarded,
+    /// The thesis's least-squares SSE (4.3)
     Sse,
+    /// A Kalman filter's innovation (5.2)
     Kalman,
 }
 
@@ -262,6 +275,7 @@ fn parse_point(s: &str) -> Result<(f64, f64), String> {
 enum PathArg {
     Pendulum,
     Triangle,
+    Swing,
 }
 
 #[derive(Clone, Copy, PartialEq, clap::ValueEnum)]
@@ -317,7 +331,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
             println!("{}", kernels::motion_images(&prev, &next, threshold)?);
             Ok(())
         }
-        Some(Command::Experiment { name, out, profile, hdl }) => {
+        Some(Command::Experiment { name, out, profile, hdl, sequences }) => {
             let hdl = match hdl {
                 HdlArg::Model => HdlChoice::Model,
                 HdlArg::RustHdl => HdlChoice::RustHdl,
@@ -327,16 +341,22 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 ProfileArg::C40 => CostModel::C40,
                 ProfileArg::Native => CostModel::NATIVE,
             };
-            if name != "all" && !coopwin_testbench::experiments::NAMES.contains(&name.as_str()) {
+            if let Some(root) = &sequences {
+                real_images::write_sequences(root, &mut |s| eprintln!("  sequence {s}")).map_err(CliError)?;
+            }
+            let real = name == "real-images" || name == "all";
+            if name == "real-images" {
+                std::fs::create_dir_all(&out).map_err(|e| coopwin_testbench::commands::io_error("create", &out, e))?;
+            } else if name != "all" && !coopwin_testbench::experiments::NAMES.contains(&name.as_str()) {
                 return Err(CliError(format!(
                     "unknown experiment '{name}'; expected one of {} or all",
                     coopwin_testbench::experiments::NAMES.join(", ")
                 )));
             }
-            let names: Vec<&str> = if name == "all" {
-                coopwin_testbench::experiments::NAMES.to_vec()
-            } else {
-                vec![name.as_str()]
+            let names: Vec<&str> = match name.as_str() {
+                "all" => coopwin_testbench::experiments::NAMES.to_vec(),
+                "real-images" => Vec::new(),
+                n => vec![n],
             };
             let mut all = String::from("# Experiments\n\n");
             for n in names {
@@ -345,6 +365,12 @@ fn run(cli: Cli) -> Result<(), CliError> {
                     .map_err(CliError)?;
                 println!("{}", o.markdown);
                 all.push_str(&o.markdown);
+            }
+            if real {
+                eprintln!("experiment real-images");
+                let md = real_images::run(&out, &mut |s| eprintln!("  {s}")).map_err(CliError)?;
+                println!("{md}");
+                all.push_str(&md);
             }
             let p = out.join("results.md");
             std::fs::write(&p, all).map_err(|e| coopwin_testbench::commands::io_error("write", &p, e))?;
@@ -369,11 +395,12 @@ fn run(cli: Cli) -> Result<(), CliError> {
             }
             Ok(())
         }
-        Some(Command::Scene { path, speed, frames, lighting, clutter, occlusion, noise, seed, out }) => {
+        Some(Command::Scene { path, speed, frames, lighting, clutter, occlusion, noise, seed, photo, out }) => {
             let cfg = SceneConfig {
                 path: match path {
                     PathArg::Pendulum => PathKind::Pendulum,
                     PathArg::Triangle => PathKind::Triangle,
+                    PathArg::Swing => PathKind::Swing,
                 },
                 speed,
                 frames,
@@ -382,6 +409,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 occlusion,
                 noise,
                 seed,
+                photo,
                 ..SceneConfig::default()
             };
             let n = scene::write_scene(cfg, &out)?;
@@ -434,7 +462,11 @@ fn run(cli: Cli) -> Result<(), CliError> {
                     HdlArg::RustHdl => HdlChoice::RustHdl,
                     HdlArg::Verilator => HdlChoice::Verilator,
                 },
-                kalman: policy == PolicyArg::Kalman,
+                policy: match policy {
+                    PolicyArg::Guarded => CoopPolicy::Guarded,
+                    PolicyArg::Sse => CoopPolicy::Sse,
+                    PolicyArg::Kalman => CoopPolicy::Kalman,
+                },
                 corrupt_request: None,
                 drop_window: None,
                 jitter: blank_jitter,

@@ -1,10 +1,11 @@
 //! Synthetic camera scenes with ground truth, standing in for the thesis's experiments: a
 //! textured metal part with a sharp corner, moved in true sub-pixel translation along the
 //! pendulum path of Fig. 2.8 (in and out of the field of view) or the triangular path of
-//! Fig. 3.4, optionally under the lamp change of Fig. 4.2, clutter, an occluder and noise.
+//! Fig. 3.4 (or a swing inside the view), optionally under the lamp change of Fig. 4.2, clutter,
+//! an occluder and noise; the part and the background can be real photographs.
 //!
 //! Coordinates put pixel centres at integers: (0, 0) is the centre of the top-left pixel,
-//! x to the right, y down. Each pixel is the mean of 4x4 samples over its area.
+//! x to the right, y down. Each pixel is the mean of 4x4 samples over its area (8x8 with photos).
 
 /// The target's path.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -14,6 +15,9 @@ pub enum PathKind {
     Pendulum,
     /// Fig. 3.4: a closed triangle inside the field of view.
     Triangle,
+    /// A pendulum's swing inside the field of view: the part sweeps left and right along a
+    /// shallow arc, fastest mid-swing and stopping at the ends; `speed` is the mean speed.
+    Swing,
 }
 
 /// Everything that defines a scene; the same config and seed give the same frames.
@@ -41,6 +45,9 @@ pub struct SceneConfig {
     pub noise: f64,
     /// Seed for the noise, clutter and texture.
     pub seed: u64,
+    /// Real photographs for the part's surface and the background (`fixtures/real/`), in
+    /// place of the synthetic texture and flat background.
+    pub photo: bool,
 }
 
 impl Default for SceneConfig {
@@ -57,6 +64,7 @@ impl Default for SceneConfig {
             occlusion: false,
             noise: 0.0,
             seed: 1,
+            photo: false,
         }
     }
 }
@@ -116,10 +124,57 @@ impl Rng {
     }
 }
 
+/// The photographs behind [`SceneConfig::photo`], made from scikit-image's bundled images by
+/// `scripts/real_images.py extract`.
+const BACKGROUND_PHOTO: &[u8] = include_bytes!("../../fixtures/real/background.png");
+const PART_PHOTO: &[u8] = include_bytes!("../../fixtures/real/object.png");
+
+/// A gray photograph sampled at real-valued coordinates.
+struct Photo {
+    px: Vec<f32>,
+    w: usize,
+    h: usize,
+}
+
+impl Photo {
+    fn decode(png: &[u8]) -> Photo {
+        // The bytes are compiled in and checked by a test, so a failure here is a build defect.
+        let img = image::load_from_memory(png).map(|i| i.to_luma8()).unwrap_or_default();
+        let (w, h) = (img.width() as usize, img.height() as usize);
+        Photo { px: img.into_raw().into_iter().map(f32::from).collect(), w, h }
+    }
+
+    /// Pixel (x, y) with the photo mirrored at its borders, so it tiles any frame size.
+    fn mirrored(&self, x: i64, y: i64) -> f64 {
+        let fold = |v: i64, n: usize| {
+            let n = n.max(1) as i64;
+            let m = v.rem_euclid(2 * n);
+            (if m < n { m } else { 2 * n - 1 - m }) as usize
+        };
+        f64::from(self.px.get(fold(y, self.h) * self.w + fold(x, self.w)).copied().unwrap_or(0.0))
+    }
+
+    /// Bilinear interpolation at (x, y): the photo as a continuous surface, so that moving it by
+    /// a fraction of a pixel moves its content by exactly that much.
+    fn bilinear(&self, x: f64, y: f64) -> f64 {
+        let (fx, fy) = (x.floor(), y.floor());
+        let (ax, ay) = (x - fx, y - fy);
+        let (ix, iy) = (fx as i64, fy as i64);
+        let top = self.mirrored(ix, iy) * (1.0 - ax) + self.mirrored(ix + 1, iy) * ax;
+        let bottom = self.mirrored(ix, iy + 1) * (1.0 - ax) + self.mirrored(ix + 1, iy + 1) * ax;
+        top * (1.0 - ay) + bottom * ay
+    }
+}
+
+/// Where the part's corner sits in the part photo: the outline spans x -10.4..42.5 and
+/// y 0..46 from its corner, well inside the 64x64 photo.
+const PART_PHOTO_ORIGIN: (f64, f64) = (12.0, 8.0);
+
 /// A scene ready to render frame by frame.
 pub struct Scene {
     cfg: SceneConfig,
     background: Vec<f32>,
+    part_photo: Option<Photo>,
     waypoints: Vec<(f64, f64)>,
     closed: bool,
 }
@@ -130,10 +185,14 @@ impl Scene {
         let (w, h) = (cfg.width, cfg.height);
         let mut rng = Rng::new(cfg.seed);
         let (fx, fy) = (0.05 + 0.05 * rng.uniform(), 0.07 + 0.05 * rng.uniform());
+        let photo = cfg.photo.then(|| Photo::decode(BACKGROUND_PHOTO));
         let mut background: Vec<f32> = (0..w * h)
             .map(|i| {
                 let (x, y) = ((i % w) as f64, (i / w) as f64);
-                (BACKGROUND_LEVEL + 8.0 * (fx * x).sin() * (fy * y).cos()) as f32
+                match &photo {
+                    Some(p) => p.mirrored(x as i64, y as i64) as f32,
+                    None => (BACKGROUND_LEVEL + 8.0 * (fx * x).sin() * (fy * y).cos()) as f32,
+                }
             })
             .collect();
         if cfg.clutter {
@@ -170,8 +229,10 @@ impl Scene {
                 vec![(0.22 * sw, 0.22 * sh), (0.72 * sw, 0.32 * sh), (0.40 * sw, 0.70 * sh)],
                 true,
             ),
+            PathKind::Swing => (Vec::new(), false),
         };
-        Scene { cfg, background, waypoints, closed }
+        let part_photo = cfg.photo.then(|| Photo::decode(PART_PHOTO));
+        Scene { cfg, background, part_photo, waypoints, closed }
     }
 
     /// The configuration.
@@ -182,6 +243,9 @@ impl Scene {
     /// The corner position at time `t` seconds: constant speed along the path, bouncing back
     /// at the ends of an open path and going round a closed one.
     pub fn corner_at(&self, t: f64) -> (f64, f64) {
+        if self.cfg.path == PathKind::Swing {
+            return self.swing_at(t);
+        }
         let mut pts = self.waypoints.clone();
         if self.closed {
             pts.push(pts[0]);
@@ -208,6 +272,17 @@ impl Scene {
             s -= len;
         }
         pts[0]
+    }
+
+    /// [`PathKind::Swing`]: the part's centre at `(cx + A sin φ, cy - A/5 sin² φ)` with
+    /// `φ = 2π t v / 4A`, so the horizontal speed averages `v` over a swing; A is 30% of the width.
+    fn swing_at(&self, t: f64) -> (f64, f64) {
+        let (w, h) = (self.cfg.width as f64, self.cfg.height as f64);
+        let amplitude = 0.3 * w;
+        let phi = std::f64::consts::TAU * t * self.cfg.speed / (4.0 * amplitude);
+        let g = part_centroid();
+        let s = phi.sin();
+        (0.5 * w + amplitude * s - g.0, 0.55 * h - 0.2 * amplitude * s * s - g.1)
     }
 
     /// Ground truth of frame `k`.
@@ -258,25 +333,33 @@ impl Scene {
         let (x0, x1) = (xs.clone().fold(f64::MAX, f64::min), xs.fold(f64::MIN, f64::max));
         let (y0, y1) = (ys.clone().fold(f64::MAX, f64::min), ys.fold(f64::MIN, f64::max));
         let clampi = |v: f64, hi: usize| (v.max(0.0) as usize).min(hi);
+        // Samples per pixel side: 4 for the synthetic part; 8 for a photo, whose texture has
+        // detail at the pixel scale that a coarser grid would alias.
+        let grid: usize = if self.part_photo.is_some() { 8 } else { 4 };
+        let step = 1.0 / grid as f64;
         for py in clampi(y0 - 1.0, h)..clampi(y1 + 2.0, h) {
             for px in clampi(x0 - 1.0, w)..clampi(x1 + 2.0, w) {
                 let mut acc = 0.0;
                 let mut covered = 0;
-                for sy in 0..4 {
-                    for sx in 0..4 {
-                        let (x, y) = (px as f64 - 0.375 + 0.25 * sx as f64, py as f64 - 0.375 + 0.25 * sy as f64);
+                for sy in 0..grid {
+                    for sx in 0..grid {
+                        let (x, y) = (px as f64 + step * (sx as f64 + 0.5) - 0.5, py as f64 + step * (sy as f64 + 0.5) - 0.5);
                         let (ox, oy) = (x - c.0, y - c.1);
                         if inside_part(ox, oy) {
                             covered += 1;
-                            // A faint texture fixed to the part (machining marks): it moves with it, and stays
-                            // under the corner detector's edge thresholds (3.4: 30 < TH < 70).
-                            acc += PART_LEVEL + 6.0 * (0.35 * ox).sin() * (0.27 * oy + 0.5 * (0.11 * ox).sin()).cos();
+                            acc += match &self.part_photo {
+                                Some(p) => p.bilinear(ox + PART_PHOTO_ORIGIN.0, oy + PART_PHOTO_ORIGIN.1),
+                                // A faint texture fixed to the part (machining marks): it moves with it, and
+                                // stays under the corner detector's edge thresholds (3.4: 30 < TH < 70).
+                                None => PART_LEVEL + 6.0 * (0.35 * ox).sin() * (0.27 * oy + 0.5 * (0.11 * ox).sin()).cos(),
+                            };
                         }
                     }
                 }
                 if covered > 0 {
                     let bg = img[py * w + px] as f64;
-                    img[py * w + px] = ((acc + bg * (16 - covered) as f64) / 16.0) as f32;
+                    let samples = grid * grid;
+                    img[py * w + px] = ((acc + bg * (samples - covered) as f64) / samples as f64) as f32;
                 }
             }
         }

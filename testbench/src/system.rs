@@ -6,7 +6,8 @@
 use crate::backend::{Bank, Clocks, Delivered, HdlBackend, ModelBackend, Trace, WindowBackend};
 use crate::cost::CostModel;
 use coopwin_firmware::ports::{Decimation, WindowRequest};
-use coopwin_firmware::confidence::{KalmanCoop, Source};
+use coopwin_firmware::confidence::{KalmanCoop, Source, SseCoop};
+use coopwin_firmware::guard::{Guard, GuardParams};
 use coopwin_firmware::ports::{FramedLink, FramedPositionSink, Link, PositionSink, PositionUpdate};
 use coopwin_firmware::tracker::{
     Algo, Dest, Foveal, FovealKind, Mode, Msg, Params, Peripheral, Point, Policy, Spmf, Step, Template, Watch,
@@ -48,6 +49,17 @@ impl Strategy {
     }
 }
 
+/// How the COOP master chooses between NCC and the corner detector.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CoopPolicy {
+    /// Guarded cooperation: CD only where it measures the tracked point (the default).
+    Guarded,
+    /// The thesis's least-squares SSE over the last `coop_n` positions (4.3).
+    Sse,
+    /// A constant-velocity Kalman filter's innovation (the thesis's 5.2 proposal).
+    Kalman,
+}
+
 /// A run's configuration.
 #[derive(Clone, Debug)]
 pub struct SystemConfig {
@@ -70,8 +82,8 @@ pub struct SystemConfig {
     pub pixel_clock_hz: f64,
     /// Window units: the behavioural model or the rust-hdl blocks.
     pub hdl: HdlChoice,
-    /// COOP's confidence policy: the thesis's least-squares SSE, or a Kalman filter (5.2).
-    pub kalman: bool,
+    /// COOP's decision policy.
+    pub policy: CoopPolicy,
     /// Fault injection: the request with this index (counting from 0 over the run) is
     /// corrupted on its way to the unit into an invalid set (a one-column window).
     pub corrupt_request: Option<usize>,
@@ -260,6 +272,17 @@ pub fn raster(source: &dyn FrameSource, jitter: Option<Jitter>) -> Clocks {
     Clocks::new(RasterTiming { width: w, height: h, h_blank: 16, v_blank_lines: 2 }, source.len(), jitter)
 }
 
+/// The COOP master's policy for `cfg`.
+fn coop_policy(cfg: &SystemConfig) -> Result<Policy, String> {
+    Ok(match cfg.policy {
+        CoopPolicy::Guarded => Policy::Guarded(Guard::new(GuardParams::default())),
+        CoopPolicy::Sse => Policy::Sse(SseCoop::new(cfg.coop_n).map_err(|e| format!("COOP data set size {}: {e:?}", cfg.coop_n))?),
+        // Process noise for a part that turns corners at up to ~100 px/s each frame;
+        // measurement noise of half a pixel; newest innovation 30%.
+        CoopPolicy::Kalman => Policy::Kalman(KalmanCoop::new(1.0e4, 0.25, 0.3).map_err(|e| format!("{e:?}"))?),
+    })
+}
+
 /// Window units (= processors) a strategy uses.
 pub fn units(s: Strategy) -> usize {
     match s {
@@ -313,9 +336,9 @@ pub fn run_with(
     let top = WindowRequest { height: strip, ..full };
     let bottom = WindowRequest { y0: h as u16 - strip, height: strip, ..full };
     let known = template.is_some();
-    let foveal = |kind| Foveal::new(kind, params, template.clone(), cfg.coop_n).map_err(|e| format!("{e:?}"));
+    let foveal = |kind| Foveal::new(kind, params, template.clone());
     let mut procs: Vec<Proc> = match cfg.strategy {
-        Strategy::Spmf => vec![Proc::Spmf(Spmf::new(params, &mut b0[0], template.clone()).map_err(|e| format!("{e:?}"))?)],
+        Strategy::Spmf => vec![Proc::Spmf(Spmf::new(params, &mut b0[0], template.clone()))],
         Strategy::Tpdf | Strategy::TpdfCd | Strategy::Coop => {
             let kind = match cfg.strategy {
                 Strategy::Coop => FovealKind::CoopMaster,
@@ -325,27 +348,19 @@ pub fn run_with(
             let mut v = vec![
                 Proc::Watch(Watch::new(full, &mut b0[0], params, known)),
                 Proc::Peripheral(Peripheral::new(params, template.clone())),
-                Proc::Foveal(foveal(kind)?),
+                Proc::Foveal(foveal(kind).with_policy(coop_policy(cfg)?)),
             ];
             if cfg.strategy == Strategy::Coop {
-                if cfg.kalman {
-                    if let Some(Proc::Foveal(master)) = v.pop() {
-                        // Process noise for a part that turns corners at up to ~100 px/s each
-                        // frame; measurement noise of half a pixel; newest innovation 30%.
-                        let k = KalmanCoop::new(1.0e4, 0.25, 0.3).map_err(|e| format!("{e:?}"))?;
-                        v.push(Proc::Foveal(master.with_policy(Policy::Kalman(k))));
-                    }
-                }
-                v.push(Proc::Foveal(foveal(FovealKind::CoopPartner)?));
+                v.push(Proc::Foveal(foveal(FovealKind::CoopPartner)));
             }
             v
         }
-        Strategy::SingleCd => vec![Proc::Foveal(foveal(FovealKind::Cd)?)],
+        Strategy::SingleCd => vec![Proc::Foveal(foveal(FovealKind::Cd))],
         Strategy::Mpdf => vec![
             Proc::Watch(Watch::new(top, &mut b0[0], params, known)),
             Proc::Watch(Watch::new(bottom, &mut b1[0], params, known)),
             Proc::Peripheral(Peripheral::new(params, template.clone())),
-            Proc::Foveal(foveal(FovealKind::Ncc)?),
+            Proc::Foveal(foveal(FovealKind::Ncc)),
         ],
     };
     let fovea: Vec<usize> = (0..procs.len()).filter(|&i| matches!(procs[i], Proc::Foveal(_))).collect();

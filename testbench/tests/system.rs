@@ -75,7 +75,7 @@ fn coop_with_the_kalman_policy_tracks_within_a_pixel() {
     // the firmware): the cooperative pair must still track within COOP's bound.
     let scene = SceneConfig { lighting_ramp: true, ..short_triangle(40.0) };
     let mut cfg = system(Strategy::Coop, CostModel::C40, Some(corner0(&scene)));
-    cfg.kalman = true;
+    cfg.policy = coopwin_testbench::system::CoopPolicy::Kalman;
     let (log, m) = run_scene(&cfg, scene).unwrap();
     assert!(m.rms < 1.0 && m.rlt < 0.05, "RMS {} RLT {}", m.rms, m.rlt);
     assert!(log.reports.len() >= 50);

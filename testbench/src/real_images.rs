@@ -1,0 +1,257 @@
+//! The real-image evaluation: semi-synthetic sequences made from real photographs (a textured
+//! object from one photo moving over another in exact sub-pixel translation, see
+//! [`crate::scene`]), tracked by coopwin's strategies and compared with OpenCV's trackers,
+//! whose results are stored as fixtures by `scripts/opencv_real.py`.
+//!
+//! Every tracker is scored the same way over the frames where the target is visible: the
+//! error is the distance from the reported point to the true point of the frame the report
+//! measured; RMS is over the frames with a position; loss counts the frames with no position
+//! or an error above [`LOSS_PX`].
+use crate::cost::CostModel;
+use crate::experiments::system;
+use crate::plot::{self, Chart, Series};
+use crate::scene::{PathKind, Scene, SceneConfig, Truth};
+use crate::system::{self, CoopPolicy, FrameSource, Strategy};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// Error beyond which a frame counts as lost (5 px, as in the OpenCV script).
+pub const LOSS_PX: f64 = 5.0;
+
+/// Which point of the object is tracked.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Tracked {
+    /// The centre of the object: the template lies wholly on its textured surface.
+    Centre,
+    /// The object's corner: the template holds the object and the background.
+    Corner,
+}
+
+impl Tracked {
+    fn of(self, t: &Truth) -> (f64, f64) {
+        match self {
+            Tracked::Centre => t.centre,
+            Tracked::Corner => t.corner,
+        }
+    }
+}
+
+/// One condition of the evaluation.
+#[derive(Clone, Debug)]
+pub struct Condition {
+    /// Name, also the sequence folder's and the fixtures' (`centre-...` or `corner-...`).
+    pub name: String,
+    /// The scene.
+    pub scene: SceneConfig,
+    /// The point tracked.
+    pub tracked: Tracked,
+}
+
+/// The conditions: the object's centre on a swing at mean speeds 20-120 px/s, and its corner on
+/// the triangle at 60 px/s plain, under the lamp, beside clutter and behind an occluder.
+pub fn conditions() -> Vec<Condition> {
+    let base = SceneConfig { photo: true, noise: 2.0, frames: 300, seed: 11, ..SceneConfig::default() };
+    let mut v: Vec<Condition> = [20.0, 40.0, 80.0, 120.0]
+        .iter()
+        .map(|&speed| Condition {
+            name: format!("centre-swing-{speed}"),
+            scene: SceneConfig { path: PathKind::Swing, speed, ..base.clone() },
+            tracked: Tracked::Centre,
+        })
+        .collect();
+    let tri = SceneConfig { path: PathKind::Triangle, speed: 60.0, ..base };
+    for (name, scene) in [
+        ("corner-plain", tri.clone()),
+        ("corner-lamp", SceneConfig { lighting_ramp: true, ..tri.clone() }),
+        ("corner-clutter", SceneConfig { clutter: true, ..tri.clone() }),
+        ("corner-occluder", SceneConfig { occlusion: true, ..tri.clone() }),
+    ] {
+        v.push(Condition { name: name.into(), scene, tracked: Tracked::Corner });
+    }
+    v
+}
+
+/// coopwin's trackers in the evaluation: label, strategy and COOP policy.
+pub const OURS: [(&str, Strategy, CoopPolicy); 4] = [
+    ("COOP", Strategy::Coop, CoopPolicy::Guarded),
+    ("COOP (thesis SSE)", Strategy::Coop, CoopPolicy::Sse),
+    ("NCC (TPDF)", Strategy::Tpdf, CoopPolicy::Guarded),
+    ("CD (TPDF)", Strategy::TpdfCd, CoopPolicy::Guarded),
+];
+
+/// OpenCV's trackers, by the fixture name `scripts/opencv_real.py` gives them.
+pub const OPENCV: [(&str, &str); 3] =
+    [("OpenCV matchTemplate", "match"), ("OpenCV CSRT", "csrt"), ("OpenCV KCF", "kcf")];
+
+/// Where the OpenCV fixtures live in the source tree.
+pub fn fixtures_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/opencv/real")
+}
+
+/// A tracker's score on one condition.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Score {
+    /// RMS error in pixels over the visible frames with a position.
+    pub rms: f64,
+    /// Percentage of visible frames with no position or an error above 5 px.
+    pub loss: f64,
+}
+
+/// Scores per-frame positions `(measured frame, point)` against the truth (see the module docs).
+pub fn score(positions: &[Option<(usize, (f64, f64))>], truth: &[Truth], tracked: Tracked) -> Score {
+    let (mut sq, mut with, mut lost, mut visible) = (0.0, 0usize, 0usize, 0usize);
+    for (k, t) in truth.iter().enumerate() {
+        if !t.visible {
+            continue;
+        }
+        visible += 1;
+        let err = positions
+            .get(k)
+            .copied()
+            .flatten()
+            .and_then(|(m, p)| truth.get(m).map(|tm| (p.0 - tracked.of(tm).0).hypot(p.1 - tracked.of(tm).1)));
+        match err {
+            Some(e) => {
+                sq += e * e;
+                with += 1;
+                if e > LOSS_PX {
+                    lost += 1;
+                }
+            }
+            None => lost += 1,
+        }
+    }
+    Score { rms: (sq / with.max(1) as f64).sqrt(), loss: 100.0 * lost as f64 / visible.max(1) as f64 }
+}
+
+/// A condition's frames, rendered once and tracked by every tracker.
+pub struct Rendered {
+    frames: Vec<Vec<u8>>,
+    size: (usize, usize),
+    /// Ground truth of every frame.
+    pub truth: Vec<Truth>,
+}
+
+impl Rendered {
+    /// Renders every frame of `c`.
+    pub fn new(c: &Condition) -> Self {
+        let scene = Scene::new(c.scene.clone());
+        let (frames, truth) = (0..c.scene.frames).map(|k| scene.render(k)).unzip();
+        Rendered { frames, size: (c.scene.width, c.scene.height), truth }
+    }
+}
+
+impl FrameSource for Rendered {
+    fn size(&self) -> (usize, usize) {
+        self.size
+    }
+    fn len(&self) -> usize {
+        self.frames.len()
+    }
+    fn frame(&mut self, k: usize) -> Result<&[u8], String> {
+        self.frames.get(k).map(Vec::as_slice).ok_or_else(|| format!("no frame {k}"))
+    }
+}
+
+/// Runs one of coopwin's trackers on a condition's frames, at the firmware's native speed, the
+/// target given as the true point of frame 0.
+pub fn run_ours(c: &Condition, frames: &mut Rendered, strategy: Strategy, policy: CoopPolicy) -> Result<Score, String> {
+    let target = frames.truth.first().map(|t| c.tracked.of(t));
+    let mut cfg = system(strategy, CostModel::NATIVE, target);
+    cfg.policy = policy;
+    let log = system::run(&cfg, frames, &mut |_| {})?;
+    let positions: Vec<_> =
+        log.frames.iter().map(|r| r.point.zip(r.measured_frame).map(|(p, m)| (m, p))).collect();
+    Ok(score(&positions, &frames.truth, c.tracked))
+}
+
+/// Reads an OpenCV fixture (`frame,x,y`, empty x,y for no position) and scores it, or `None`
+/// when the fixture is missing.
+pub fn opencv_score(c: &Condition, truth: &[Truth], tracker: &str) -> Result<Option<Score>, String> {
+    let path = fixtures_dir().join(format!("{}.{tracker}.csv", c.name));
+    let Ok(text) = std::fs::read_to_string(&path) else { return Ok(None) };
+    let mut positions = vec![None; truth.len()];
+    for (i, line) in text.lines().enumerate().skip(1) {
+        let f: Vec<&str> = line.split(',').map(str::trim).collect();
+        let bad = || format!("{}: line {}: expected frame,x,y", path.display(), i + 1);
+        let k: usize = f.first().and_then(|s| s.parse().ok()).ok_or_else(bad)?;
+        let xy = match (f.get(1), f.get(2)) {
+            (Some(x), Some(y)) if !x.is_empty() && !y.is_empty() => {
+                Some((x.parse::<f64>().map_err(|_| bad())?, y.parse::<f64>().map_err(|_| bad())?))
+            }
+            _ => None,
+        };
+        if let Some(slot) = positions.get_mut(k) {
+            *slot = xy.map(|p| (k, p));
+        }
+    }
+    Ok(Some(score(&positions, truth, c.tracked)))
+}
+
+/// Writes every condition's frames and `groundtruth.csv` under `root/<name>/`, for the OpenCV
+/// script.
+pub fn write_sequences(root: &Path, progress: &mut dyn FnMut(&str)) -> Result<(), String> {
+    for c in conditions() {
+        progress(&c.name);
+        crate::commands::scene::write_scene(c.scene.clone(), &root.join(&c.name)).map_err(|e| e.0)?;
+    }
+    Ok(())
+}
+
+/// The evaluation: every tracker on every condition; writes `real-images.csv`, `.md` and a chart
+/// into `dir` and returns the markdown.
+pub fn run(dir: &Path, progress: &mut dyn FnMut(&str)) -> Result<String, String> {
+    let conds = conditions();
+    let labels: Vec<&str> = OURS.iter().map(|o| o.0).chain(OPENCV.iter().map(|o| o.0)).collect();
+    let mut table: Vec<Vec<Option<Score>>> = Vec::new();
+    for c in &conds {
+        progress(&c.name);
+        let mut frames = Rendered::new(c);
+        let mut row = Vec::new();
+        for (_, strategy, policy) in OURS {
+            row.push(Some(run_ours(c, &mut frames, strategy, policy)?));
+        }
+        for (_, file) in OPENCV {
+            row.push(opencv_score(c, &frames.truth, file)?);
+        }
+        table.push(row);
+    }
+    let mut csv = String::from("condition,tracker,rms_px,loss_pct\n");
+    let mut md = String::from(
+        "## real-images (native profile)\n\nSemi-synthetic sequences from real photographs (`fixtures/real/`): RMS error px / loss % \
+         (frames with no position or an error over 5 px), target given at the true point of frame 0.\n\n",
+    );
+    let _ = writeln!(md, "| condition | {} |", labels.join(" | "));
+    let _ = writeln!(md, "|---|{}", "---|".repeat(labels.len()));
+    for (c, row) in conds.iter().zip(&table) {
+        let cells: Vec<String> = row
+            .iter()
+            .map(|s| s.map_or("-".into(), |s| format!("{:.2} / {:.0}", s.rms, s.loss)))
+            .collect();
+        let _ = writeln!(md, "| {} | {} |", c.name, cells.join(" | "));
+        for (label, s) in labels.iter().zip(row) {
+            if let Some(s) = s {
+                let _ = writeln!(csv, "{},{label},{:.3},{:.1}", c.name, s.rms, s.loss);
+            }
+        }
+    }
+    let p = dir.join("real-images.csv");
+    std::fs::write(&p, csv).map_err(|e| format!("cannot write {}: {e}", p.display()))?;
+    let chart = Chart {
+        title: "Real-image sequences: RMS error per condition (log10 px)".into(),
+        x_label: format!("condition (1-{}: {})", conds.len(), conds.iter().map(|c| c.name.as_str()).collect::<Vec<_>>().join(", ")),
+        y_label: "log10 RMS error (px)".into(),
+        series: labels
+            .iter()
+            .enumerate()
+            .map(|(j, l)| Series {
+                label: (*l).to_string(),
+                points: table.iter().enumerate().map(|(i, row)| (i as f64 + 1.0, row[j].map(|s| s.rms.max(1e-3).log10()))).collect(),
+            })
+            .collect(),
+        y_range: None,
+    };
+    plot::write(&chart, dir, "real-images")?;
+    md.push_str("\nFiles: `real-images.csv`, `real-images.svg`, `real-images.png`. OpenCV columns come from `fixtures/opencv/real/` (`scripts/opencv_real.py`).\n");
+    Ok(md)
+}
