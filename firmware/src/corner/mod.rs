@@ -23,6 +23,7 @@
 
 mod bounds;
 mod labelling;
+mod lines;
 mod morphology;
 mod sobel;
 #[cfg(test)]
@@ -35,6 +36,7 @@ pub use sobel::sobel_at;
 
 use bounds::{bounding_points_bits, corner_from_bounds};
 use labelling::{largest_component_bits, Runs};
+use lines::{apex_from_points, collect_points, EdgePoints};
 use morphology::open_cross_bits;
 use crate::view::WindowView;
 use sobel::{sobel_rows, BYTES};
@@ -50,48 +52,28 @@ const CAP: usize = MAX_DIM * MAX_DIM;
 pub struct CornerParams {
     /// Edge threshold TH on `sqrt(gx² + gy²)` (thesis 3.4: good for 30 < TH < 70).
     pub threshold: u16,
-    /// Two bounding points count as "the same point" in the Q1/Q2/Q3 rules when their
-    /// Chebyshev distance is at most this many pixels. 0 is the thesis' literal `≠`;
-    /// the default 2 is the width of a Sobel edge band, which the thesis' thin-edge
-    /// reasoning implicitly assumes to be 0 (see the crate README).
+    /// Thesis rules only: two bounding points count as "the same point" in the
+    /// Q1/Q2/Q3 rules when their Chebyshev distance is at most this many pixels. 0 is
+    /// the thesis' literal `≠`; 2, the width of a Sobel edge band, makes the rules
+    /// hold on bands the thesis' thin-edge reasoning takes to be 1 px wide.
     pub distinct_tol: u8,
-    /// Beyond the thesis: report the centroid of the clean edge pixels within 2 px
-    /// (5x5) of the located edge pixel instead of the pixel itself. The thesis' rules
-    /// pick an extreme pixel of the edge band, which lies half a band width (1-2 px)
-    /// outside the true corner; the centroid pulls it back to the band's centre line.
+    /// Beyond the thesis: locate the corner as the intersection of the two edge lines
+    /// fitted to sub-pixel edge points (see `lines.rs`) instead of by the bounding-point
+    /// rules (3.2.3, 3.3), which pick one pixel of the band and depend on the
+    /// orientation.
     pub refine: bool,
 }
 
 impl CornerParams {
-    /// Threshold `th` with the default tolerance of 2 pixels and refinement on.
+    /// The default, beyond the thesis: threshold `th`, then the line fit
+    /// (`refine = true`).
     pub fn new(threshold: u16) -> Self {
         Self { threshold, distinct_tol: 2, refine: true }
     }
 
-    /// The thesis' rules literally: exact `≠` and the edge pixel itself.
+    /// The thesis' rules literally (3.2.3, 3.3): exact `≠` and the edge pixel itself.
     pub fn literal(threshold: u16) -> Self {
         Self { threshold, distinct_tol: 0, refine: false }
-    }
-}
-
-/// Centroid of the set pixels within Chebyshev distance 2 of `(x, y)` rounded, or
-/// `(x, y)` itself if there is none.
-fn band_centroid(map: &[u8], w: usize, h: usize, x: f32, y: f32) -> (f32, f32) {
-    let (cx, cy) = (libm::roundf(x) as i32, libm::roundf(y) as i32);
-    let (mut sx, mut sy, mut n) = (0i32, 0i32, 0i32);
-    for yy in (cy - 2).max(0)..=(cy + 2).min(h as i32 - 1) {
-        for xx in (cx - 2).max(0)..=(cx + 2).min(w as i32 - 1) {
-            if map.get(yy as usize * w + xx as usize).is_some_and(|&v| v != 0) {
-                sx += xx;
-                sy += yy;
-                n += 1;
-            }
-        }
-    }
-    if n == 0 {
-        (x, y)
-    } else {
-        (sx as f32 / n as f32, sy as f32 / n as f32)
     }
 }
 
@@ -110,8 +92,13 @@ pub enum NoCorner {
     VerticalLine,
     /// Q1 and Q2 are on one row (GSS case): a horizontal line.
     HorizontalLine,
-    /// Q3 undefined and no edge pixel lies off the line Q1-Q2: a straight line.
+    /// A straight edge: Q3 undefined and no edge pixel off the line Q1-Q2 (thesis
+    /// rules), or the two fitted sides within 30° of parallel (line fit).
     StraightLine,
+    /// Line fit: a side has fewer than 2 sub-pixel edge points.
+    TooFewPoints,
+    /// Line fit: the lines meet outside the window's pixel centres.
+    OutsideWindow,
 }
 
 /// How the corner was found.
@@ -125,6 +112,8 @@ pub enum CornerCase {
     Q3(Q3Source),
     /// Q3 undefined: farthest edge pixel from the line Q1-Q2 by Golden Section Search.
     Gss,
+    /// Beyond the thesis: intersection of the two fitted edge lines.
+    Lines,
 }
 
 /// A located corner.
@@ -150,6 +139,7 @@ pub struct CornerDetector {
     /// The window widened to `i16`, one `MAX_DIM` row per window row (Sobel input).
     wide: [[i16; MAX_DIM]; MAX_DIM],
     runs: Runs,
+    points: EdgePoints,
     w: usize,
     h: usize,
     edge_pixels: u32,
@@ -169,6 +159,7 @@ impl CornerDetector {
             bits: [0; MAX_DIM],
             wide: [[0; MAX_DIM]; MAX_DIM],
             runs: Runs::new(),
+            points: EdgePoints::new(),
             w: 0,
             h: 0,
             edge_pixels: 0,
@@ -258,11 +249,14 @@ impl CornerDetector {
         if clean == 0 {
             return Err(NoCorner::FilteredOut);
         }
-        let b = bounding_points_bits(rows).ok_or(NoCorner::FilteredOut)?;
-        let (mut x, mut y, case) = corner_from_bounds(&self.edges, w, h, &b, params)?;
-        if params.refine {
-            (x, y) = band_centroid(&self.edges, w, h, x, y);
-        }
+        let (x, y, case) = if params.refine {
+            collect_points(&self.wide, rows, w, h, &mut self.points);
+            let (x, y) = apex_from_points(&self.points, w, h)?;
+            (x, y, CornerCase::Lines)
+        } else {
+            let b = bounding_points_bits(rows).ok_or(NoCorner::FilteredOut)?;
+            corner_from_bounds(&self.edges, w, h, &b, params)?
+        };
         let (ox, oy) = view.origin();
         let step = view.step() as f32;
         Ok(Corner {
