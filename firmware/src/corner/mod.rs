@@ -15,11 +15,19 @@
 //! 3. **Morphological opening** (3.2.2, [`open_cross`]): erosion then dilation with the
 //!    3x3 plus-shaped element, OpenCV border semantics (outside = foreground for the
 //!    erosion, background for the dilation).
-//! 4. **Corner location** (3.2.3, 3.3, [`corner_from_edges`]): bounding points, Q1, Q2,
-//!    Q3, MidNum logic, or the Golden Section Search when Q3 is undefined.
+//! 4. **Corner location**, one of two modes ([`CornerParams::refine`]):
+//!    - the thesis' rules (3.2.3, 3.3, [`corner_from_edges`]): bounding points, Q1,
+//!      Q2, Q3, MidNum logic, or the Golden Section Search when Q3 is undefined
+//!      ([`CornerParams::literal`]);
+//!    - beyond the thesis, the default ([`CornerParams::new`]): sub-pixel edge points
+//!      split into the two sides by gradient orientation, one line fitted per side
+//!      away from the apex, and their intersection (`lines.rs`). The rules pick one
+//!      pixel of a 3-4 px wide band by its bounding box, so their error depends on the
+//!      orientation (several pixels at some); the fit is sub-pixel at any orientation
+//!      and either polarity.
 //!
 //! Windows up to [`MAX_DIM`] x [`MAX_DIM`] are handled with fixed buffers held by a
-//! [`CornerDetector`] (about 27 KiB, so it can live in a `static` on a microcontroller).
+//! [`CornerDetector`] (about 43 KiB, so it can live in a `static` on a microcontroller).
 
 mod bounds;
 mod labelling;
@@ -93,9 +101,9 @@ pub enum NoCorner {
     /// Q1 and Q2 are on one row (GSS case): a horizontal line.
     HorizontalLine,
     /// A straight edge: Q3 undefined and no edge pixel off the line Q1-Q2 (thesis
-    /// rules), or the two fitted sides within 30° of parallel (line fit).
+    /// rules), or one edge orientation only, or two within 30° of parallel (line fit).
     StraightLine,
-    /// Line fit: a side has fewer than 2 sub-pixel edge points.
+    /// Line fit: a side keeps fewer than 2 sub-pixel edge points away from the apex.
     TooFewPoints,
     /// Line fit: the lines meet outside the window's pixel centres.
     OutsideWindow,
@@ -131,7 +139,8 @@ pub struct Corner {
     pub clean_pixels: u32,
 }
 
-/// The corner detector with its fixed working buffers (edge map, labels, stack).
+/// The corner detector with its fixed working buffers (window, edge maps, labelling
+/// runs, sub-pixel edge points).
 pub struct CornerDetector {
     edges: [u8; CAP],
     /// Bit-packed edge rows (bit `x` of row `y` = pixel `(x, y)`).

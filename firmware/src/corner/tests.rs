@@ -280,6 +280,13 @@ fn lines_are_typed() {
 }
 
 #[test]
+fn detector_fits_a_static() {
+    // The module documentation's "about 43 KiB".
+    let size = core::mem::size_of::<CornerDetector>();
+    assert!((42 * 1024..44 * 1024).contains(&size), "{size}");
+}
+
+#[test]
 fn detector_rejects_large_and_flat() {
     let big = [0u8; 65 * 2];
     let mut d = CornerDetector::new();
