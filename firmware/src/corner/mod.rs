@@ -1,0 +1,279 @@
+//! Window-based corner detector (thesis chapter 3).
+//!
+//! Pipeline (thesis Figure 3.1), each step a public function so it can be checked
+//! against OpenCV:
+//!
+//! 1. **Sobel edges** ([`sobel_at`]): `gx`, `gy` with the 3x3 kernels of OpenCV
+//!    `Sobel(ksize=3)` (`gx = [-1 0 1; -2 0 2; -1 0 1]`, `gy` its transpose) and
+//!    OpenCV's default border `BORDER_REFLECT_101`, so edges reach the window border.
+//!    The magnitude is the Euclidean norm, compared without a square root: a pixel is
+//!    an edge iff `gx² + gy² > TH²` (exact in integers; the same edge map as
+//!    `sqrt(gx² + gy²) > TH` and as the OpenCV benchmark script).
+//! 2. **Pixel labelling** (3.2.1, [`keep_largest_component`]): 8-neighbour connected
+//!    components (`|xi-xj| <= 1 ∧ |yi-yj| <= 1`); only the most populous label is kept
+//!    (ties: the label met first in raster order).
+//! 3. **Morphological opening** (3.2.2, [`open_cross`]): erosion then dilation with the
+//!    3x3 plus-shaped element, OpenCV border semantics (outside = foreground for the
+//!    erosion, background for the dilation).
+//! 4. **Corner location**, one of two modes ([`CornerParams::refine`]):
+//!    - the thesis' rules (3.2.3, 3.3, [`corner_from_edges`]): bounding points, Q1,
+//!      Q2, Q3, MidNum logic, or the Golden Section Search when Q3 is undefined
+//!      ([`CornerParams::literal`]);
+//!    - beyond the thesis, the default ([`CornerParams::new`]): sub-pixel edge points
+//!      split into the two sides by gradient orientation, one line fitted per side
+//!      away from the apex, and their intersection (`lines.rs`). The rules pick one
+//!      pixel of a 3-4 px wide band by its bounding box, so their error depends on the
+//!      orientation (several pixels at some); the fit is sub-pixel at any orientation
+//!      and either polarity.
+//!
+//! Windows up to [`MAX_DIM`] x [`MAX_DIM`] are handled with fixed buffers held by a
+//! [`CornerDetector`] (about 43 KiB, so it can live in a `static` on a microcontroller).
+
+mod bounds;
+mod labelling;
+mod lines;
+mod morphology;
+mod sobel;
+#[cfg(test)]
+mod tests;
+
+pub use bounds::{bounding_points, corner_from_edges, BoundingPoints, Point, Q3Source};
+pub use labelling::{keep_largest_component, Components};
+pub use morphology::open_cross;
+pub use sobel::sobel_at;
+
+use bounds::{bounding_points_bits, corner_from_bounds};
+use labelling::{largest_component_bits, Runs};
+use lines::{apex_from_points, collect_points, EdgePoints};
+use morphology::open_cross_bits;
+use crate::view::WindowView;
+use sobel::{sobel_rows, BYTES};
+
+/// Largest window side handled by [`CornerDetector`] (the Foveal windows are 20x20 and
+/// 24x24).
+pub const MAX_DIM: usize = 64;
+
+const CAP: usize = MAX_DIM * MAX_DIM;
+
+/// Parameters of the corner detector.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CornerParams {
+    /// Edge threshold TH on `sqrt(gx² + gy²)` (thesis 3.4: good for 30 < TH < 70).
+    pub threshold: u16,
+    /// Thesis rules only: two bounding points count as "the same point" in the
+    /// Q1/Q2/Q3 rules when their Chebyshev distance is at most this many pixels. 0 is
+    /// the thesis' literal `≠`; 2, the width of a Sobel edge band, makes the rules
+    /// hold on bands the thesis' thin-edge reasoning takes to be 1 px wide.
+    pub distinct_tol: u8,
+    /// Beyond the thesis: locate the corner as the intersection of the two edge lines
+    /// fitted to sub-pixel edge points (see `lines.rs`) instead of by the bounding-point
+    /// rules (3.2.3, 3.3), which pick one pixel of the band and depend on the
+    /// orientation.
+    pub refine: bool,
+}
+
+impl CornerParams {
+    /// The default, beyond the thesis: threshold `th`, then the line fit
+    /// (`refine = true`).
+    pub fn new(threshold: u16) -> Self {
+        Self { threshold, distinct_tol: 2, refine: true }
+    }
+
+    /// The thesis' rules literally (3.2.3, 3.3): exact `≠` and the edge pixel itself.
+    pub fn literal(threshold: u16) -> Self {
+        Self { threshold, distinct_tol: 0, refine: false }
+    }
+}
+
+/// Why no corner was located.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NoCorner {
+    /// The window has no pixel.
+    Empty,
+    /// The window is larger than [`MAX_DIM`] x [`MAX_DIM`].
+    TooLarge,
+    /// No pixel exceeds the edge threshold.
+    NoEdges,
+    /// The opening removed every edge pixel (edges thinner than the plus element).
+    FilteredOut,
+    /// Q1 and Q2 coincide: the edges form a vertical line.
+    VerticalLine,
+    /// Q1 and Q2 are on one row (GSS case): a horizontal line.
+    HorizontalLine,
+    /// A straight edge: Q3 undefined and no edge pixel off the line Q1-Q2 (thesis
+    /// rules), or one edge orientation only, or two within 30° of parallel (line fit).
+    StraightLine,
+    /// Line fit: a side keeps fewer than 2 sub-pixel edge points away from the apex.
+    TooFewPoints,
+    /// Line fit: the lines meet outside the window's pixel centres.
+    OutsideWindow,
+}
+
+/// How the corner was found.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CornerCase {
+    /// Corner = Q1 (`MidNum(M12) > 0 ∧ MidNum(M13) > 0`), with Q3's source.
+    Q1(Q3Source),
+    /// Corner = Q2 (`MidNum(M12) > 0 ∧ MidNum(M13) = 0`).
+    Q2(Q3Source),
+    /// Corner = Q3 (`MidNum(M12) = 0`).
+    Q3(Q3Source),
+    /// Q3 undefined: farthest edge pixel from the line Q1-Q2 by Golden Section Search.
+    Gss,
+    /// Beyond the thesis: intersection of the two fitted edge lines.
+    Lines,
+}
+
+/// A located corner.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Corner {
+    /// Column in frame coordinates.
+    pub x: f32,
+    /// Row in frame coordinates.
+    pub y: f32,
+    /// The rule that produced it.
+    pub case: CornerCase,
+    /// Edge pixels above the threshold (before filtering), for the information measures.
+    pub edge_pixels: u32,
+    /// Edge pixels left after labelling and opening.
+    pub clean_pixels: u32,
+}
+
+/// The corner detector with its fixed working buffers (window, edge maps, labelling
+/// runs, sub-pixel edge points).
+pub struct CornerDetector {
+    edges: [u8; CAP],
+    /// Bit-packed edge rows (bit `x` of row `y` = pixel `(x, y)`).
+    bits: [u64; MAX_DIM],
+    /// The window widened to `i16`, one `MAX_DIM` row per window row (Sobel input).
+    wide: [[i16; MAX_DIM]; MAX_DIM],
+    runs: Runs,
+    points: EdgePoints,
+    w: usize,
+    h: usize,
+    edge_pixels: u32,
+}
+
+impl Default for CornerDetector {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl CornerDetector {
+    /// A detector with zeroed buffers (`const`, so it can be a `static`).
+    pub const fn new() -> Self {
+        Self {
+            edges: [0; CAP],
+            bits: [0; MAX_DIM],
+            wide: [[0; MAX_DIM]; MAX_DIM],
+            runs: Runs::new(),
+            points: EdgePoints::new(),
+            w: 0,
+            h: 0,
+            edge_pixels: 0,
+        }
+    }
+
+    /// Edge pixels above the threshold in the last [`detect`](Self::detect) call (before
+    /// labelling and opening), for the information content measure (3.4.1).
+    pub fn edge_pixels(&self) -> u32 {
+        self.edge_pixels
+    }
+
+    /// The clean edge map of the last call (row-major, `width x height`, 1 = edge).
+    pub fn edge_map(&self) -> (&[u8], usize, usize) {
+        (
+            self.edges.get(..self.w * self.h).unwrap_or(&[]),
+            self.w,
+            self.h,
+        )
+    }
+
+    /// Thresholded Sobel edge map `gx² + gy² > TH²` of `view` into the bit rows;
+    /// returns the number of edge pixels.
+    fn threshold_edges(&mut self, view: &WindowView<'_>, th: u16) -> u32 {
+        let (w, h) = (view.width(), view.height());
+        if w == 0 || h == 0 || w > MAX_DIM || h > MAX_DIM {
+            return 0;
+        }
+        for (y, r) in self.wide.iter_mut().take(h).enumerate() {
+            match view.row(y) {
+                Some(src) => {
+                    for (d, &s) in r.iter_mut().zip(src) {
+                        *d = i16::from(s);
+                    }
+                }
+                None => {
+                    for (d, s) in r.iter_mut().zip(view.row_iter(y)) {
+                        *d = i16::from(s);
+                    }
+                }
+            }
+        }
+        // |g| <= 4·255 per axis, so gx² + gy² <= 2.1e6 < i32::MAX: clamping TH² to
+        // i32::MAX does not change any comparison.
+        let th2 = i32::try_from(u32::from(th) * u32::from(th)).unwrap_or(i32::MAX);
+        if w <= 32 {
+            sobel_rows::<32, 34>(&self.wide, &mut self.bits, w, h, th2)
+        } else {
+            sobel_rows::<64, 66>(&self.wide, &mut self.bits, w, h, th2)
+        }
+    }
+
+    /// Runs the whole chapter-3 pipeline on `view` and returns the corner in frame
+    /// coordinates, or why there is none.
+    pub fn detect(
+        &mut self,
+        view: &WindowView<'_>,
+        params: &CornerParams,
+    ) -> Result<Corner, NoCorner> {
+        self.w = 0;
+        self.h = 0;
+        self.edge_pixels = 0;
+        if view.is_empty() {
+            return Err(NoCorner::Empty);
+        }
+        let (w, h) = (view.width(), view.height());
+        if w > MAX_DIM || h > MAX_DIM {
+            return Err(NoCorner::TooLarge);
+        }
+        self.w = w;
+        self.h = h;
+        self.edge_pixels = self.threshold_edges(view, params.threshold);
+        if self.edge_pixels == 0 {
+            return Err(NoCorner::NoEdges);
+        }
+        let rows = self.bits.get_mut(..h).ok_or(NoCorner::TooLarge)?;
+        largest_component_bits(rows, &mut self.runs);
+        let mut tmp = [0u64; MAX_DIM];
+        let clean = open_cross_bits(rows, w, &mut tmp);
+        // The byte map (for `edge_map` and the corner rules).
+        for (dst, &r) in self.edges.chunks_exact_mut(w).zip(rows.iter()) {
+            for (k, d) in dst.chunks_mut(8).enumerate() {
+                let bytes = BYTES[((r >> (8 * k)) & 0xff) as usize].to_le_bytes();
+                d.copy_from_slice(bytes.get(..d.len()).unwrap_or(&[]));
+            }
+        }
+        if clean == 0 {
+            return Err(NoCorner::FilteredOut);
+        }
+        let (x, y, case) = if params.refine {
+            collect_points(&self.wide, rows, w, h, &mut self.points);
+            let (x, y) = apex_from_points(&self.points, w, h)?;
+            (x, y, CornerCase::Lines)
+        } else {
+            let b = bounding_points_bits(rows).ok_or(NoCorner::FilteredOut)?;
+            corner_from_bounds(&self.edges, w, h, &b, params)?
+        };
+        let (ox, oy) = view.origin();
+        let step = view.step() as f32;
+        Ok(Corner {
+            x: ox as f32 + x * step,
+            y: oy as f32 + y * step,
+            case,
+            edge_pixels: self.edge_pixels,
+            clean_pixels: clean,
+        })
+    }
+}
