@@ -18,7 +18,10 @@
 //!    mean, which then becomes the offset `o`; afterwards each agreeing frame refines it
 //!    (`o += (d - o) / 8`). A CD candidate is `p_cd + o`.
 //! 3. **Agreement.** NCC and the CD candidate agree when `|p_ncc - (p_cd + o)| <= gate`;
-//!    then NCC, the finer of the two, is followed. A learnt (not anchored) offset that
+//!    then both measure the tracked point and are fused, each weighted by the inverse of its
+//!    mean squared innovation (distance from the prediction, averaged with weight 1/10):
+//!    the steadier source counts more, as in the thesis's SSE rule, but neither can take the
+//!    track off the other. The source reported is the one with the larger weight. A learnt (not anchored) offset that
 //!    disagrees `unlearn` times running while NCC is trusted means CD has locked onto
 //!    another corner or slides along an edge: the offset is dropped and learnt again.
 //! 4. **Choice on disagreement.** An anchored CD wins while it stays within `jump` px of the
@@ -58,6 +61,9 @@ impl Default for GuardParams {
     }
 }
 
+/// Weight of the newest squared innovation in each source's running mean.
+const NOISE_WEIGHT: f32 = 0.1;
+
 /// One Foveal window's two measurements.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Measured {
@@ -81,6 +87,8 @@ pub struct Guard {
     disagreements: u8,
     /// The last two positions followed, with their times, for the prediction.
     last: [Option<(f64, Point)>; 2],
+    /// Mean squared innovation of NCC and of the CD candidate, while they agree.
+    noise: [Option<f32>; 2],
 }
 
 impl Guard {
@@ -136,6 +144,7 @@ impl Guard {
                     near(n).then_some((n, Source::Ncc))
                 }
             }
+            (_, Some(n), Some(c)) if !disagree(n, c) => Some(self.fuse(n, c, prediction)),
             (Some(n), _, _) => Some((n, Source::Ncc)),
             (None, Some(n), Some(c)) if disagree(n, c) => {
                 let (nd, cdd) = match prediction {
@@ -156,6 +165,23 @@ impl Guard {
             self.last = [Some((t, p)), self.last[0]];
         }
         chosen
+    }
+
+    /// Inverse-variance fusion of two agreeing measurements (see the module docs).
+    fn fuse(&mut self, n: Point, c: Point, prediction: Option<Point>) -> (Point, Source) {
+        if let Some(q) = prediction {
+            for (slot, p) in self.noise.iter_mut().zip([n, c]) {
+                let e = dist(p, q) * dist(p, q);
+                *slot = Some(slot.map_or(e, |v| v + NOISE_WEIGHT * (e - v)));
+            }
+        }
+        let (wn, wc) = match self.noise {
+            [Some(a), Some(b)] if a > 0.0 && b > 0.0 => (1.0 / a, 1.0 / b),
+            _ => (1.0, 1.0),
+        };
+        let k = wc / (wn + wc);
+        let p = Point { x: n.x + k * (c.x - n.x), y: n.y + k * (c.y - n.y) };
+        (p, if wc > wn { Source::Cd } else { Source::Ncc })
     }
 
     fn learn(&mut self, d: Point) {
@@ -315,6 +341,22 @@ mod tests {
         g.decide(0.0, both(p(50.0, 50.0), 1.0, p(40.0, 50.0)));
         assert!(!g.anchored());
         assert_eq!(g.offset(), None, "one frame is not enough to learn an offset");
+    }
+
+    #[test]
+    fn agreeing_sources_are_fused_by_their_steadiness() {
+        let mut g = Guard::new(GuardParams::default());
+        g.decide(0.0, Measured { ncc: Some((p(50.0, 50.0), 0.999)), corner: None });
+        // A static target; NCC jitters by +-0.4 px, CD (offset learnt from NCC) by +-0.1 px.
+        for k in 1..=40 {
+            let s = if k % 2 == 0 { 1.0 } else { -1.0 };
+            g.decide(0.01 * k as f64, both(p(50.0 + 0.4 * s, 50.0), 0.995, p(40.0 - 0.1 * s, 50.0)));
+        }
+        // Learnt offset ~10 px. Hand calculation for the next frame: innovations about 0.4 and
+        // 0.1 px, so the weights are ~1/0.16 and ~1/0.01 and CD's share k ~ 0.94.
+        let (q, src) = g.decide(0.41, both(p(50.4, 50.0), 0.995, p(39.9, 50.0))).expect("agreeing");
+        assert_eq!(src, Source::Cd);
+        assert!((q.x - 50.0).abs() < 0.1, "fused {q:?} nearer CD's 49.9.. than NCC's 50.4");
     }
 
     #[test]
