@@ -86,6 +86,10 @@ pub struct Truth {
 /// with edges at 15 and 105 degrees, so neither edge is axis-aligned).
 const PART: [(f64, f64); 4] = [(0.0, 0.0), (42.5, 11.4), (33.0, 46.0), (-10.4, 38.6)];
 
+/// The lamp's highlight: peak gray levels and Gaussian sigma in pixels (see `Scene::lit`).
+const HIGHLIGHT: f64 = 50.0;
+const HIGHLIGHT_SIGMA: f64 = 8.0;
+
 /// Gray levels: the part and the background (the thesis's scenes averaged about 80).
 const PART_LEVEL: f64 = 150.0;
 const BACKGROUND_LEVEL: f64 = 60.0;
@@ -308,17 +312,18 @@ impl Scene {
         w * w * (3.0 - 2.0 * w)
     }
 
-    /// The lamp's light at (x, y) with weight `w`: a 10% gain and a broad highlight (Gaussian,
-    /// sigma 25 px) where the part passes mid-run, so the part is unevenly lit as it moves
-    /// through it (4.4: "the projected light intensity was no longer the same in all of the
-    /// areas of the path"). The highlight is smooth enough to add no Sobel edges over TH = 30.
+    /// The lamp's light at (x, y) with weight `w`: a 10% gain and a highlight (Gaussian, sigma
+    /// 8 px, up to 50 gray levels) where the part passes mid-run, so the highlight slides across
+    /// the part and changes its appearance, not only its gain (4.4: "the projected light
+    /// intensity was no longer the same in all of the areas of the path"). Its steepest slope,
+    /// 50 / (8 sqrt(e)) = 3.8 levels/px, gives Sobel magnitudes of about 30: no edges at TH = 50.
     fn lit(&self, v: f64, x: usize, y: usize, w: f64) -> f64 {
         if w == 0.0 {
             return v;
         }
         let mid = self.corner_at((self.cfg.frames as f64 / 2.0) / self.cfg.fps);
         let (dx, dy) = (x as f64 - mid.0 - 8.0, y as f64 - mid.1 - 8.0);
-        v * (1.0 + 0.10 * w) + w * 15.0 * (-(dx * dx + dy * dy) / (2.0 * 25.0 * 25.0)).exp()
+        v * (1.0 + 0.10 * w) + w * HIGHLIGHT * (-(dx * dx + dy * dy) / (2.0 * HIGHLIGHT_SIGMA * HIGHLIGHT_SIGMA)).exp()
     }
 
     /// Renders frame `k` as 8-bit gray, row-major, with its ground truth.
