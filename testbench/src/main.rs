@@ -1,6 +1,6 @@
 //! `coopwin`: the cooperative-windowing tracker's command line.
 use clap::{Parser, Subcommand};
-use coopwin_testbench::commands::{hardware, kernels, scene, track, CliError};
+use coopwin_testbench::commands::{hardware, kernels, output::OutFile, scene, track, CliError};
 use coopwin_testbench::cost::CostModel;
 use coopwin_testbench::real_images;
 use coopwin_hdl::camera::Jitter;
@@ -18,15 +18,15 @@ struct Cli {
 
 const EXAMPLES: &str = "Examples:
   coopwin verilog --out hdl/verilog            export window_unit.v and window_network.v
-  coopwin waves --out waves/run.vcd            simulate one acquisition, VCD + Appendix B SVGs
+  coopwin waves --out run.vcd                  simulate one acquisition, VCD + Appendix B SVGs
   coopwin waves --out w.vcd --window 10,40,20,50 --frames 2
-  coopwin scene --path triangle --speed 100 --frames 300 --lighting ramp --out scenes/tri
-  coopwin track --frames scenes/tri --strategy coop --target 56,56 --out tri.csv
+  coopwin scene --path triangle --speed 100 --frames 300 --lighting ramp --out tri
+  coopwin track --frames tri --strategy coop --target 56,56 --out tri.csv
   coopwin experiment table-4.1 --out results
-  coopwin track --frames scenes/tri --strategy coop --target 56,56 --hdl rust-hdl --vcd run.vcd
+  coopwin track --frames tri --strategy coop --target 56,56 --hdl rust-hdl --vcd run.vcd
   coopwin audit run.vcd --requests run.requests.csv
-  coopwin track --frames scenes/tri --hdl rust-hdl --vcd part.vcd --vcd-frames 100..103
-  coopwin track --frames scenes/tri --hdl rust-hdl --blank-jitter 40,6000,7 --write-phase 70177
+  coopwin track --frames tri --hdl rust-hdl --vcd part.vcd --vcd-frames 100..103
+  coopwin track --frames tri --hdl rust-hdl --blank-jitter 40,6000,7 --write-phase 70177
   coopwin match --image window.png --template tpl.png --method ncc
   coopwin corner --image window.png --threshold 50
   coopwin motion --prev a.png --next b.png --threshold 30
@@ -87,6 +87,9 @@ enum Command {
         /// Output folder
         #[arg(long)]
         out: PathBuf,
+        /// Write into a folder that is not empty (the scene's own files are replaced)
+        #[arg(long)]
+        force: bool,
     },
     /// Track a folder of PNG frames with a windowing strategy, in simulated time
     Track {
@@ -96,25 +99,28 @@ enum Command {
         /// Windowing strategy
         #[arg(long, value_enum, default_value_t = StrategyArg::Coop)]
         strategy: StrategyArg,
-        /// Template side N
-        #[arg(long, default_value_t = 20)]
+        /// Template side N (4..32)
+        #[arg(long, default_value_t = 20, value_parser = parse_in::<u16>(4, 32, "a template side"))]
         template: u16,
         /// Point to track as X,Y (pixel centres at integers); default: lock on to motion
-        #[arg(long, value_parser = parse_point)]
+        #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
         target: Option<(f64, f64)>,
         /// Processor speeds: the thesis's C40, or our kernels on this machine
         #[arg(long, value_enum, default_value_t = ProfileArg::C40)]
         profile: ProfileArg,
         /// COOP's confidence data set size n (3..8)
-        #[arg(long, default_value_t = 4)]
+        #[arg(long, default_value_t = 4, value_parser = parse_in::<usize>(3, 8, "a data set size"))]
         coop_n: usize,
         /// COOP's decision: guarded cooperation, the thesis's least-squares SSE (4.3), or a
         /// Kalman filter (5.2)
         #[arg(long, value_enum, default_value_t = PolicyArg::Guarded)]
         policy: PolicyArg,
-        /// CSV to write (frame,x,y,mode,source,measured_frame)
+        /// CSV to write (frame,x,y,mode,source,measured_frame,file); - for standard output
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Print the frames in the order they are tracked (frame,file) and stop
+        #[arg(long)]
+        list: bool,
         /// Window units: the behavioural model, the rust-hdl blocks, or the Verilog in Verilator
         #[arg(long, value_enum, default_value_t = HdlArg::Model)]
         hdl: HdlArg,
@@ -123,11 +129,11 @@ enum Command {
         #[arg(long, value_name = "FILE")]
         vcd: Option<PathBuf>,
         /// With --vcd: trace only frames FIRST up to END (END excluded), e.g. 10..12
-        #[arg(long, value_name = "FIRST..END", value_parser = parse_frames, requires = "vcd")]
+        #[arg(long, value_name = "FIRST..END", value_parser = parse_frames, requires = "vcd", allow_hyphen_values = true)]
         vcd_frames: Option<std::ops::Range<usize>>,
         /// Fault campaign: camera blanking that varies, up to LINE extra clocks before each line
         /// and FRAME after each frame, drawn from SEED (default 1)
-        #[arg(long, value_name = "LINE,FRAME[,SEED]", value_parser = parse_jitter)]
+        #[arg(long, value_name = "LINE,FRAME[,SEED]", value_parser = parse_jitter, allow_hyphen_values = true)]
         blank_jitter: Option<Jitter>,
         /// Fault campaign: hold every coordinate write until this clock of a frame (from FVAL
         /// rising), e.g. 0 (the FVAL edge) or 40000 (inside a window)
@@ -242,17 +248,50 @@ enum ProfileArg {
 
 fn parse_frames(s: &str) -> Result<std::ops::Range<usize>, String> {
     let (a, b) = s.split_once("..").ok_or("expected FIRST..END, e.g. 10..12")?;
-    let n = |v: &str| v.trim().parse::<usize>().map_err(|_| format!("'{v}' is not a frame number"));
-    Ok(n(a)?..n(b)?)
+    let n = |v: &str| whole::<usize>(v, "a frame number");
+    let r = n(a)?..n(b)?;
+    if r.start > r.end {
+        return Err(format!("the range is reversed (FIRST {} is after END {}); write {}..{}", r.start, r.end, r.end, r.start));
+    }
+    if r.start == r.end {
+        return Err(format!("the range is empty (END is excluded); for frame {0} alone write {0}..{1}", r.start, r.end + 1));
+    }
+    Ok(r)
+}
+
+/// A whole number, with a reason when it is negative or not a number (`what` names it).
+fn whole<T: std::str::FromStr>(v: &str, what: &str) -> Result<T, String> {
+    let v = v.trim();
+    v.parse::<T>().map_err(|_| match v.parse::<f64>() {
+        Ok(x) if x < 0.0 => format!("'{v}' is negative ({what})"),
+        Ok(x) if x.is_finite() => format!("'{v}' is not a whole number ({what})"),
+        Ok(_) => format!("'{v}' is not a number"),
+        Err(_) if v.parse::<i128>().is_ok() => format!("'{v}' is too large for {what}"),
+        Err(_) => format!("'{v}' is not a number"),
+    })
+}
+
+/// A whole number in LO..=HI (`what` names it).
+fn parse_in<T>(lo: T, hi: T, what: &'static str) -> impl Fn(&str) -> Result<T, String> + Clone + Send + Sync + 'static
+where
+    T: std::str::FromStr + PartialOrd + std::fmt::Display + Copy + Send + Sync + 'static,
+{
+    move |s: &str| {
+        let v = whole::<T>(s, what).map_err(|e| format!("{e}; expected {lo}..{hi}"))?;
+        if v < lo || v > hi {
+            return Err(format!("{v} is out of range; expected {lo}..{hi}"));
+        }
+        Ok(v)
+    }
 }
 
 fn parse_jitter(s: &str) -> Result<Jitter, String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-    let n = |v: &str| v.parse::<u32>().map_err(|_| format!("'{v}' is not a whole number of clocks"));
+    let n = |v: &str| whole::<u32>(v, "a number of clocks");
     let j = match parts[..] {
         [line, frame] => Jitter { seed: 1, line_max: n(line)?, frame_max: n(frame)? },
         [line, frame, seed] => Jitter {
-            seed: seed.parse().map_err(|_| format!("seed '{seed}' is not a whole number"))?,
+            seed: whole(seed, "a seed")?,
             line_max: n(line)?,
             frame_max: n(frame)?,
         },
@@ -266,8 +305,20 @@ fn parse_jitter(s: &str) -> Result<Jitter, String> {
 }
 
 fn parse_point(s: &str) -> Result<(f64, f64), String> {
-    let (x, y) = s.split_once(',').ok_or("expected X,Y")?;
-    let p = |v: &str| v.trim().parse::<f64>().map_err(|_| format!("'{v}' is not a number"));
+    let (x, y) = s.split_once(',').ok_or("expected X,Y, e.g. 56.3,60")?;
+    let p = |v: &str| {
+        let v = v.trim();
+        match v.parse::<f64>() {
+            Ok(x) if !x.is_finite() => Err(format!("'{v}' is not a number")),
+            Ok(x) if x < 0.0 => Err(format!("'{v}' is negative; pixel centres start at 0 (the top-left pixel)")),
+            // Frames are at most 1024 pixels a side (see `coopwin track --help`).
+            Ok(x) if x > (track::SIDES.end() - 1) as f64 => {
+                Err(format!("'{v}' is beyond the largest frame (coordinates run 0..{})", track::SIDES.end() - 1))
+            }
+            Ok(x) => Ok(x),
+            Err(_) => Err(format!("'{v}' is not a number")),
+        }
+    };
     Ok((p(x)?, p(y)?))
 }
 
@@ -301,10 +352,10 @@ fn run(cli: Cli) -> Result<(), CliError> {
         Some(Command::Audit { vcd, requests, unit }) => {
             use coopwin_testbench::audit;
             let f = std::fs::File::open(&vcd).map_err(|e| coopwin_testbench::commands::io_error("open", &vcd, e))?;
-            let samples = audit::read_vcd(std::io::BufReader::new(f), unit).map_err(|e| CliError(format!("{}: {e}", vcd.display())))?;
+            let samples = audit::read_vcd(std::io::BufReader::new(f), unit).map_err(|e| CliError::new(format!("{}: {e}", vcd.display())))?;
             let text = std::fs::read_to_string(&requests)
                 .map_err(|e| coopwin_testbench::commands::io_error("read", &requests, e))?;
-            let sets = audit::read_requests(&text, unit).map_err(|e| CliError(format!("{}: {e}", requests.display())))?;
+            let sets = audit::read_requests(&text, unit).map_err(|e| CliError::new(format!("{}: {e}", requests.display())))?;
             let a = audit::audit(&samples, &sets);
             println!(
                 "{} clocks, {} frames, {} sets taken, {} windows verified, {} violations",
@@ -317,10 +368,15 @@ fn run(cli: Cli) -> Result<(), CliError> {
             for v in &a.violations {
                 println!("  {v}");
             }
-            if a.violations.is_empty() {
+            if a.windows == 0 {
+                Err(CliError::new(format!(
+                    "nothing verified: unit {unit} delivered no window in this trace ({} sets taken); audit a busy unit with --unit, or trace frames where unit {unit} works",
+                    a.sets
+                )))
+            } else if a.violations.is_empty() {
                 Ok(())
             } else {
-                Err(CliError(format!("the waveform breaks {} rule(s)", a.violations.len())))
+                Err(CliError::new(format!("the waveform breaks {} rule(s)", a.violations.len())))
             }
         }
         Some(Command::Corner { image, threshold }) => {
@@ -342,17 +398,17 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 ProfileArg::Native => CostModel::NATIVE,
             };
             if let Some(root) = &sequences {
-                real_images::write_sequences(root, &mut |s| eprintln!("  sequence {s}")).map_err(CliError)?;
+                real_images::write_sequences(root, &mut |s| eprintln!("  sequence {s}")).map_err(CliError::new)?;
             }
             let real = name == "real-images" || name == "all";
-            if name == "real-images" {
-                std::fs::create_dir_all(&out).map_err(|e| coopwin_testbench::commands::io_error("create", &out, e))?;
-            } else if name != "all" && !coopwin_testbench::experiments::NAMES.contains(&name.as_str()) {
-                return Err(CliError(format!(
-                    "unknown experiment '{name}'; expected one of {} or all",
+            if !real && !coopwin_testbench::experiments::NAMES.contains(&name.as_str()) {
+                return Err(CliError::arg(format!(
+                    "unknown experiment '{name}'; expected one of {}, real-images or all",
                     coopwin_testbench::experiments::NAMES.join(", ")
                 )));
             }
+            coopwin_testbench::commands::output::create_folder(&out, "--out")?;
+            let results = OutFile::check(&out.join("results.md"), "--out")?;
             let names: Vec<&str> = match name.as_str() {
                 "all" => coopwin_testbench::experiments::NAMES.to_vec(),
                 "real-images" => Vec::new(),
@@ -362,19 +418,18 @@ fn run(cli: Cli) -> Result<(), CliError> {
             for n in names {
                 eprintln!("experiment {n}");
                 let o = coopwin_testbench::experiments::run(n, &out, cost, hdl, &mut |s| eprintln!("  {s}"))
-                    .map_err(CliError)?;
+                    .map_err(CliError::new)?;
                 println!("{}", o.markdown);
                 all.push_str(&o.markdown);
             }
             if real {
                 eprintln!("experiment real-images");
-                let md = real_images::run(&out, &mut |s| eprintln!("  {s}")).map_err(CliError)?;
+                let md = real_images::run(&out, &mut |s| eprintln!("  {s}")).map_err(CliError::new)?;
                 println!("{md}");
                 all.push_str(&md);
             }
-            let p = out.join("results.md");
-            std::fs::write(&p, all).map_err(|e| coopwin_testbench::commands::io_error("write", &p, e))?;
-            println!("wrote {}", p.display());
+            results.write(all.as_bytes())?;
+            println!("wrote {}", results.path.display());
             Ok(())
         }
         Some(Command::Verilog { out, units }) => {
@@ -395,7 +450,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
             }
             Ok(())
         }
-        Some(Command::Scene { path, speed, frames, lighting, clutter, occlusion, noise, seed, photo, out }) => {
+        Some(Command::Scene { path, speed, frames, lighting, clutter, occlusion, noise, seed, photo, out, force }) => {
             let cfg = SceneConfig {
                 path: match path {
                     PathArg::Pendulum => PathKind::Pendulum,
@@ -412,7 +467,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 photo,
                 ..SceneConfig::default()
             };
-            let n = scene::write_scene(cfg, &out)?;
+            let n = scene::write_scene(cfg, &out, force)?;
             println!("wrote {n} frames and groundtruth.csv to {}", out.display());
             Ok(())
         }
@@ -425,17 +480,33 @@ fn run(cli: Cli) -> Result<(), CliError> {
             coop_n,
             policy,
             out,
+            list,
             hdl,
             vcd,
             vcd_frames,
             blank_jitter,
             write_phase,
         }) => {
-            if !(3..=8).contains(&coop_n) {
-                return Err(CliError(format!("--coop-n must be 3..8, got {coop_n}")));
+            if list {
+                print!("{}", track::FolderFrames::open(&frames)?.listing());
+                return Ok(());
             }
-            if !(4..=32).contains(&template) {
-                return Err(CliError(format!("--template must be 4..32, got {template}")));
+            // Outputs are checked before the run, so a bad path costs no tracking time.
+            let out = out.map(|p| OutFile::check(&p, "--out")).transpose()?;
+            let vcd = match &vcd {
+                Some(v) if v.as_os_str() == "-" => {
+                    return Err(CliError::arg("--vcd -: the VCD needs a file name (its requests CSV is written beside it)"));
+                }
+                Some(v) => Some((OutFile::check(v, "--vcd")?, OutFile::check(&v.with_extension("requests.csv"), "--vcd")?)),
+                None => None,
+            };
+            if matches!(hdl, HdlArg::Model) && vcd.is_some() {
+                return Err(CliError::arg("--vcd traces the window units' signals: add --hdl rust-hdl"));
+            }
+            // With the CSV on standard output, the report goes to standard error.
+            let to_stdout = out.as_ref().is_some_and(OutFile::is_stdout);
+            macro_rules! say {
+                ($($t:tt)*) => { if to_stdout { eprintln!($($t)*) } else { println!($($t)*) } };
             }
             let cfg = SystemConfig {
                 strategy: match strategy {
@@ -473,27 +544,28 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 write_phase,
             };
             let started = std::time::Instant::now();
-            let (log, summary) = track::track(&frames, &cfg, vcd.as_deref().map(|v| (v, vcd_frames)))?;
+            let (log, summary, names) = track::track(&frames, &cfg, vcd.as_ref().map(|(v, _)| (v, vcd_frames)))?;
             let secs = started.elapsed().as_secs_f64();
-            if let Some(path) = &out {
-                track::write_atomic(path, &track::csv(&log.frames))?;
-                println!("wrote {}", path.display());
+            if let Some(o) = &out {
+                o.write(track::csv(&log.frames, Some(&names)).as_bytes())?;
+                if !to_stdout {
+                    say!("wrote {}", o.path.display());
+                }
             }
-            if let Some(v) = &vcd {
-                let req = v.with_extension("requests.csv");
-                track::write_atomic(&req, &track::requests_csv(&log))?;
-                println!("wrote {} and {} (every unit; check one with `coopwin audit --unit K`)", v.display(), req.display());
+            if let Some((v, req)) = &vcd {
+                req.write(track::requests_csv(&log).as_bytes())?;
+                say!("wrote {} and {} (every unit; check one with `coopwin audit --unit K`)", v.path.display(), req.path.display());
             }
             let tracked = log.frames.iter().filter(|r| r.point.is_some()).count();
             if log.hdl_clocks > 0 {
-                println!(
+                say!(
                     "window units: {} pixel clocks, {:.2} M clocks/s over the run, about {:.0}% of the time in the HDL simulator",
                     log.hdl_clocks,
                     log.hdl_clocks as f64 / secs.max(1e-9) / 1e6,
                     (100.0 * log.hdl_seconds / secs.max(1e-9)).min(100.0)
                 );
             }
-            println!(
+            say!(
                 "{} frames, {} tracked, {} position reports, {:.0} frames/s simulated",
                 log.frames.len(),
                 tracked,
@@ -501,30 +573,67 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 log.frames.len() as f64 / secs.max(1e-9)
             );
             if !(log.losses.is_empty() && log.watchdog.is_empty() && log.refused.is_empty()) {
-                println!(
+                say!(
                     "log: {} losses of track, {} sets written again by the watchdog, {} requests refused",
                     log.losses.len(),
                     log.watchdog.len(),
                     log.refused.len()
                 );
                 for (_, clock, why) in log.refused.iter().take(3) {
-                    println!("  refused on clock {clock}: {why}");
+                    say!("  refused on clock {clock}: {why}");
                 }
             }
             if let Some(s) = summary {
-                println!("{}", coopwin_testbench::report::summary_table(&[(cfg.strategy.name(), s)]));
+                say!("{}", coopwin_testbench::report::verdict(&s));
+                say!("{}", coopwin_testbench::report::summary_table(&[(cfg.strategy.name(), s)]));
             }
             Ok(())
         }
     }
 }
 
+/// The command line, with negative numbers taken as values (so `--threshold -5` is refused
+/// for being negative, not read as an unknown option).
+fn command() -> clap::Command {
+    use clap::CommandFactory;
+    let mut cmd = Cli::command();
+    let names: Vec<String> = cmd.get_subcommands().map(|s| s.get_name().to_string()).collect();
+    for n in names {
+        cmd = cmd.mut_subcommand(n, |s| s.allow_negative_numbers(true));
+    }
+    cmd
+}
+
+/// A clap error as one line: its first paragraph, with a pointer to --help.
+fn one_line(e: &clap::Error) -> String {
+    let text = e.render().to_string();
+    let first = text.split("\n\n").next().unwrap_or("").lines().map(str::trim).collect::<Vec<_>>().join(" ");
+    let first = first.strip_prefix("error: ").unwrap_or(&first);
+    // A negative value for an unsigned option: say so rather than "invalid digit".
+    let negative = e.get(clap::error::ContextKind::InvalidValue).is_some_and(|v| v.to_string().starts_with('-'));
+    let first = match first.strip_suffix("invalid digit found in string") {
+        Some(head) if negative => format!("{head}a negative number is not allowed here"),
+        _ => first.to_string(),
+    };
+    format!("{first} (see --help)")
+}
+
 fn main() -> ExitCode {
-    match run(Cli::parse()) {
+    use clap::FromArgMatches;
+    let cli = match command().try_get_matches().and_then(|m| Cli::from_arg_matches(&m)) {
+        Ok(cli) => cli,
+        Err(e) if matches!(e.kind(), clap::error::ErrorKind::DisplayHelp | clap::error::ErrorKind::DisplayVersion) => e.exit(),
+        Err(e) if e.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => e.exit(),
+        Err(e) => {
+            eprintln!("error: {}", one_line(&e));
+            return ExitCode::from(2);
+        }
+    };
+    match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");
-            ExitCode::FAILURE
+            ExitCode::from(e.exit_code())
         }
     }
 }

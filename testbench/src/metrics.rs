@@ -43,7 +43,7 @@ pub fn read_truth(path: &std::path::Path) -> Result<Vec<Truth>, CliError> {
         let num = |k: usize| -> Result<f64, CliError> {
             f.get(k)
                 .and_then(|s| s.trim().parse::<f64>().ok())
-                .ok_or_else(|| CliError(format!("{}: line {}: bad field {}", path.display(), i + 1, k + 1)))
+                .ok_or_else(|| CliError::new(format!("{}: line {}: bad field {}", path.display(), i + 1, k + 1)))
         };
         out.push(Truth {
             frame: num(0)? as usize,

@@ -193,7 +193,7 @@ pub fn opencv_score(c: &Condition, truth: &[Truth], tracker: &str) -> Result<Opt
 pub fn write_sequences(root: &Path, progress: &mut dyn FnMut(&str)) -> Result<(), String> {
     for c in conditions() {
         progress(&c.name);
-        crate::commands::scene::write_scene(c.scene.clone(), &root.join(&c.name)).map_err(|e| e.0)?;
+        crate::commands::scene::write_scene(c.scene.clone(), &root.join(&c.name), false).map_err(|e| e.message)?;
     }
     Ok(())
 }

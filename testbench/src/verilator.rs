@@ -40,7 +40,16 @@ fn run(cmd: &mut Command, what: &str) -> Result<(), String> {
 }
 
 /// Builds (or reuses) the shared library for the current Verilog, in the system temp folder.
+///
+/// The library lives at `coopwin-verilator-<key>/libwindow_network.so`, where the key is a hash
+/// of the Verilog, the harness and the flags. Each build runs in a folder of its own under the
+/// key's folder (named by process id and a counter), and the finished library is linked into
+/// place without replacing one that is already there; so concurrent threads and processes
+/// never see a half-built library, and the first one installed is the one every run loads.
 pub fn build() -> Result<PathBuf, String> {
+    // One build at a time within a process; other processes are kept apart by the private folders.
+    static BUILDING: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let _guard = BUILDING.lock().unwrap_or_else(|e| e.into_inner());
     let files = coopwin_hdl::verilog::exported(UNITS)?;
     let key = crate::system::fingerprint(format!("{}{}{HARNESS}{VERILATOR_FLAGS:?}", files[0].1, files[1].1).as_bytes());
     let dir = std::env::temp_dir().join(format!("coopwin-verilator-{key:016x}"));
@@ -49,22 +58,48 @@ pub fn build() -> Result<PathBuf, String> {
         return Ok(lib);
     }
     std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    for (name, text) in &files {
-        std::fs::write(dir.join(name), text).map_err(|e| format!("cannot write {name}: {e}"))?;
+    let work = private_folder(&dir)?;
+    let built = compile(&work, &files);
+    let installed = built.and_then(|so| install(&so, &lib));
+    // Only this build's own folder is removed; a failed build's output is not needed either.
+    let _ = std::fs::remove_dir_all(&work);
+    installed.map(|()| lib)
+}
+
+/// A new folder under `dir` that no other build uses: `build-<pid>-<n>`, created with
+/// `create_dir` (which fails when the name exists), so a name left by an earlier process is
+/// skipped, never reused or deleted.
+fn private_folder(dir: &Path) -> Result<PathBuf, String> {
+    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    loop {
+        let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let work = dir.join(format!("build-{}-{n}", std::process::id()));
+        match std::fs::create_dir(&work) {
+            Ok(()) => return Ok(work),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists && n < 1000 => continue,
+            Err(e) => return Err(format!("cannot create {}: {e}", work.display())),
+        }
     }
-    std::fs::write(dir.join("harness.cpp"), HARNESS).map_err(|e| format!("cannot write harness.cpp: {e}"))?;
+}
+
+/// Verilates and links the model in `work`; returns the library's path there.
+fn compile(work: &Path, files: &[(&'static str, String)]) -> Result<PathBuf, String> {
+    for (name, text) in files {
+        std::fs::write(work.join(name), text).map_err(|e| format!("cannot write {name}: {e}"))?;
+    }
+    std::fs::write(work.join("harness.cpp"), HARNESS).map_err(|e| format!("cannot write harness.cpp: {e}"))?;
     run(
         Command::new("verilator")
-            .current_dir(&dir)
+            .current_dir(work)
             .args(VERILATOR_FLAGS)
             .args(["window_network", "window_unit.v", "window_network.v", "-Mdir", "obj"]),
         "verilator",
     )?;
     let include = verilator_include()?;
-    let partial = dir.join("libwindow_network.so.partial");
+    let so = work.join("libwindow_network.so");
     run(
         Command::new("g++")
-            .current_dir(&dir)
+            .current_dir(work)
             .args(["-shared", "-fPIC", "-O3", "-std=c++17", "-Iobj"])
             .arg(format!("-I{}", include.display()))
             .arg(format!("-I{}", include.join("vltstd").display()))
@@ -72,11 +107,22 @@ pub fn build() -> Result<PathBuf, String> {
             .arg(include.join("verilated.cpp"))
             .arg(include.join("verilated_threads.cpp"))
             .args(["-pthread", "-o"])
-            .arg(&partial),
+            .arg(&so),
         "g++ (linking the Verilator model)",
     )?;
-    std::fs::rename(&partial, &lib).map_err(|e| format!("cannot move {}: {e}", partial.display()))?;
-    Ok(lib)
+    Ok(so)
+}
+
+/// Puts the finished library at `lib` in one step. A hard link never replaces an existing
+/// file: when another build got there first, its library (built from the same key) stays.
+fn install(so: &Path, lib: &Path) -> Result<(), String> {
+    match std::fs::hard_link(so, lib) {
+        Ok(()) => Ok(()),
+        Err(_) if lib.exists() => Ok(()),
+        // A file system without hard links: a rename is atomic too (it may replace an
+        // identical library another build installed meanwhile; loaded copies stay valid).
+        Err(_) => std::fs::rename(so, lib).map_err(|e| format!("cannot move {} to {}: {e}", so.display(), lib.display())),
+    }
 }
 
 fn verilator_include() -> Result<PathBuf, String> {

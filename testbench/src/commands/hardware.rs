@@ -1,6 +1,6 @@
 //! `coopwin verilog` and `coopwin waves`: the window logic's Verilog export and its simulated
 //! Appendix B waveforms.
-use super::{io_error, CliError};
+use super::{output::OutFile, CliError};
 use crate::timing_svg;
 use coopwin_hdl::appendix_b::{simulate_acquisition, Sequence};
 use coopwin_hdl::camera::{RasterTiming, Window};
@@ -10,14 +10,14 @@ use std::sync::Arc;
 /// Writes `window_unit.v` and `window_network.v` (with `units` units) into `out`.
 pub fn verilog(out: &Path, units: usize) -> Result<Vec<PathBuf>, CliError> {
     if units == 0 || units > 64 {
-        return Err(CliError(format!("--units must be 1..64, got {units}")));
+        return Err(CliError::arg(format!("--units must be 1..64, got {units}")));
     }
-    std::fs::create_dir_all(out).map_err(|e| io_error("create", out, e))?;
-    let files = coopwin_hdl::verilog::exported(units).map_err(CliError)?;
+    super::output::create_folder(out, "--out")?;
+    let files = coopwin_hdl::verilog::exported(units).map_err(CliError::new)?;
     let mut written = Vec::new();
     for (name, text) in files {
         let path = out.join(name);
-        std::fs::write(&path, text).map_err(|e| io_error("write", &path, e))?;
+        OutFile::check(&path, "--out")?.write(text.as_bytes())?;
         written.push(path);
     }
     Ok(written)
@@ -65,12 +65,17 @@ fn test_card() -> Vec<u8> {
 /// timing diagram per Appendix B sequence beside it. Returns the SVG paths.
 pub fn waves(vcd: &Path, window: Window, frames: usize) -> Result<Vec<PathBuf>, CliError> {
     if frames == 0 || frames > 100 {
-        return Err(CliError(format!("--frames must be 1..100, got {frames}")));
+        return Err(CliError::arg(format!("--frames must be 1..100, got {frames}")));
     }
-    if let Some(dir) = vcd.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|e| io_error("create", dir, e))?;
+    if vcd.as_os_str() == "-" {
+        return Err(CliError::arg("--out -: the VCD needs a file name (the SVGs are written beside it)"));
     }
-    let file = std::fs::File::create(vcd).map_err(|e| io_error("create", vcd, e))?;
+    let out = OutFile::check(vcd, "--out")?;
+    let stem = vcd.with_extension("");
+    let svgs: Vec<OutFile> = (1..=Sequence::ALL.len())
+        .map(|k| OutFile::check(&PathBuf::from(format!("{}-b1_{k}.svg", stem.display())), "--out"))
+        .collect::<Result<_, _>>()?;
+    let stream = out.stream()?.shared();
     eprintln!("simulating {frames} frame(s) of window {window:?} in rust-hdl ...");
     let rec = simulate_acquisition(
         RasterTiming::CA_D1,
@@ -78,22 +83,20 @@ pub fn waves(vcd: &Path, window: Window, frames: usize) -> Result<Vec<PathBuf>, 
         false,
         frames,
         Arc::new(test_card()),
-        Some(Box::new(std::io::BufWriter::new(file))),
+        Some(Box::new(stream.clone())),
     )
-    .map_err(|e| CliError(e.to_string()))?;
-    let stem = vcd.with_extension("");
+    .map_err(|e| CliError::new(e.to_string()))?;
+    stream.finish()?;
     let mut written = Vec::new();
     for (k, seq) in Sequence::ALL.iter().enumerate() {
         let span = seq.span(&rec).ok_or_else(|| {
-            CliError(format!(
+            CliError::new(format!(
                 "the simulated run lacks the {} sequence",
                 seq.title()
             ))
         })?;
-        let path = PathBuf::from(format!("{}-b1_{}.svg", stem.display(), k + 1));
-        std::fs::write(&path, timing_svg::diagram(*seq, &rec, span))
-            .map_err(|e| io_error("write", &path, e))?;
-        written.push(path);
+        svgs[k].write(timing_svg::diagram(*seq, &rec, span).as_bytes())?;
+        written.push(svgs[k].path.clone());
     }
     Ok(written)
 }

@@ -1,6 +1,6 @@
 //! The main job (`coopwin` with no arguments): COOP on the built-in default scene, the
 //! thesis's cooperative-windowing experiment (4.4), next to NCC and CD alone.
-use super::CliError;
+use super::{output::OutFile, CliError};
 use crate::cost::CostModel;
 use crate::experiments::{run_scene, system, triangle};
 use crate::plot::{self, Chart, Series};
@@ -23,17 +23,21 @@ pub fn run(out: &Path) -> Result<(), CliError> {
         "coopwin: COOP on the built-in scene ({} frames, triangle path at {} px/s, lamp ramp), c40 timing",
         scene.frames, scene.speed
     );
-    std::fs::create_dir_all(out).map_err(|e| super::io_error("create", out, e))?;
+    super::output::create_folder(out, "the report folder")?;
+    let (coop_csv, summary_md) = (OutFile::check(&out.join("coop.csv"), "the report")?, OutFile::check(&out.join("summary.md"), "the report")?);
     let mut rows = Vec::new();
     let mut logs = Vec::new();
     for (label, strategy) in [("COOP", Strategy::Coop), ("NCC (TPDF)", Strategy::Tpdf), ("CD (TPDF)", Strategy::TpdfCd)] {
         let started = std::time::Instant::now();
-        let (log, m) = run_scene(&system(strategy, CostModel::C40, Some(target)), scene.clone()).map_err(CliError)?;
+        let (log, m) = run_scene(&system(strategy, CostModel::C40, Some(target)), scene.clone()).map_err(CliError::new)?;
         let fps = log.frames.len() as f64 / started.elapsed().as_secs_f64().max(1e-9);
         rows.push((label, m, fps));
         logs.push((label, log));
     }
     let table = summary_table(&rows.iter().map(|(l, m, _)| (*l, *m)).collect::<Vec<_>>());
+    for (label, m, _) in &rows {
+        println!("{label}: {}", crate::report::verdict(m));
+    }
     println!("{table}");
     for (label, _, fps) in &rows {
         println!("{label}: {fps:.0} frames/s of simulation");
@@ -57,9 +61,9 @@ pub fn run(out: &Path) -> Result<(), CliError> {
         series: logs.iter().map(|(l, log)| err_series(l, log)).collect(),
         y_range: None,
     };
-    plot::write(&chart, out, "error").map_err(CliError)?;
-    super::track::write_atomic(&out.join("coop.csv"), &super::track::csv(&logs[0].1.frames))?;
-    std::fs::write(out.join("summary.md"), &table).map_err(|e| super::io_error("write", &out.join("summary.md"), e))?;
+    plot::write(&chart, out, "error").map_err(CliError::new)?;
+    coop_csv.write(super::track::csv(&logs[0].1.frames, None).as_bytes())?;
+    summary_md.write(table.as_bytes())?;
     println!("wrote {0}/coop.csv, {0}/summary.md, {0}/error.svg, {0}/error.png", out.display());
     Ok(())
 }
