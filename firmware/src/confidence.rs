@@ -164,6 +164,11 @@ impl SseCoop {
         Ok(Self { ncc: LsqTrack::new(n)?, cd: LsqTrack::new(n)? })
     }
 
+    /// COOP with the thesis's data set size, 4 (4.4).
+    pub fn thesis() -> Self {
+        Self { ncc: LsqTrack { n: 4, samples: Deque::new() }, cd: LsqTrack { n: 4, samples: Deque::new() } }
+    }
+
     /// The current fit of one source.
     pub fn fit(&self, src: Source) -> Option<LineFit> {
         match src {

@@ -14,8 +14,9 @@
 //!    mostly background and can stick to it as the object moves off.
 //! 2. **Offset learning.** Otherwise, while NCC is trusted (score `>= trust`), the difference
 //!    `d = p_ncc - p_cd` is the tracked point's offset from the detected corner. CD is
-//!    enabled once `learn` consecutive frames give offsets within `gate` px of their running
-//!    mean, which then becomes the offset `o`; afterwards each agreeing frame refines it
+//!    enabled once `learn` consecutive frames give offsets within `learn_spread` px of their
+//!    running mean (a texture detail that the detector takes for a corner now and then does
+//!    not qualify), which then becomes the offset `o`; afterwards each agreeing frame refines it
 //!    (`o += (d - o) / 8`). A CD candidate is `p_cd + o`.
 //! 3. **Agreement.** NCC and the CD candidate agree when `|p_ncc - (p_cd + o)| <= gate`;
 //!    then both measure the tracked point and are fused, each weighted by the inverse of its
@@ -24,16 +25,22 @@
 //!    track off the other. The source reported is the one with the larger weight. A learnt (not anchored) offset that
 //!    disagrees `unlearn` times running while NCC is trusted means CD has locked onto
 //!    another corner or slides along an edge: the offset is dropped and learnt again.
-//! 4. **Choice on disagreement.** An anchored CD wins while it stays within `jump` px of the
-//!    prediction. Otherwise trusted NCC wins. An untrusted NCC (appearance changed: a lamp, an
-//!    occluder) and a disagreeing CD candidate are judged by the constant-velocity
-//!    prediction from the last two positions followed: the one nearer to it wins, and only
-//!    within `jump` px of it. With NCC below its acceptance score, the CD candidate carries
+//! 4. **Choice on disagreement.** An anchored CD that has disagreed with NCC `persist` frames
+//!    running (NCC sliding off the object, stuck on the background) wins while it stays
+//!    within `jump` px of the prediction; a single disagreement is more likely a detector
+//!    outlier, and NCC keeps the track. Otherwise trusted NCC wins. An untrusted NCC (appearance changed: a lamp, an
+//!    occluder) and a disagreeing CD candidate are judged by the prediction (the
+//!    least-squares line through the last [`HISTORY`] positions followed, per axis): the one
+//!    nearer to it wins, and only within `jump` px of it. With NCC below its acceptance score, the CD candidate carries
 //!    the track alone while it stays within `jump` px of the prediction.
+//! 5. **Coasting.** When neither source measures the point (an occluder passes over it), the
+//!    track coasts for up to `coast` windows: the next window is placed at the prediction and
+//!    nothing is reported; an NCC match within `reacquire` px of the prediction (a corner
+//!    alone: within `jump` px) resumes the track. After `coast` windows the target is lost.
 //!
 //! Everything is `f32`/`f64` arithmetic on a few values: no allocation, no panic.
 
-use crate::confidence::Source;
+use crate::confidence::{ConfidencePolicy, SseCoop, Source};
 use crate::types::Point;
 
 /// Thresholds of the guard.
@@ -45,21 +52,32 @@ pub struct GuardParams {
     pub gate: f32,
     /// Consecutive consistent offsets needed before CD is used.
     pub learn: u8,
+    /// Largest distance in pixels of a learnt offset from the running mean of the others.
+    pub learn_spread: f32,
     /// Consecutive disagreements under trusted NCC after which the offset is dropped.
     pub unlearn: u8,
     /// Largest distance in pixels from the prediction a candidate may be followed at.
     pub jump: f32,
     /// Largest distance in pixels from the start point to a corner that anchors CD.
     pub anchor: f32,
+    /// Consecutive disagreements after which an anchored CD outvotes NCC.
+    pub persist: u8,
+    /// Windows a track may coast through without a measurement before it is lost.
+    pub coast: u8,
+    /// Largest distance in pixels from the prediction at which a coasting track resumes.
+    pub reacquire: f32,
 }
 
 impl Default for GuardParams {
     fn default() -> Self {
         // trust: NCC of a 20x20 textured template under sensor noise stays above 0.99 while
         // the appearance holds; a lamp's highlight or a partial occluder takes it under.
-        GuardParams { trust: 0.99, gate: 1.5, learn: 3, unlearn: 3, jump: 4.0, anchor: 3.0 }
+        GuardParams { trust: 0.99, gate: 1.5, learn: 8, learn_spread: 0.5, unlearn: 3, jump: 4.0, anchor: 3.0, persist: 3, coast: 40, reacquire: 8.0 }
     }
 }
+
+/// Positions in the prediction's least-squares fit.
+pub const HISTORY: usize = 8;
 
 /// Weight of the newest squared innovation in each source's running mean.
 const NOISE_WEIGHT: f32 = 0.1;
@@ -74,7 +92,7 @@ pub struct Measured {
 }
 
 /// The guard's state (see the module documentation).
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct Guard {
     params: GuardParams,
     offset: Option<Point>,
@@ -85,16 +103,35 @@ pub struct Guard {
     learning: Point,
     learnt: u8,
     disagreements: u8,
-    /// The last two positions followed, with their times, for the prediction.
-    last: [Option<(f64, Point)>; 2],
-    /// Mean squared innovation of NCC and of the CD candidate, while they agree.
-    noise: [Option<f32>; 2],
+    /// The last positions followed, with their times, newest first, for the prediction.
+    history: [Option<(f64, Point)>; HISTORY],
+    /// Windows coasted through since the last measurement.
+    coasted: u8,
+    /// Each source's last positions while they agree, for the thesis's SSE (4.3).
+    lines: SseCoop,
+    /// Running mean of each source's SSE (NCC, CD).
+    jitter: [Option<f32>; 2],
+    /// Consecutive frames in which both measured and disagreed.
+    parted: u8,
 }
 
 impl Guard {
     /// A guard with `params`.
     pub fn new(params: GuardParams) -> Self {
-        Guard { params, ..Guard::default() }
+        Guard {
+            params,
+            offset: None,
+            anchored: false,
+            start: None,
+            learning: Point::default(),
+            learnt: 0,
+            disagreements: 0,
+            history: [None; HISTORY],
+            coasted: 0,
+            lines: SseCoop::thesis(),
+            jitter: [None; 2],
+            parted: 0,
+        }
     }
 
     /// The learnt offset of the tracked point from the corner, once CD is enabled.
@@ -107,14 +144,14 @@ impl Guard {
         self.anchored
     }
 
-    /// A track starts at `p`: the motion is forgotten. The first track may anchor CD; later
-    /// ones start from an approximate point and keep the offset (the template, and so the
-    /// tracked point's place on the object, has not changed).
-    pub fn begin(&mut self, p: Point) {
-        self.last = [None, None];
-        if self.offset.is_none() {
-            self.start = Some(p);
-        }
+    /// A track starts at `p`: the motion is forgotten. A track started at the tracked point
+    /// itself (`exact`) may anchor CD; one started from an approximate location keeps the
+    /// offset (the template, and so the tracked point's place on the object, has not changed).
+    pub fn begin(&mut self, p: Point, exact: bool) {
+        self.history = [None; HISTORY];
+        self.coasted = 0;
+        self.parted = 0;
+        self.start = (exact && self.offset.is_none()).then_some(p);
     }
 
     /// The position to follow for the window measured at time `t`, and its source.
@@ -135,16 +172,24 @@ impl Guard {
         };
         let prediction = self.predict(t);
         let near = |p: Point| prediction.is_none_or(|q| dist(p, q) <= self.params.jump);
+        // Only a template match is evidence enough to resume a coasting track further off.
+        let reach = if self.coasted > 0 { self.params.reacquire } else { self.params.jump };
+        let ncc_near = |p: Point| prediction.is_none_or(|q| dist(p, q) <= reach);
         let disagree = |n: Point, c: Point| dist(n, c) > self.params.gate;
+        self.parted = match (m.ncc, cd) {
+            (Some((n, _)), Some(c)) if disagree(n, c) => self.parted.saturating_add(1),
+            _ => 0,
+        };
+        let persistent = self.anchored && self.parted >= self.params.persist;
         let chosen = match (trusted, m.ncc.map(|(p, _)| p), cd) {
-            (_, Some(n), Some(c)) if self.anchored && disagree(n, c) => {
+            (_, Some(n), Some(c)) if persistent => {
                 if near(c) {
                     Some((c, Source::Cd))
                 } else {
                     near(n).then_some((n, Source::Ncc))
                 }
             }
-            (_, Some(n), Some(c)) if !disagree(n, c) => Some(self.fuse(n, c, prediction)),
+            (_, Some(n), Some(c)) if !disagree(n, c) => Some(self.fuse(t, n, c)),
             (Some(n), _, _) => Some((n, Source::Ncc)),
             (None, Some(n), Some(c)) if disagree(n, c) => {
                 let (nd, cdd) = match prediction {
@@ -154,29 +199,45 @@ impl Guard {
                 if cdd < nd && near(c) {
                     Some((c, Source::Cd))
                 } else {
-                    near(n).then_some((n, Source::Ncc))
+                    ncc_near(n).then_some((n, Source::Ncc))
                 }
             }
-            (None, Some(n), _) => Some((n, Source::Ncc)),
+            (None, Some(n), _) => ncc_near(n).then_some((n, Source::Ncc)),
             (None, None, Some(c)) => near(c).then_some((c, Source::Cd)),
             (None, None, None) => None,
         };
         if let Some((p, _)) = chosen {
-            self.last = [Some((t, p)), self.last[0]];
+            self.history.rotate_right(1);
+            self.history[0] = Some((t, p));
+            self.coasted = 0;
         }
         chosen
     }
 
+    /// After a window with no position at time `t`: where to look next (the prediction one
+    /// window interval ahead), or `None` when the track has coasted `coast` windows or has
+    /// no motion to go by, and is lost.
+    pub fn coast(&mut self, t: f64) -> Option<Point> {
+        let (Some((t1, _)), Some((t0, _))) = (self.history[0], self.history[1]) else { return None };
+        if self.coasted >= self.params.coast || t1 <= t0 {
+            return None;
+        }
+        self.coasted += 1;
+        self.predict(t + (t1 - t0))
+    }
+
     /// Inverse-variance fusion of two agreeing measurements (see the module docs).
-    fn fuse(&mut self, n: Point, c: Point, prediction: Option<Point>) -> (Point, Source) {
-        if let Some(q) = prediction {
-            for (slot, p) in self.noise.iter_mut().zip([n, c]) {
-                let e = dist(p, q) * dist(p, q);
-                *slot = Some(slot.map_or(e, |v| v + NOISE_WEIGHT * (e - v)));
+    fn fuse(&mut self, t: f64, n: Point, c: Point) -> (Point, Source) {
+        for (k, (src, p)) in [(Source::Ncc, n), (Source::Cd, c)].into_iter().enumerate() {
+            // A non-finite sample is refused and leaves the history as it was.
+            let _ = self.lines.push(src, t, f64::from(p.x), f64::from(p.y));
+            if let Some(fit) = self.lines.fit(src) {
+                let e = fit.sse as f32;
+                self.jitter[k] = Some(self.jitter[k].map_or(e, |v| v + NOISE_WEIGHT * (e - v)));
             }
         }
-        let (wn, wc) = match self.noise {
-            [Some(a), Some(b)] if a > 0.0 && b > 0.0 => (1.0 / a, 1.0 / b),
+        let (wn, wc) = match self.jitter {
+            [Some(a), Some(b)] => (1.0 / a.max(1e-6), 1.0 / b.max(1e-6)),
             _ => (1.0, 1.0),
         };
         let k = wc / (wn + wc);
@@ -199,7 +260,7 @@ impl Guard {
                     self.learnt = 0;
                 }
             }
-            None if self.learnt > 0 && dist(d, self.learning) <= gate => {
+            None if self.learnt > 0 && dist(d, self.learning) <= self.params.learn_spread => {
                 self.learnt = self.learnt.saturating_add(1);
                 let k = f32::from(self.learnt);
                 self.learning = Point { x: self.learning.x + (d.x - self.learning.x) / k, y: self.learning.y + (d.y - self.learning.y) / k };
@@ -214,16 +275,31 @@ impl Guard {
         }
     }
 
-    /// Constant-velocity extrapolation of the last two positions to time `t`.
+    /// The least-squares line through the positions followed (per axis, against time),
+    /// evaluated at `t`; the one position when there is only one.
     fn predict(&self, t: f64) -> Option<Point> {
-        match self.last {
-            [Some((t1, p1)), Some((t0, p0))] if t1 > t0 => {
-                let k = ((t - t1) / (t1 - t0)) as f32;
-                Some(Point { x: p1.x + k * (p1.x - p0.x), y: p1.y + k * (p1.y - p0.y) })
-            }
-            [Some((_, p1)), _] => Some(p1),
-            _ => None,
+        let pts = self.history.iter().flatten();
+        let n = pts.clone().count() as f64;
+        let (t_new, p_new) = self.history[0]?;
+        if n < 2.0 {
+            return Some(p_new);
         }
+        // Times relative to the newest keep the sums well conditioned.
+        let mean = |f: &dyn Fn(&(f64, Point)) -> f64| pts.clone().map(f).sum::<f64>() / n;
+        let mt = mean(&|q| q.0 - t_new);
+        let mx = mean(&|q| f64::from(q.1.x));
+        let my = mean(&|q| f64::from(q.1.y));
+        let stt = pts.clone().map(|q| (q.0 - t_new - mt) * (q.0 - t_new - mt)).sum::<f64>();
+        if stt <= 0.0 {
+            return Some(p_new);
+        }
+        let slope = |v: &dyn Fn(&(f64, Point)) -> f64, m: f64| {
+            pts.clone().map(|q| (q.0 - t_new - mt) * (v(q) - m)).sum::<f64>() / stt
+        };
+        let (vx, vy) = (slope(&|q| f64::from(q.1.x), mx), slope(&|q| f64::from(q.1.y), my));
+        let dt = t - t_new - mt;
+        let p = Point { x: (mx + vx * dt) as f32, y: (my + vy * dt) as f32 };
+        (p.x.is_finite() && p.y.is_finite()).then_some(p)
     }
 }
 
@@ -265,38 +341,38 @@ mod tests {
         let mut g = Guard::new(GuardParams::default());
         g.decide(0.0, Measured { ncc: Some((p(50.0, 50.0), 0.999)), corner: None });
         // Moving 1 px a frame right; the corner is (-10, +2) from the tracked point.
-        for k in 1..=5 {
+        for k in 1..=8 {
             let x = 50.0 + k as f32;
             let got = g.decide(0.01 * k as f64, both(p(x, 50.0), 0.995, p(x - 10.0, 52.0)));
             assert_eq!(got, Some((p(x, 50.0), Source::Ncc)));
         }
-        let o = g.offset().expect("learnt after 3 consistent frames");
+        let o = g.offset().expect("learnt after 8 consistent frames");
         assert!((o.x - 10.0).abs() < 1e-4 && (o.y + 2.0).abs() < 1e-4, "{o:?}");
         // NCC drops out (occluder): the CD candidate, corner + offset, is followed.
-        let got = g.decide(0.06, Measured { ncc: None, corner: Some(p(46.0, 52.0)) });
-        assert_eq!(got, Some((p(56.0, 50.0), Source::Cd)));
+        let got = g.decide(0.09, Measured { ncc: None, corner: Some(p(49.0, 52.0)) });
+        assert_eq!(got, Some((p(59.0, 50.0), Source::Cd)));
     }
 
     #[test]
     fn a_corner_far_from_the_prediction_is_refused() {
         let mut g = Guard::new(GuardParams::default());
         g.decide(0.0, Measured { ncc: Some((p(50.0, 50.0), 0.999)), corner: None });
-        for k in 1..=4 {
+        for k in 1..=8 {
             g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.995, p(40.0, 50.0)));
         }
         // CD jumps to another corner 8 px away while NCC is out: no position rather than a wrong one.
-        assert_eq!(g.decide(0.05, Measured { ncc: None, corner: Some(p(48.0, 50.0)) }), None);
+        assert_eq!(g.decide(0.09, Measured { ncc: None, corner: Some(p(48.0, 50.0)) }), None);
     }
 
     #[test]
     fn an_untrusted_ncc_that_slides_loses_to_an_agreeing_cd() {
         let mut g = Guard::new(GuardParams::default());
         g.decide(0.0, Measured { ncc: Some((p(50.0, 50.0), 0.999)), corner: None });
-        for k in 1..=4 {
+        for k in 1..=8 {
             g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.995, p(40.0, 50.0)));
         }
         // A highlight drags NCC 3 px (score 0.975, accepted but not trusted); CD stays put.
-        let got = g.decide(0.05, both(p(53.0, 50.0), 0.975, p(40.0, 50.0)));
+        let got = g.decide(0.09, both(p(53.0, 50.0), 0.975, p(40.0, 50.0)));
         assert_eq!(got, Some((p(50.0, 50.0), Source::Cd)));
     }
 
@@ -304,12 +380,12 @@ mod tests {
     fn a_corner_that_keeps_disagreeing_is_unlearnt() {
         let mut g = Guard::new(GuardParams::default());
         g.decide(0.0, Measured { ncc: Some((p(50.0, 50.0), 0.999)), corner: None });
-        for k in 1..=4 {
+        for k in 1..=8 {
             g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.995, p(40.0, 50.0)));
         }
         assert!(g.offset().is_some());
         // The detector now finds a texture corner 5 px away, three frames running.
-        for k in 5..=7 {
+        for k in 9..=11 {
             let got = g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.995, p(45.0, 50.0)));
             assert_eq!(got, Some((p(50.0, 50.0), Source::Ncc)), "trusted NCC wins");
         }
@@ -319,25 +395,38 @@ mod tests {
     #[test]
     fn a_corner_at_the_start_point_anchors_cd_and_outvotes_a_stuck_ncc() {
         let mut g = Guard::new(GuardParams::default());
-        g.begin(p(50.0, 50.0));
+        g.begin(p(50.0, 50.0), true);
         // First window: the detector's corner is 0.4 px from the start point.
         let got = g.decide(0.0, both(p(50.0, 50.0), 1.0, p(50.4, 50.0)));
         assert_eq!(got, Some((p(50.0, 50.0), Source::Ncc)));
         assert!(g.anchored());
         // The object moves 1 px a frame; NCC sticks to the background at (50, 50) with a high
-        // score. Once they part by more than the gate, the anchored corner is followed.
-        let mut last = None;
-        for k in 1..=4 {
+        // score. They part by more than the gate from frame 2; the third disagreement in a row
+        // (frame 4) hands the track to the anchored corner.
+        let mut got = [None; 4];
+        for (k, slot) in (1..=4).zip(got.iter_mut()) {
             let x = 50.0 + k as f32;
-            last = g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.998, p(x + 0.4, 50.0)));
+            *slot = g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.998, p(x + 0.4, 50.0)));
         }
-        assert_eq!(last, Some((p(54.0, 50.0), Source::Cd)));
+        assert_eq!(got[2], Some((p(50.0, 50.0), Source::Ncc)));
+        assert_eq!(got[3], Some((p(54.0, 50.0), Source::Cd)));
+    }
+
+    #[test]
+    fn a_single_detector_outlier_does_not_take_the_track() {
+        let mut g = Guard::new(GuardParams::default());
+        g.begin(p(50.0, 50.0), true);
+        g.decide(0.0, both(p(50.0, 50.0), 1.0, p(50.0, 50.0)));
+        g.decide(0.01, both(p(50.0, 50.0), 0.999, p(50.0, 50.0)));
+        // The corner jumps 2.5 px for one frame: NCC is kept.
+        let got = g.decide(0.02, both(p(50.0, 50.0), 0.999, p(52.5, 50.0)));
+        assert_eq!(got, Some((p(50.0, 50.0), Source::Ncc)));
     }
 
     #[test]
     fn a_corner_away_from_the_start_point_does_not_anchor() {
         let mut g = Guard::new(GuardParams::default());
-        g.begin(p(50.0, 50.0));
+        g.begin(p(50.0, 50.0), true);
         g.decide(0.0, both(p(50.0, 50.0), 1.0, p(40.0, 50.0)));
         assert!(!g.anchored());
         assert_eq!(g.offset(), None, "one frame is not enough to learn an offset");
@@ -347,16 +436,19 @@ mod tests {
     fn agreeing_sources_are_fused_by_their_steadiness() {
         let mut g = Guard::new(GuardParams::default());
         g.decide(0.0, Measured { ncc: Some((p(50.0, 50.0), 0.999)), corner: None });
-        // A static target; NCC jitters by +-0.4 px, CD (offset learnt from NCC) by +-0.1 px.
+        // A static target seen by an anchored CD; NCC jitters by +-0.4 px, CD by +-0.1 px.
+        g.begin(p(50.0, 50.0), true);
+        g.decide(0.0, both(p(50.0, 50.0), 0.999, p(50.0, 50.0)));
         for k in 1..=40 {
             let s = if k % 2 == 0 { 1.0 } else { -1.0 };
-            g.decide(0.01 * k as f64, both(p(50.0 + 0.4 * s, 50.0), 0.995, p(40.0 - 0.1 * s, 50.0)));
+            g.decide(0.01 * k as f64, both(p(50.0 + 0.4 * s, 50.0), 0.995, p(50.0 - 0.1 * s, 50.0)));
         }
-        // Learnt offset ~10 px. Hand calculation for the next frame: innovations about 0.4 and
-        // 0.1 px, so the weights are ~1/0.16 and ~1/0.01 and CD's share k ~ 0.94.
-        let (q, src) = g.decide(0.41, both(p(50.4, 50.0), 0.995, p(39.9, 50.0))).expect("agreeing");
+        // Hand calculation: each source's SSE about its own line through 4 alternating points
+        // is 4 a^2 (a = 0.4, 0.1), so the weights are 1/0.64 and 1/0.04 and CD's share
+        // k = 25 / (25 + 1.5625) = 0.94: 50.4 + 0.94 * (49.9 - 50.4) = 49.93.
+        let (q, src) = g.decide(0.41, both(p(50.4, 50.0), 0.995, p(49.9, 50.0))).expect("agreeing");
         assert_eq!(src, Source::Cd);
-        assert!((q.x - 50.0).abs() < 0.1, "fused {q:?} nearer CD's 49.9.. than NCC's 50.4");
+        assert!((q.x - 49.93).abs() < 0.02, "fused {q:?}");
     }
 
     #[test]
@@ -364,7 +456,36 @@ mod tests {
         let mut g = Guard::new(GuardParams::default());
         g.decide(0.0, Measured { ncc: Some((p(0.0, 0.0), 0.999)), corner: None });
         g.decide(1.0, Measured { ncc: Some((p(2.0, 1.0), 0.999)), corner: None });
-        // Hand calculation: (2, 1) + (2, 1) * (3 - 1) / (1 - 0) = (6, 3).
-        assert_eq!(g.predict(3.0), Some(p(6.0, 3.0)));
+        g.decide(2.0, Measured { ncc: Some((p(4.0, 2.0), 0.999)), corner: None });
+        // Hand calculation: the points lie on (2t, t), so at t = 3: (6, 3).
+        let q = g.predict(3.0).expect("three positions");
+        assert!((q.x - 6.0).abs() < 1e-5 && (q.y - 3.0).abs() < 1e-5, "{q:?}");
+    }
+
+    #[test]
+    fn a_track_coasts_through_an_occlusion_and_resumes() {
+        let mut g = Guard::new(GuardParams::default());
+        for k in 0..8 {
+            g.decide(k as f64, Measured { ncc: Some((p(10.0 + k as f32, 20.0), 0.999)), corner: None });
+        }
+        // Occluded for 10 windows: each coasting step looks one interval ahead on the line.
+        for k in 8..18 {
+            let q = g.coast(k as f64).expect("within the coast limit");
+            assert!((q.x - (11.0 + k as f32)).abs() < 1e-3 && (q.y - 20.0).abs() < 1e-3, "{q:?}");
+            assert_eq!(g.decide(k as f64 + 1.0, Measured::default()), None);
+        }
+        // The object shows again 6 px from the prediction: inside the re-acquisition reach.
+        let got = g.decide(19.0, Measured { ncc: Some((p(35.0, 20.0), 0.98)), corner: None });
+        assert_eq!(got, Some((p(35.0, 20.0), Source::Ncc)));
+    }
+
+    #[test]
+    fn coasting_ends_after_its_limit() {
+        let params = GuardParams { coast: 2, ..GuardParams::default() };
+        let mut g = Guard::new(params);
+        g.decide(0.0, Measured { ncc: Some((p(0.0, 0.0), 0.999)), corner: None });
+        g.decide(1.0, Measured { ncc: Some((p(1.0, 0.0), 0.999)), corner: None });
+        assert!(g.coast(1.0).is_some() && g.coast(2.0).is_some());
+        assert_eq!(g.coast(3.0), None);
     }
 }

@@ -7,6 +7,7 @@
 //! * [`view`]: window views, including the 25 % (decimated) view;
 //! * [`motion`]: image differencing for the Watch window (2.4);
 //! * [`matching`]: SSD / SAD / NCC (2.4) and zero-mean NCC, with sub-pixel refinement;
+//! * [`refine`]: Lucas-Kanade refinement of a match, beyond the parabola's accuracy;
 //! * [`corner`]: the window-based corner detector (ch. 3);
 //! * [`info`]: information content measures (3.4.1);
 //! * [`confidence`]: the least-squares window confidence measure and COOP decision (4.3),
@@ -33,6 +34,7 @@ pub mod info;
 pub mod matching;
 pub mod motion;
 pub mod ports;
+pub mod refine;
 pub mod tracker;
 pub mod types;
 pub mod view;

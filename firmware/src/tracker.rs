@@ -20,11 +20,17 @@ use crate::corner::{CornerDetector, CornerParams};
 use crate::guard::{Guard, GuardParams, Measured};
 use crate::matching::{best_match, Method};
 use crate::motion::detect_motion;
+use crate::refine::refine_translation;
 use crate::ports::{Decimation, WindowRequest};
 use crate::view::WindowView;
 
 /// Largest template side.
 pub const MAX_TEMPLATE: usize = 32;
+
+/// Extra pixels on each side of the first Foveal window after a hand-over from the
+/// Peripheral, whose SSD at 25% resolution places the target to within a few pixels, beyond
+/// the Foveal window's own +-2 px search.
+pub const ACQUIRE_MARGIN: u16 = 6;
 
 pub use crate::types::Point;
 
@@ -289,15 +295,20 @@ fn placements(win: &WindowView<'_>, n: usize, step: usize) -> u32 {
     (w.saturating_sub(t) + 1) as u32 * (h.saturating_sub(t) + 1) as u32
 }
 
-/// NCC tracking of `tpl` in `win`: the new point and its score, or `None` if the best score
-/// is under `ncc_min` (the target has left the window, or no longer looks like the template).
+/// NCC tracking of `tpl` in `win`: the new point (the best placement, refined to sub-pixel
+/// accuracy by [`refine_translation`]) and its score, or `None` if the best score is under
+/// `ncc_min` (the target has left the window, or no longer looks like the template).
 fn ncc_track(win: &WindowView<'_>, tpl: &Template, p: &Params) -> (Option<(Point, f32)>, Work) {
     let n = tpl.side();
     let work = Work::Match { method: Method::Ncc, template: (n * n) as u32, placements: placements(win, n, 1) };
     let Some(tv) = tpl.view() else { return (None, work) };
     let Ok(m) = best_match(Method::Ncc, win, &tv) else { return (None, work) };
     let score = m.score as f32;
-    ((score >= p.ncc_min).then(|| (tpl.point_at(m.frame_x, m.frame_y), score)), work)
+    // Lucas-Kanade from the parabola's placement; the parabola's own when it is refused.
+    let (ox, oy) = win.origin();
+    let (x, y) = refine_translation(win, &tv, m.sub_x, m.sub_y)
+        .map_or((m.frame_x, m.frame_y), |(x, y)| (x + ox as f32, y + oy as f32));
+    ((score >= p.ncc_min).then(|| (tpl.point_at(x, y), score)), work)
 }
 
 /// The corner in `win`, or `None` when the detector finds none.
@@ -551,10 +562,19 @@ impl Policy {
         }
     }
 
-    /// A track starts at `p`.
-    fn begin(&mut self, p: Point) {
+    /// After a window with no position: where a coasting track looks next (see
+    /// [`Guard::coast`]); the thesis's policies do not coast.
+    fn coast(&mut self, t: f64) -> Option<Point> {
+        match self {
+            Policy::Guarded(g) => g.coast(t),
+            Policy::Sse(_) | Policy::Kalman(_) => None,
+        }
+    }
+
+    /// A track starts at `p` (see [`Guard::begin`]).
+    fn begin(&mut self, p: Point, exact: bool) {
         if let Policy::Guarded(g) = self {
-            g.begin(p);
+            g.begin(p, exact);
         }
     }
 }
@@ -605,9 +625,17 @@ impl Foveal {
 
     /// Starts tracking at `p` (the target given at start).
     pub fn start_at(&mut self, p: Point) -> Step {
+        self.start(p, true)
+    }
+
+    /// Starts tracking at `p`: the tracked point itself when `exact`, otherwise the
+    /// Peripheral's approximate location (25% resolution, a few pixels off), which the first
+    /// window searches with [`ACQUIRE_MARGIN`] more pixels on each side.
+    fn start(&mut self, p: Point, exact: bool) -> Step {
         self.tracking = Some(p);
-        self.coop.begin(p);
-        let step = Step::new(Work::None).ask(Some(self.params.foveal_window(p)));
+        self.coop.begin(p, exact);
+        let side = if exact { self.params.foveal } else { self.params.foveal + 2 * ACQUIRE_MARGIN };
+        let step = Step::new(Work::None).ask(Some(self.params.window(p, side, Decimation::Full)));
         if self.kind == FovealKind::CoopMaster {
             step.send(Dest::FovealCd, Msg::Follow(p))
         } else {
@@ -631,7 +659,7 @@ impl Foveal {
                 self.template = Some(tpl.clone());
                 Step::new(Work::None)
             }
-            Msg::Approx(p) if self.tracking.is_none() => self.start_at(*p),
+            Msg::Approx(p) if self.tracking.is_none() => self.start(*p, false),
             Msg::Follow(p) => {
                 self.tracking = Some(*p);
                 Step::new(Work::None).ask(Some(self.params.foveal_window(*p)))
@@ -684,6 +712,13 @@ impl Foveal {
         self.own = None;
         self.partner = None;
         let chosen = self.coop.decide(t, own, partner);
+        if let (None, Some(q)) = (chosen, self.coop.coast(t)) {
+            // Nothing measured the point: look where it should be next, report nothing.
+            let side = self.params.foveal + 2 * ACQUIRE_MARGIN;
+            return Step::new(Work::Decision)
+                .ask(Some(self.params.window(q, side, Decimation::Full)))
+                .send(Dest::FovealCd, Msg::Follow(q));
+        }
         let (found, algo) = (chosen.map(|c| c.0), chosen.map_or(Algo::Ncc, |c| c.1));
         let step = self.follow(Step::new(Work::Decision), found, algo);
         match (step.request, found, step.lost) {

@@ -6,7 +6,8 @@
 //! Every tracker is scored the same way over the frames where the target is visible: the
 //! error is the distance from the reported point to the true point of the frame the report
 //! measured; RMS is over the frames with a position; loss counts the frames with no position
-//! or an error above [`LOSS_PX`].
+//! or an error above [`LOSS_PX`]. A report older than [`MAX_AGE`] frames (a track coasting
+//! or waiting to recover) is no position: a stale point is not a measurement of this frame.
 use crate::cost::CostModel;
 use crate::experiments::system;
 use crate::plot::{self, Chart, Series};
@@ -17,6 +18,10 @@ use std::path::{Path, PathBuf};
 
 /// Error beyond which a frame counts as lost (5 px, as in the OpenCV script).
 pub const LOSS_PX: f64 = 5.0;
+
+/// Oldest report, in frames, that still counts as a frame's position (the pipeline's
+/// latency: a COOP decision waits for the partner's message).
+pub const MAX_AGE: usize = 2;
 
 /// Which point of the object is tracked.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -109,6 +114,7 @@ pub fn score(positions: &[Option<(usize, (f64, f64))>], truth: &[Truth], tracked
             .get(k)
             .copied()
             .flatten()
+            .filter(|(m, _)| *m <= k && k - m <= MAX_AGE)
             .and_then(|(m, p)| truth.get(m).map(|tm| (p.0 - tracked.of(tm).0).hypot(p.1 - tracked.of(tm).1)));
         match err {
             Some(e) => {
