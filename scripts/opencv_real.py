@@ -179,6 +179,9 @@ Python {py_version}.
   frame (x and y empty when it reports none), 3 decimals. Pixel centres are at
   integer coordinates, (0,0) is the centre of the top-left pixel.
 * `summary.csv`: `condition,tracker,frames,rms_px,loss_pct`.
+* `<condition>.fingerprint`: the fingerprint of the sequence the trackers ran on, as
+  `coopwin` wrote it; `testbench/tests/real_images.rs` fails when the current renderer
+  makes a different sequence (the fixtures are then stale: rerun the command above).
 
 ## Method
 
@@ -250,6 +253,11 @@ def main() -> int:
             summary.append((cond.name, name, n, rms, loss))
             line.append(f"{name} rms {'-' if rms is None else f'{rms:.3f}'} loss {loss:.1f}%")
         print(f"{cond.name}: {len(frames)} frames ({kind} point); " + "; ".join(line), flush=True)
+        # The sequence's fingerprint, written by `coopwin experiment real-images --sequences`:
+        # the Rust test compares it with a fresh rendering, so stale fixtures fail.
+        fp = cond / "fingerprint.txt"
+        if fp.exists():
+            (out / f"{cond.name}.fingerprint").write_text(fp.read_text())
     with open(out / "summary.csv", "w", newline="") as f:
         f.write("condition,tracker,frames,rms_px,loss_pct\n")
         for c, t, n, rms, loss in summary:

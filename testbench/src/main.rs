@@ -398,6 +398,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 ProfileArg::Native => CostModel::NATIVE,
             };
             if let Some(root) = &sequences {
+                coopwin_testbench::commands::output::create_folder(root, "--sequences")?;
                 real_images::write_sequences(root, &mut |s| eprintln!("  sequence {s}")).map_err(CliError::new)?;
             }
             let real = name == "real-images" || name == "all";
@@ -572,6 +573,9 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 log.reports.len(),
                 log.frames.len() as f64 / secs.max(1e-9)
             );
+            if let Some((k, (x, y))) = log.locked_on {
+                say!("locked on in frame {k}: tracking the object's point at ({x:.1}, {y:.1}) there, the centre of the first motion seen");
+            }
             if !(log.losses.is_empty() && log.watchdog.is_empty() && log.refused.is_empty()) {
                 say!(
                     "log: {} losses of track, {} sets written again by the watchdog, {} requests refused",
@@ -618,8 +622,18 @@ fn one_line(e: &clap::Error) -> String {
     format!("{first} (see --help)")
 }
 
+/// A closed pipe (`coopwin ... | head`) ends the program quietly, as it does other Unix
+/// tools; Rust ignores SIGPIPE, which turns the next `println!` into a panic.
+fn default_sigpipe() {
+    // SAFETY: sets a signal's disposition to the default, before any other thread exists.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
 fn main() -> ExitCode {
     use clap::FromArgMatches;
+    default_sigpipe();
     let cli = match command().try_get_matches().and_then(|m| Cli::from_arg_matches(&m)) {
         Ok(cli) => cli,
         Err(e) if matches!(e.kind(), clap::error::ErrorKind::DisplayHelp | clap::error::ErrorKind::DisplayVersion) => e.exit(),

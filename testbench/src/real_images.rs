@@ -96,8 +96,8 @@ pub fn fixtures_dir() -> PathBuf {
 /// A tracker's score on one condition.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Score {
-    /// RMS error in pixels over the visible frames with a position.
-    pub rms: f64,
+    /// RMS error in pixels over the visible frames with a position, if any.
+    pub rms: Option<f64>,
     /// Percentage of visible frames with no position or an error above 5 px.
     pub loss: f64,
 }
@@ -127,7 +127,7 @@ pub fn score(positions: &[Option<(usize, (f64, f64))>], truth: &[Truth], tracked
             None => lost += 1,
         }
     }
-    Score { rms: (sq / with.max(1) as f64).sqrt(), loss: 100.0 * lost as f64 / visible.max(1) as f64 }
+    Score { rms: (with > 0).then(|| (sq / with as f64).sqrt()), loss: 100.0 * lost as f64 / visible.max(1) as f64 }
 }
 
 /// A condition's frames, rendered once and tracked by every tracker.
@@ -144,6 +144,12 @@ impl Rendered {
         let scene = Scene::new(c.scene.clone());
         let (frames, truth) = (0..c.scene.frames).map(|k| scene.render(k)).unzip();
         Rendered { frames, size: (c.scene.width, c.scene.height), truth }
+    }
+
+    /// A fingerprint of every frame's pixels, as hex: the same frames give the same text.
+    pub fn fingerprint(&self) -> String {
+        let per_frame: Vec<u8> = self.frames.iter().flat_map(|f| system::fingerprint(f).to_le_bytes()).collect();
+        format!("{:016x}", system::fingerprint(&per_frame))
     }
 }
 
@@ -194,12 +200,15 @@ pub fn opencv_score(c: &Condition, truth: &[Truth], tracker: &str) -> Result<Opt
     Ok(Some(score(&positions, truth, c.tracked)))
 }
 
-/// Writes every condition's frames and `groundtruth.csv` under `root/<name>/`, for the OpenCV
-/// script.
+/// Writes every condition's frames, `groundtruth.csv` and `fingerprint.txt` (see
+/// [`Rendered::fingerprint`]) under `root/<name>/`, for the OpenCV script.
 pub fn write_sequences(root: &Path, progress: &mut dyn FnMut(&str)) -> Result<(), String> {
     for c in conditions() {
         progress(&c.name);
-        crate::commands::scene::write_scene(c.scene.clone(), &root.join(&c.name), false).map_err(|e| e.message)?;
+        let dir = root.join(&c.name);
+        crate::commands::scene::write_scene(c.scene.clone(), &dir, false).map_err(|e| e.message)?;
+        let fp = dir.join("fingerprint.txt");
+        std::fs::write(&fp, Rendered::new(&c).fingerprint() + "\n").map_err(|e| format!("cannot write {}: {e}", fp.display()))?;
     }
     Ok(())
 }
@@ -232,12 +241,13 @@ pub fn run(dir: &Path, progress: &mut dyn FnMut(&str)) -> Result<String, String>
     for (c, row) in conds.iter().zip(&table) {
         let cells: Vec<String> = row
             .iter()
-            .map(|s| s.map_or("-".into(), |s| format!("{:.2} / {:.0}", s.rms, s.loss)))
+            .map(|s| s.map_or("-".into(), |s| format!("{} / {:.0}", s.rms.map_or("-".into(), |r| format!("{r:.2}")), s.loss)))
             .collect();
         let _ = writeln!(md, "| {} | {} |", c.name, cells.join(" | "));
         for (label, s) in labels.iter().zip(row) {
             if let Some(s) = s {
-                let _ = writeln!(csv, "{},{label},{:.3},{:.1}", c.name, s.rms, s.loss);
+                let rms = s.rms.map_or(String::new(), |r| format!("{r:.3}"));
+                let _ = writeln!(csv, "{},{label},{rms},{:.1}", c.name, s.loss);
             }
         }
     }
@@ -252,7 +262,7 @@ pub fn run(dir: &Path, progress: &mut dyn FnMut(&str)) -> Result<String, String>
             .enumerate()
             .map(|(j, l)| Series {
                 label: (*l).to_string(),
-                points: table.iter().enumerate().map(|(i, row)| (i as f64 + 1.0, row[j].map(|s| s.rms.max(1e-3).log10()))).collect(),
+                points: table.iter().enumerate().map(|(i, row)| (i as f64 + 1.0, row[j].and_then(|s| s.rms).map(|r| r.max(1e-3).log10()))).collect(),
             })
             .collect(),
         y_range: None,

@@ -159,6 +159,9 @@ pub struct RunLog {
     /// The frame and point the template was cut at, if known before the run: the tracked
     /// point is that point of the part.
     pub reference: Option<(usize, (f64, f64))>,
+    /// Without a target: the frame and point at which a Watch processor cut the template, the
+    /// centre of the first motion it saw; the point tracked from then on.
+    pub locked_on: Option<(usize, (f64, f64))>,
     /// Requests the coordinate port refused: (processor, clock, why).
     pub refused: Vec<(usize, u64, String)>,
     /// With a VCD of chosen frames: per unit, the sets taken before the trace began.
@@ -491,6 +494,13 @@ fn publish(
     robot: &mut FramedPositionSink<Pipe>,
     last: &mut Option<Report>,
 ) -> Result<(), String> {
+    let template_cut = step.sends.iter().any(|(_, m)| matches!(m, Msg::Template(_)));
+    if let Some(Msg::Motion { xmin, xmax, ymin, ymax }) = step.sends.iter().map(|(_, m)| m).find(|m| matches!(m, Msg::Motion { .. })) {
+        if template_cut && log.locked_on.is_none() {
+            let centre = |a: u16, b: u16| f64::from(f32::from(a + b) / 2.0);
+            log.locked_on = Some((frame, (centre(*xmin, *xmax), centre(*ymin, *ymax))));
+        }
+    }
     if let Some((point, algo)) = step.report {
         let r = Report { t, frame, point, algo };
         emit(robot, &r)?;
