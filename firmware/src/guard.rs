@@ -27,16 +27,19 @@
 //!    another corner or slides along an edge: the offset is dropped and learnt again.
 //! 4. **Choice on disagreement.** An anchored CD that has disagreed with NCC `persist` frames
 //!    running (NCC sliding off the object, stuck on the background) wins while it stays
-//!    within `jump` px of the prediction; a single disagreement is more likely a detector
-//!    outlier, and NCC keeps the track. Otherwise trusted NCC wins. An untrusted NCC (appearance changed: a lamp, an
-//!    occluder) and a disagreeing CD candidate are judged by the prediction (the
-//!    least-squares line through the last [`HISTORY`] positions followed, per axis): the one
-//!    nearer to it wins, and only within `jump` px of it. With NCC below its acceptance score, the CD candidate carries
-//!    the track alone while it stays within `jump` px of the prediction.
+//!    within `jump` px of the prediction, if they parted gradually (by at most `4 gate / 3`
+//!    in the first frame: a corner that jumps onto clutter parts at once); a single disagreement is more likely a detector
+//!    outlier, and NCC keeps the track. Otherwise trusted NCC wins. An untrusted NCC
+//!    (appearance changed: a lamp, an occluder) and a disagreeing CD candidate are judged by
+//!    the prediction (the least-squares line through the last [`HISTORY`] positions
+//!    followed, per axis): the one nearer to it wins, and only within `gate` px of it. With
+//!    NCC below its acceptance score, the CD candidate carries the track alone, also only
+//!    within `gate` px of the prediction: a step of `jump` at a time would let an untrusted
+//!    measurement creep onto clutter.
 //! 5. **Coasting.** When neither source measures the point (an occluder passes over it), the
 //!    track coasts for up to `coast` windows: the next window is placed at the prediction and
 //!    nothing is reported; an NCC match within `reacquire` px of the prediction (a corner
-//!    alone: within `jump` px) resumes the track. After `coast` windows the target is lost.
+//!    alone: within `gate` px) resumes the track. After `coast` windows the target is lost.
 //!
 //! Everything is `f32`/`f64` arithmetic on a few values: no allocation, no panic.
 
@@ -113,6 +116,8 @@ pub struct Guard {
     jitter: [Option<f32>; 2],
     /// Consecutive frames in which both measured and disagreed.
     parted: u8,
+    /// How far apart they were in the first of those frames.
+    parted_by: f32,
 }
 
 impl Guard {
@@ -131,6 +136,7 @@ impl Guard {
             lines: SseCoop::thesis(),
             jitter: [None; 2],
             parted: 0,
+            parted_by: 0.0,
         }
     }
 
@@ -171,44 +177,44 @@ impl Guard {
             _ => None,
         };
         let prediction = self.predict(t);
-        let near = |p: Point| prediction.is_none_or(|q| dist(p, q) <= self.params.jump);
-        // Only a template match is evidence enough to resume a coasting track further off.
-        let reach = if self.coasted > 0 { self.params.reacquire } else { self.params.jump };
-        let ncc_near = |p: Point| prediction.is_none_or(|q| dist(p, q) <= reach);
+        let within = |p: Point, r: f32| prediction.is_none_or(|q| dist(p, q) <= r);
+        // An untrusted measurement must sit close to the prediction: a step of `jump` at a
+        // time would let it creep onto clutter. Resuming a coasting track, a template match
+        // may be up to `reacquire` px off.
+        let close = |p: Point| within(p, self.params.gate);
+        let resumes = |p: Point| self.coasted > 0 && within(p, self.params.reacquire);
         let disagree = |n: Point, c: Point| dist(n, c) > self.params.gate;
         self.parted = match (m.ncc, cd) {
-            (Some((n, _)), Some(c)) if disagree(n, c) => self.parted.saturating_add(1),
+            (Some((n, _)), Some(c)) if disagree(n, c) => {
+                if self.parted == 0 {
+                    self.parted_by = dist(n, c);
+                }
+                self.parted.saturating_add(1)
+            }
             _ => 0,
         };
-        let persistent = self.anchored && self.parted >= self.params.persist;
+        // NCC sliding off the object parts from the corner gradually; a corner that jumps onto
+        // clutter parts at once.
+        let gradual = self.parted_by <= self.params.gate * 4.0 / 3.0;
+        let persistent = self.anchored && gradual && self.parted >= self.params.persist;
         let chosen = match (trusted, m.ncc.map(|(p, _)| p), cd) {
             (_, Some(n), Some(c)) if persistent => {
-                if near(c) {
+                if within(c, self.params.jump) {
                     Some((c, Source::Cd))
                 } else {
-                    near(n).then_some((n, Source::Ncc))
+                    within(n, self.params.jump).then_some((n, Source::Ncc))
                 }
             }
             (_, Some(n), Some(c)) if !disagree(n, c) => Some(self.fuse(t, n, c)),
             (Some(n), _, _) => Some((n, Source::Ncc)),
-            (None, Some(n), Some(c)) if disagree(n, c) => {
-                let (nd, cdd) = match prediction {
-                    Some(q) => (dist(n, q), dist(c, q)),
-                    None => (0.0, 1.0),
-                };
-                if cdd < nd && near(c) {
-                    Some((c, Source::Cd))
-                } else {
-                    ncc_near(n).then_some((n, Source::Ncc))
-                }
-            }
-            (None, Some(n), _) => ncc_near(n).then_some((n, Source::Ncc)),
-            (None, None, Some(c)) => near(c).then_some((c, Source::Cd)),
+            // Two untrusted measurements that disagree: neither is believed; the track coasts.
+            (None, Some(_), Some(_)) => None,
+            (None, Some(n), None) => (close(n) || resumes(n)).then_some((n, Source::Ncc)),
+            (None, None, Some(c)) => within(c, self.params.gate / 2.0).then_some((c, Source::Cd)),
             (None, None, None) => None,
         };
         if let Some((p, _)) = chosen {
-            self.history.rotate_right(1);
-            self.history[0] = Some((t, p));
+            remember(&mut self.history, t, p);
             self.coasted = 0;
         }
         chosen
@@ -275,12 +281,19 @@ impl Guard {
         }
     }
 
-    /// The least-squares line through the positions followed (per axis, against time),
-    /// evaluated at `t`; the one position when there is only one.
+    /// The least-squares line through the positions followed, evaluated at `t`.
     fn predict(&self, t: f64) -> Option<Point> {
-        let pts = self.history.iter().flatten();
+        line_at(&self.history, t)
+    }
+}
+
+/// The least-squares line through timed positions (per axis, against time), newest first,
+/// evaluated at `t`; the one position when there is only one.
+fn line_at(history: &[Option<(f64, Point)>; HISTORY], t: f64) -> Option<Point> {
+    {
+        let pts = history.iter().flatten();
         let n = pts.clone().count() as f64;
-        let (t_new, p_new) = self.history[0]?;
+        let (t_new, p_new) = history[0]?;
         if n < 2.0 {
             return Some(p_new);
         }
@@ -301,6 +314,12 @@ impl Guard {
         let p = Point { x: (mx + vx * dt) as f32, y: (my + vy * dt) as f32 };
         (p.x.is_finite() && p.y.is_finite()).then_some(p)
     }
+}
+
+/// Records `p` at `t` as the newest entry of `history`.
+fn remember(history: &mut [Option<(f64, Point)>; HISTORY], t: f64, p: Point) {
+    history.rotate_right(1);
+    history[0] = Some((t, p));
 }
 
 fn add(a: Point, b: Point) -> Point {
@@ -365,15 +384,18 @@ mod tests {
     }
 
     #[test]
-    fn an_untrusted_ncc_that_slides_loses_to_an_agreeing_cd() {
+    fn untrusted_sources_that_disagree_are_not_believed() {
         let mut g = Guard::new(GuardParams::default());
         g.decide(0.0, Measured { ncc: Some((p(50.0, 50.0), 0.999)), corner: None });
         for k in 1..=8 {
             g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.995, p(40.0, 50.0)));
         }
-        // A highlight drags NCC 3 px (score 0.975, accepted but not trusted); CD stays put.
-        let got = g.decide(0.09, both(p(53.0, 50.0), 0.975, p(40.0, 50.0)));
-        assert_eq!(got, Some((p(50.0, 50.0), Source::Cd)));
+        // A blob drags NCC 3 px (score 0.975, accepted but not trusted) and the detector
+        // sees a corner of it: neither is followed, and the track coasts on the prediction.
+        let got = g.decide(0.09, both(p(53.0, 50.0), 0.975, p(41.0, 50.0)));
+        assert_eq!(got, None);
+        let q = g.coast(0.09).expect("coasting");
+        assert!(dist(q, p(50.0, 50.0)) < 1e-3, "the target stood still: {q:?}");
     }
 
     #[test]
@@ -410,6 +432,21 @@ mod tests {
         }
         assert_eq!(got[2], Some((p(50.0, 50.0), Source::Ncc)));
         assert_eq!(got[3], Some((p(54.0, 50.0), Source::Cd)));
+    }
+
+    #[test]
+    fn a_corner_that_jumps_onto_clutter_does_not_outvote_ncc() {
+        let mut g = Guard::new(GuardParams::default());
+        g.begin(p(50.0, 50.0), true);
+        for k in 0..6 {
+            g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.999, p(50.0, 50.0)));
+        }
+        // The detector jumps 2.5 px onto a blob's corner and stays there: it disagrees every
+        // frame, but its own track broke, so NCC keeps the track.
+        for k in 6..12 {
+            let got = g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.999, p(52.5, 50.0)));
+            assert_eq!(got, Some((p(50.0, 50.0), Source::Ncc)), "frame {k}");
+        }
     }
 
     #[test]

@@ -236,7 +236,34 @@ impl Scene {
             PathKind::Swing => (Vec::new(), false),
         };
         let part_photo = cfg.photo.then(|| Photo::decode(PART_PHOTO));
-        Scene { cfg, background, part_photo, waypoints, closed }
+        let mut scene = Scene { cfg, background, part_photo, waypoints, closed };
+        if scene.cfg.clutter && scene.cfg.photo {
+            scene.clutter_beside_the_path(&mut rng);
+        }
+        scene
+    }
+
+    /// With photos, clutter that the tracked corner passes close by: 14 blobs at even times
+    /// along the run, 9-13 px up, left or diagonally up-left of where the corner then is (the
+    /// side away from the part), so they enter its Foveal windows.
+    fn clutter_beside_the_path(&mut self, rng: &mut Rng) {
+        let (w, h) = (self.cfg.width, self.cfg.height);
+        let run = self.cfg.frames as f64 / self.cfg.fps;
+        for i in 0..14 {
+            let c = self.corner_at(run * (i as f64 + 0.5) / 14.0);
+            let d = 9.0 + 4.0 * rng.uniform();
+            let (ux, uy) = [(-1.0, 0.0), (0.0, -1.0), (-0.7071, -0.7071)][(rng.next_u64() % 3) as usize];
+            let (cx, cy) = (c.0 + d * ux, c.1 + d * uy);
+            let r = 2.0 + 3.0 * rng.uniform();
+            let level = (30.0 + 170.0 * rng.uniform()) as f32;
+            for y in (cy - r).max(0.0) as usize..((cy + r + 1.0) as usize).min(h) {
+                for x in (cx - r).max(0.0) as usize..((cx + r + 1.0) as usize).min(w) {
+                    if (x as f64 - cx).hypot(y as f64 - cy) <= r {
+                        self.background[y * w + x] = level;
+                    }
+                }
+            }
+        }
     }
 
     /// The configuration.
