@@ -27,10 +27,9 @@ use crate::view::WindowView;
 /// Largest template side.
 pub const MAX_TEMPLATE: usize = 32;
 
-/// Extra pixels on each side of the first Foveal window after a hand-over from the
-/// Peripheral, whose SSD at 25% resolution places the target to within a few pixels, beyond
-/// the Foveal window's own +-2 px search.
-pub const ACQUIRE_MARGIN: u16 = 6;
+/// Extra pixels on each side of a coasting track's Foveal window, beyond the window's own
+/// +-2 px search: the prediction drifts while nothing is measured.
+pub const COAST_MARGIN: u16 = 6;
 
 pub use crate::types::Point;
 
@@ -629,13 +628,11 @@ impl Foveal {
     }
 
     /// Starts tracking at `p`: the tracked point itself when `exact`, otherwise the
-    /// Peripheral's approximate location (25% resolution, a few pixels off), which the first
-    /// window searches with [`ACQUIRE_MARGIN`] more pixels on each side.
+    /// Peripheral's approximate location.
     fn start(&mut self, p: Point, exact: bool) -> Step {
         self.tracking = Some(p);
         self.coop.begin(p, exact);
-        let side = if exact { self.params.foveal } else { self.params.foveal + 2 * ACQUIRE_MARGIN };
-        let step = Step::new(Work::None).ask(Some(self.params.window(p, side, Decimation::Full)));
+        let step = Step::new(Work::None).ask(Some(self.params.foveal_window(p)));
         if self.kind == FovealKind::CoopMaster {
             step.send(Dest::FovealCd, Msg::Follow(p))
         } else {
@@ -714,7 +711,7 @@ impl Foveal {
         let chosen = self.coop.decide(t, own, partner);
         if let (None, Some(q)) = (chosen, self.coop.coast(t)) {
             // Nothing measured the point: look where it should be next, report nothing.
-            let side = self.params.foveal + 2 * ACQUIRE_MARGIN;
+            let side = self.params.foveal + 2 * COAST_MARGIN;
             return Step::new(Work::Decision)
                 .ask(Some(self.params.window(q, side, Decimation::Full)))
                 .send(Dest::FovealCd, Msg::Follow(q));
