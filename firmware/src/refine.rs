@@ -46,7 +46,7 @@ pub fn refine_translation(win: &WindowView<'_>, tpl: &WindowView<'_>, x: f32, y:
         t_sum += t(i, j)?;
     }
     let det = h11 * h22 - h12 * h12;
-    if !(det > 1e-3 * (h11 + h22) * (h11 + h22)) {
+    if det.is_nan() || det <= 1e-3 * (h11 + h22) * (h11 + h22) {
         return None;
     }
     let t_mean = t_sum / count;
@@ -62,7 +62,7 @@ pub fn refine_translation(win: &WindowView<'_>, tpl: &WindowView<'_>, x: f32, y:
         }
         let w_mean = w_sum / count;
         let w_dev = libm::sqrtf((w_sq - w_sum * w_mean).max(0.0));
-        if !(w_dev > 0.0) {
+        if w_dev.is_nan() || w_dev <= 0.0 {
             return None;
         }
         let gain = t_dev / w_dev;

@@ -527,6 +527,8 @@ pub enum FovealKind {
 /// The COOP master's decision: guarded cooperation (the default), the thesis's
 /// least-squares SSE (4.3), or the Kalman filter it proposes as future work (5.2).
 #[derive(Clone, Debug)]
+// No allocator to box the guard into: each policy lives inline in its processor.
+#[allow(clippy::large_enum_variant)]
 pub enum Policy {
     /// CD only where it measures the tracked point ([`crate::guard`]).
     Guarded(Guard),

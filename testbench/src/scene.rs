@@ -252,7 +252,8 @@ impl Scene {
         for i in 0..14 {
             let c = self.corner_at(run * (i as f64 + 0.5) / 14.0);
             let d = 9.0 + 4.0 * rng.uniform();
-            let (ux, uy) = [(-1.0, 0.0), (0.0, -1.0), (-0.7071, -0.7071)][(rng.next_u64() % 3) as usize];
+            let diagonal = -std::f64::consts::FRAC_1_SQRT_2;
+            let (ux, uy) = [(-1.0, 0.0), (0.0, -1.0), (diagonal, diagonal)][(rng.next_u64() % 3) as usize];
             let (cx, cy) = (c.0 + d * ux, c.1 + d * uy);
             let r = 2.0 + 3.0 * rng.uniform();
             let level = (30.0 + 170.0 * rng.uniform()) as f32;

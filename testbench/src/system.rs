@@ -182,6 +182,9 @@ pub trait FrameSource {
     fn frame(&mut self, k: usize) -> Result<&[u8], String>;
 }
 
+// A run holds one to four processors, so their sizes (a Foveal carries the corner
+// detector's 45 KB of buffers) cost nothing worth an indirection.
+#[allow(clippy::large_enum_variant)]
 enum Proc<'b> {
     Watch(Watch<'b>),
     Peripheral(Peripheral),
@@ -395,8 +398,8 @@ pub fn run_with(
     let mut q = Queue { heap: BinaryHeap::new(), events: Vec::new() };
 
     // Start: the first steps, at the start of the blanking before frame 0.
-    for i in 0..np {
-        let step = match (&mut procs[i], target) {
+    for (i, proc) in procs.iter_mut().enumerate() {
+        let step = match (proc, target) {
             (Proc::Watch(wp), _) => wp.start(),
             (Proc::Spmf(s), t) => s.start(t),
             (Proc::Peripheral(pp), Some(t)) => pp.start_at(t),
