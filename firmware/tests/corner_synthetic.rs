@@ -7,6 +7,9 @@
 //! index is its centre), coverage by 8x8 supersampling, then a 3x3 box blur (the optics
 //! of a real camera; it also makes edge bands 3-4 px wide, which the plus-shaped
 //! opening needs to keep them).
+#[path = "support/optics.rs"]
+mod optics;
+
 use coopwin_firmware::corner::{CornerCase, CornerDetector, CornerParams, NoCorner};
 use coopwin_firmware::view::WindowView;
 
@@ -75,21 +78,7 @@ fn render(s: &Scene) -> Vec<u8> {
         }
     }
     let mut rng = Rng(0x9E37_79B9_7F4A_7C15 ^ (n as u64) ^ s.poly.len() as u64);
-    let mut out = vec![0u8; n * n];
-    for j in 0..n {
-        for i in 0..n {
-            let mut acc = 0.0;
-            for dj in -1i64..=1 {
-                for di in -1i64..=1 {
-                    let (x, y) = ((i as i64 + di).clamp(0, n as i64 - 1), (j as i64 + dj).clamp(0, n as i64 - 1));
-                    acc += cov[y as usize * n + x as usize];
-                }
-            }
-            let v = acc / 9.0 + s.noise * (2.0 * rng.next() - 1.0);
-            out[j * n + i] = v.round().clamp(0.0, 255.0) as u8;
-        }
-    }
-    out
+    optics::blur_and_quantise(&cov, n, || s.noise * (2.0 * rng.next() - 1.0))
 }
 
 /// A wedge with apex `c` and its two edges leaving in directions `a1`, `a2` (degrees,

@@ -9,6 +9,9 @@
 //! needs edge bands at least 3 px wide), then the noise, rounded and clamped to 0-255.
 //!
 //! Run with `--nocapture` for the table.
+#[path = "support/optics.rs"]
+mod optics;
+
 use coopwin_firmware::corner::{CornerDetector, CornerParams};
 use coopwin_firmware::view::WindowView;
 use std::f64::consts::PI;
@@ -93,22 +96,7 @@ impl Wedge {
                 cov[j * n + i] = self.outside + (self.inside - self.outside) * f;
             }
         }
-        let mut out = vec![0u8; n * n];
-        for j in 0..n {
-            for i in 0..n {
-                let mut acc = 0.0;
-                for dj in -1i64..=1 {
-                    for di in -1i64..=1 {
-                        let x = (i as i64 + di).clamp(0, n as i64 - 1) as usize;
-                        let y = (j as i64 + dj).clamp(0, n as i64 - 1) as usize;
-                        acc += cov[y * n + x];
-                    }
-                }
-                let v = acc / 9.0 + self.sigma * rng.gauss();
-                out[j * n + i] = v.round().clamp(0.0, 255.0) as u8;
-            }
-        }
-        out
+        optics::blur_and_quantise(&cov, n, || self.sigma * rng.gauss())
     }
 }
 

@@ -14,7 +14,7 @@ use coopwin_testbench::cost::CostModel;
 use coopwin_testbench::experiments::{system, triangle, SceneFrames};
 use coopwin_testbench::metrics::summarise;
 use coopwin_testbench::scene::{Scene, SceneConfig};
-use coopwin_testbench::system::{run, FrameSource, Strategy};
+use coopwin_testbench::system::{run, Strategy};
 
 const RUNS: u64 = 36;
 const FRAMES: usize = 100;
@@ -36,27 +36,8 @@ impl Rng {
     }
 }
 
-/// The scene with frames `dark` replaced by all zeros.
-struct Dropout {
-    inner: SceneFrames,
-    dark: std::ops::Range<usize>,
-    zeros: Vec<u8>,
-}
-
-impl FrameSource for Dropout {
-    fn size(&self) -> (usize, usize) {
-        self.inner.size()
-    }
-    fn len(&self) -> usize {
-        self.inner.len()
-    }
-    fn frame(&mut self, k: usize) -> Result<&[u8], String> {
-        if self.dark.contains(&k) {
-            return Ok(&self.zeros);
-        }
-        self.inner.frame(k)
-    }
-}
+mod common;
+use common::Dropout;
 
 #[derive(Default)]
 struct Figures {

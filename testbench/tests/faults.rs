@@ -6,29 +6,10 @@ use coopwin_testbench::scene::{PathKind, Scene, SceneConfig};
 use coopwin_hdl::camera::Jitter;
 use coopwin_testbench::metrics::summarise;
 use coopwin_firmware::tracker::Mode;
-use coopwin_testbench::system::{run, FrameSource, HdlChoice, Strategy};
+use coopwin_testbench::system::{run, HdlChoice, Strategy};
 
-/// The scene with frames `dark` replaced by all zeros (a camera dropout).
-struct Dropout {
-    inner: SceneFrames,
-    dark: std::ops::Range<usize>,
-    zeros: Vec<u8>,
-}
-
-impl FrameSource for Dropout {
-    fn size(&self) -> (usize, usize) {
-        self.inner.size()
-    }
-    fn len(&self) -> usize {
-        self.inner.len()
-    }
-    fn frame(&mut self, k: usize) -> Result<&[u8], String> {
-        if self.dark.contains(&k) {
-            return Ok(&self.zeros);
-        }
-        self.inner.frame(k)
-    }
-}
+mod common;
+use common::Dropout;
 
 #[test]
 fn all_zero_frames_lose_the_target_then_tracking_recovers() {
