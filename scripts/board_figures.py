@@ -27,6 +27,7 @@ C40 = {
     "watch_motion_256": 20e-6 + 0.75e-6 * 65536,
     "corner_20": 20e-6 + 5e-6 * 400,
     "corner_24": 20e-6 + 5e-6 * 576,
+    "corner_24_literal": 20e-6 + 5e-6 * 576,
     "coop_decision_sse": 20e-6 + 0.1e-3,
 }
 C40["coop_frame"] = C40["foveal_ncc_20in24"] + C40["corner_24"] + C40["coop_decision_sse"]
@@ -40,6 +41,7 @@ WHAT = {
     "watch_motion_256": "differencing, 256x256 Watch frame",
     "corner_20": "corner detector, 20x20 (ch. 3)",
     "corner_24": "corner detector, 24x24",
+    "corner_24_literal": "the thesis's rules only (no line fit), 24x24",
     "info": "edge and corner information (3.4.1)",
     "ncc_norm25_f64": "NCC normalisation of 25 placements, f64",
     "ncc_norm25_f32": "the same in f32",

@@ -162,6 +162,13 @@ fn kernels<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteEr
         }
         edges24 = det.edge_pixels();
     }
+    // The thesis's rules alone (3.2-3.3), without the line-fit refinement of the default.
+    let v = image("corner_24", inputs::CORNER_24)?;
+    let literal = CornerParams::literal(50);
+    match meter.kernel("corner_24_literal", &mut || det.detect(&v, &literal)) {
+        Ok(c) => writeln!(out, "corner_24_literal x={:08x} y={:08x} case={:?}", c.x.to_bits(), c.y.to_bits(), c.case)?,
+        Err(e) => writeln!(out, "corner_24_literal none={e:?}")?,
+    }
     let info = meter.kernel("info", &mut || {
         (edge_information(edges24, 576), edge_information_with_prior(edges24, 576, 0.1), corner_information(0.37))
     });
