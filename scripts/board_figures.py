@@ -164,14 +164,16 @@ def main():
         p("The kernels' sums are exact integers; floats appear only where a ratio or a root is")
         p("taken. The normalisation `P / sqrt(E_R E_I)` of the 25 Foveal placements costs")
         p(f"{f64:,.0f} instructions in f64 (software, as `matching` computes it), {f32:,.0f} in f32")
-        p(f"(the FPU's `VSQRT`/`VDIV`: {f64 / f32:.1f}x cheaper) and {q15:,.0f} in Q1.15 with an integer")
-        p("square root (the M4 has no root instruction, so fixed point loses here). All three pick")
-        p("the same placement; f32 deviates from f64 by under 1e-7 (`ncc_norm25_*` lines of")
-        p("`expected.txt`). So: integers for sums and the window logic, f32 where a root or")
-        p("division of well-scaled values is needed on this core, and f64 kept for the least-squares")
-        p("confidence fit (4.3), whose `Σt²`-style sums cancel badly in single precision. The whole")
-        p("NCC kernel spends its time in the integer dot products; the 25 f64 normalisations are")
-        p(f"{f64 / (sum(counts['foveal_ncc_20in24']) / len(counts['foveal_ncc_20in24'])) * 100:.0f} % of it." if "foveal_ncc_20in24" in counts else "")
+        p(f"(hardware `VDIV`/`VMUL`, with `libm`'s software `sqrtf`, which has no Arm `VSQRT` path:")
+        p(f"{f64 / f32:.1f}x cheaper) and {q15:,.0f} in Q1.15 with a Newton integer square root (the")
+        p("M4 has no integer root, and the 64-bit divisions are library calls, so fixed point loses here). All three pick")
+        dev = dict(re.findall(r"^(ncc_norm25_\w+) .*maxdev_e9=(\d+)", run, re.M))
+        p(f"the same placement; the largest deviation from f64 is {int(dev.get('ncc_norm25_f32', 0)) * 1e-9:.1e} in f32")
+        p(f"and {int(dev.get('ncc_norm25_q15', 0)) * 1e-9:.1e} in Q1.15 (`ncc_norm25_*` lines of `expected.txt`).")
+        p("So: integers for sums and the window logic, f32 where a root or")
+        p("division of well-scaled values is needed on this core. The firmware keeps f64 where it")
+        p("computes a score or a fit (matching, 4.3, 5.2); in the Foveal NCC the 25 f64 normalisations are")
+        p(f"{f64 / (sum(counts['foveal_ncc_20in24']) / len(counts['foveal_ncc_20in24'])) * 100:.0f} % of the kernel." if "foveal_ncc_20in24" in counts else "")
         p()
     if "coop_frame" in counts:
         v = counts["coop_frame"]
@@ -191,6 +193,16 @@ def main():
             path = max(cd, ncc + dec)
             p(f"the corner detector ({cd:,.0f}) and NCC plus decision ({ncc + dec:,.0f}): {fmt_t(path / HZ)},")
             p(f"a {FRAME / (path / HZ):.1f}x margin.")
+        if "corner_24_literal" in counts and "corner_24" in counts and "foveal_ncc_20in24" in counts:
+            lit = sum(counts["corner_24_literal"]) / len(counts["corner_24_literal"])
+            one = ncc + lit + dec
+            p()
+            p(f"The line-fit refinement (beyond the thesis; `CornerParams::refine`) is {cd - lit:,.0f} of the")
+            p(f"detector's {cd:,.0f} instructions; it calls `libm`'s software `atan2f`, `sinf`, `cosf` and")
+            p(f"`sqrtf` for the edge points (the FPU has none of the first three). With the thesis's")
+            p(f"literal rules ({lit:,.0f}), NCC and the worst decision add up to {one:,.0f} instructions on one")
+            p(f"core, {fmt_t(one / HZ)}: {FRAME / (one / HZ):.1f}x (a sum of separately measured kernels, not a")
+            p("measured frame: the processors run the default, refined detector).")
         p()
 
 
