@@ -218,7 +218,8 @@ def frame_sizes(disasm):
         m = re.search(r"\tsub(?:\.w|w)?\tsp, (?:sp, )?#(\d+)", line)
         if m and fn:
             sizes[fn] += int(m[1])
-    short = lambda n: re.sub(r"<[^<>]*(?:<[^<>]*>[^<>]*)*>", "<..>", n)[:90]
+    # Generic arguments elided (`::<..>`); a leading `<Type>` is kept, it names the method.
+    short = lambda n: re.sub(r"::<[^<>]*(?:<[^<>]*>[^<>]*)*>", "::<..>", n)[:90]
     return sorted(((short(k), v) for k, v in sizes.items()), key=lambda kv: -kv[1])
 
 
