@@ -18,7 +18,7 @@
 //! * [`types`]: the shared vocabulary (points);
 //! * [`ports`]: hardware traits and framed byte encodings over `embedded-io`;
 //! * [`window_ports`]: the processor's side of a window unit's coordinate and pixel ports
-//!   (2.2.1).
+//!   (2.2.1), and [`hal_pins`]: the same ports on `embedded-hal` digital pins.
 #![no_std]
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
@@ -29,6 +29,7 @@ extern crate std;
 pub mod confidence;
 pub mod corner;
 pub mod guard;
+pub mod hal_pins;
 pub mod window_ports;
 pub mod info;
 pub mod matching;

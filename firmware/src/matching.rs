@@ -365,6 +365,7 @@ fn dot_long(a: &[i16], b: &[i16]) -> i32 {
 }
 
 /// `l[k] += t[k]·a[k]` over 16 lanes.
+#[cfg(not(target_arch = "arm"))]
 #[inline(always)]
 fn mac16(l: &mut [i32; 16], t: &[i16; 16], a: &[i16; 16]) {
     for ((l, &p), &q) in l.iter_mut().zip(t).zip(a) {
@@ -376,6 +377,7 @@ fn mac16(l: &mut [i32; 16], t: &[i16; 16], a: &[i16; 16]) {
 /// four runs of `s` starting at `0`, `step`, `2·step` and `3·step`: four placements of
 /// one strip column, sharing each template chunk. (A remainder loop in the same
 /// function stops the SLP vectoriser, so the tail is summed by the caller.)
+#[cfg(not(target_arch = "arm"))]
 #[inline(never)]
 fn dot_long4(t: &[i16], s: &[i16], step: usize) -> [i32; 4] {
     let n = t.len();
@@ -414,6 +416,47 @@ fn dot_long4(t: &[i16], s: &[i16], step: usize) -> [i32; 4] {
     let f = |l: &[i32; 16]| l.iter().fold(0i32, |s, &v| s.wrapping_add(v));
     [f(&l0), f(&l1), f(&l2), f(&l3)]
 }
+
+/// [`dot_long4`] for 32-bit Arm (Cortex-M4, thesis 2.6's processors on a microcontroller):
+/// 64 lanes of accumulators spill on its 13 registers, so here four scalar sums, one per
+/// placement, take the template two pixels at a time, the shape LLVM's parallel-DSP pass
+/// turns into `SMLAD` (two 16-bit products a cycle). Exact integers either way, so the
+/// results are the same bits (checked against x86 by `scripts/board.sh`, and against
+/// [`dot_long4`] by a unit test).
+#[cfg(any(test, target_arch = "arm"))]
+#[inline(never)]
+fn dot_long4_pairs(t: &[i16], s: &[i16], step: usize) -> [i32; 4] {
+    let n = t.len();
+    let (Some(s0), Some(s1), Some(s2), Some(s3)) = (
+        s.get(..n),
+        s.get(step..step + n),
+        s.get(2 * step..2 * step + n),
+        s.get(3 * step..3 * step + n),
+    ) else {
+        return [0; 4];
+    };
+    let (mut a0, mut a1, mut a2, mut a3) = (0i32, 0i32, 0i32, 0i32);
+    let it = t
+        .chunks_exact(2)
+        .zip(s0.chunks_exact(2))
+        .zip(s1.chunks_exact(2))
+        .zip(s2.chunks_exact(2))
+        .zip(s3.chunks_exact(2));
+    let dot2 = |t: &[i16], x: &[i16]| match (t, x) {
+        (&[t0, t1], &[x0, x1]) => (i32::from(t0) * i32::from(x0)).wrapping_add(i32::from(t1) * i32::from(x1)),
+        _ => 0,
+    };
+    for ((((tc, a), b), c), d) in it {
+        a0 = a0.wrapping_add(dot2(tc, a));
+        a1 = a1.wrapping_add(dot2(tc, b));
+        a2 = a2.wrapping_add(dot2(tc, c));
+        a3 = a3.wrapping_add(dot2(tc, d));
+    }
+    [a0, a1, a2, a3]
+}
+
+#[cfg(target_arch = "arm")]
+use dot_long4_pairs as dot_long4;
 
 /// Template statistics that do not depend on the placement.
 struct TemplateStats {
@@ -821,6 +864,26 @@ pub fn best_match_decimated(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_arm_pairwise_dot_products_equal_the_lane_ones() {
+        // Pixels from a fixed LCG; template lengths multiples of 16 as the caller passes.
+        let mut x = 12345u32;
+        let mut px = || {
+            x = x.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (x >> 24) as i16
+        };
+        for (n, step) in [(16, 16), (400, 20), (256, 16), (4096, 64)] {
+            let t: std::vec::Vec<i16> = (0..n).map(|_| px()).collect();
+            let s: std::vec::Vec<i16> = (0..n + 3 * step).map(|_| px()).collect();
+            let want: std::vec::Vec<i32> = (0..4)
+                .map(|k| t.iter().zip(&s[k * step..]).map(|(&a, &b)| i32::from(a) * i32::from(b)).sum())
+                .collect();
+            assert_eq!(dot_long4_pairs(&t, &s, step).to_vec(), want, "n {n}");
+            #[cfg(not(target_arch = "arm"))]
+            assert_eq!(dot_long4(&t, &s, step).to_vec(), want, "n {n}");
+        }
+    }
 
     fn v<'a>(d: &'a [u8], w: usize, h: usize) -> WindowView<'a> {
         WindowView::packed(d, w, h).unwrap()

@@ -14,7 +14,7 @@ fn dependencies_are_no_std_without_alloc() {
     let tree = String::from_utf8_lossy(&out.stdout);
     let crates: std::collections::BTreeSet<&str> =
         tree.lines().filter(|l| !l.contains(" feature ")).filter_map(|l| l.split_whitespace().next()).collect();
-    let allowed = ["byteorder", "coopwin-firmware", "embedded-io", "hash32", "heapless", "libm", "stable_deref_trait"];
+    let allowed = ["byteorder", "coopwin-firmware", "embedded-hal", "embedded-io", "hash32", "heapless", "libm", "stable_deref_trait"];
     for c in &crates {
         assert!(allowed.contains(c), "unexpected dependency {c}:\n{tree}");
     }

@@ -7,7 +7,8 @@
 //!   its last pixel is strobed (one clock after that pixel was on the bus).
 //! - [`HdlBackend`]: the units themselves, stepped clock by clock on the camera raster, each
 //!   written by the firmware's `window_ports::CoordinateWriter` over the four-phase handshake and
-//!   read from `pixel_strobe`/`pixel_out` by its `window_ports::PixelReceiver`: the rust-hdl
+//!   read from `pixel_strobe`/`pixel_out` by its `window_ports::PixelReceiver`, both through
+//!   `embedded-hal` pins (`hal_pins`, as on the Cortex-M4 board): the rust-hdl
 //!   `WindowUnit`s, or the exported `window_network`
 //!   Verilog compiled with Verilator ([`Bank`]).
 //!
@@ -16,7 +17,11 @@
 use crate::system::FrameSource;
 use coopwin_firmware::ports::{Decimation, WindowRequest};
 use coopwin_hdl::camera::{CameraBus, FrameRaster, Jitter, RasterTiming, Window};
-use coopwin_firmware::window_ports::{coordinate_bytes, CoordinatePins, CoordinateWriter, PixelReceiver};
+use coopwin_firmware::hal_pins::{HalCoordinatePins, HalPixelPins};
+use coopwin_firmware::window_ports::{coordinate_bytes, CoordinateWriter, PixelReceiver};
+use core::cell::Cell;
+use core::convert::Infallible;
+use embedded_hal::digital::{InputPin, OutputPin};
 use coopwin_hdl::driver::{CoordBus, NetworkDriver, UnitOutputs, VcdTrace};
 use std::collections::VecDeque;
 
@@ -244,21 +249,72 @@ pub enum Bank {
     Verilator(crate::verilator::VerilatorNetwork),
 }
 
-/// A unit's coordinate port as the firmware's writer sees it: CRDY1 after the last edge, and
-/// the bus it drives for the next clock.
-struct Pins<'a> {
-    ready: bool,
-    bus: &'a mut CoordBus,
+/// One line of a unit's simulated coordinate bus as an `embedded-hal` output pin: the
+/// firmware's writer drives the rust-hdl or Verilator unit through
+/// [`HalCoordinatePins`], the same driver code as on the Cortex-M4 board (`firmware/board`).
+struct BusPin<'a> {
+    bus: &'a Cell<CoordBus>,
+    line: BusLine,
 }
 
-impl CoordinatePins for Pins<'_> {
-    type Error = core::convert::Infallible;
-    fn drive(&mut self, strobe: bool, data: u8, decimate: bool) -> Result<(), Self::Error> {
-        *self.bus = CoordBus { strobe, data: u32::from(data), decimate };
+#[derive(Clone, Copy)]
+enum BusLine {
+    Data(u8),
+    Strobe,
+    Decimate,
+}
+
+impl embedded_hal::digital::ErrorType for BusPin<'_> {
+    type Error = Infallible;
+}
+
+impl OutputPin for BusPin<'_> {
+    fn set_low(&mut self) -> Result<(), Infallible> {
+        self.set(false);
         Ok(())
     }
-    fn ready(&mut self) -> Result<bool, Self::Error> {
-        Ok(self.ready)
+    fn set_high(&mut self) -> Result<(), Infallible> {
+        self.set(true);
+        Ok(())
+    }
+}
+
+impl BusPin<'_> {
+    fn set(&self, high: bool) {
+        let mut b = self.bus.get();
+        match self.line {
+            BusLine::Data(bit) => b.data = (b.data & !(1 << bit)) | u32::from(high) << bit,
+            BusLine::Strobe => b.strobe = high,
+            BusLine::Decimate => b.decimate = high,
+        }
+        self.bus.set(b);
+    }
+}
+
+/// A line the unit drove after the last clock edge (CRDY1, CSTRB4, a pixel bit), as an
+/// `embedded-hal` input pin.
+struct Level(bool);
+
+impl embedded_hal::digital::ErrorType for Level {
+    type Error = Infallible;
+}
+
+impl InputPin for Level {
+    fn is_high(&mut self) -> Result<bool, Infallible> {
+        Ok(self.0)
+    }
+    fn is_low(&mut self) -> Result<bool, Infallible> {
+        Ok(!self.0)
+    }
+}
+
+/// A unit's port 1 as pins: eight data lines, CSTRB1 and the decimation line on `bus`.
+fn port_pins(bus: &Cell<CoordBus>, ready: bool) -> HalCoordinatePins<BusPin<'_>, Level> {
+    HalCoordinatePins {
+        data: std::array::from_fn(|bit| BusPin { bus, line: BusLine::Data(bit as u8) }),
+        strobe: BusPin { bus, line: BusLine::Strobe },
+        decimate: BusPin { bus, line: BusLine::Decimate },
+        ready: Level(ready),
     }
 }
 
@@ -422,7 +478,9 @@ impl HdlBackend {
                     u.active = bus_frame.map(|k| (k, req, vec![0; w * h], PixelReceiver::expect(&req)));
                 }
             }
-            let Ok(()) = u.writer.poll(&mut Pins { ready: u.last.coord_ready, bus: port });
+            let bus = Cell::new(*port);
+            let Ok(()) = u.writer.poll(&mut port_pins(&bus, u.last.coord_ready));
+            *port = bus.get();
         }
         // Every 16th step is timed (and counted 16 times): timing every clock would itself
         // cost a third of a Verilator step.
@@ -474,7 +532,12 @@ impl HdlBackend {
                 let Some((k, req, px, rx)) = &mut u.active else {
                     return Err(format!("unit {p} strobed a pixel on clock {c} with no window armed"));
                 };
-                if rx.poll(true, out.pixel_out, px).map_err(|e| format!("unit {p}, clock {c}: {e:?}"))? {
+                // Port 4 through embedded-hal input pins, as on the board.
+                let mut pins = HalPixelPins {
+                    data: std::array::from_fn(|bit| Level(out.pixel_out >> bit & 1 == 1)),
+                    strobe: Level(out.pixel_strobe),
+                };
+                if pins.poll(rx, px).map_err(|e| format!("unit {p}, clock {c}: {e:?}"))? {
                     self.done.push_back(Delivered { p, frame: *k, clock: c, req: *req, pixels: std::mem::take(px) });
                     u.active = None;
                 }

@@ -2,6 +2,7 @@
 //! and the `coopwin` command that runs them.
 pub mod audit;
 pub mod backend;
+pub mod board_stream;
 pub mod commands;
 pub mod cost;
 pub mod experiments;

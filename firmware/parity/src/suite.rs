@@ -1,0 +1,389 @@
+//! The suite: every kernel of the thesis's window processors (2.4 matching and differencing,
+//! ch. 3 corner detector, 3.4.1 information, 4.3 COOP decision) on the benchmark inputs, a
+//! float-format comparison for the M4F's single-precision FPU, and the COOP Foveal pair
+//! (4.2) replaying a recorded window stream. One line per result; floats as IEEE bits.
+use crate::pgm::{self, PgmError};
+use crate::stream::{Stream, StreamError};
+use coopwin_firmware::confidence::{ConfidencePolicy, KalmanCoop, SseCoop, Source};
+use coopwin_firmware::corner::{CornerDetector, CornerParams};
+use coopwin_firmware::info::{corner_information, edge_information, edge_information_with_prior};
+use coopwin_firmware::matching::{best_match, best_match_decimated, Match, MatchError, Method};
+use coopwin_firmware::motion::detect_motion;
+use coopwin_firmware::ports::WindowRequest;
+use coopwin_firmware::tracker::{Algo, Dest, Foveal, FovealKind, Msg, Params, Point, Step, Template};
+use coopwin_firmware::view::WindowView;
+use core::fmt::{self, Write};
+
+/// The benchmark inputs (`fixtures/bench/`, see its README) and the recorded window stream.
+pub mod inputs {
+    /// Foveal window, 24x24.
+    pub const FOVEAL_WINDOW: &[u8] = include_bytes!("../../../fixtures/bench/foveal_window.pgm");
+    /// Foveal template, 20x20.
+    pub const FOVEAL_TEMPLATE: &[u8] = include_bytes!("../../../fixtures/bench/foveal_template.pgm");
+    /// Peripheral window, 40x40.
+    pub const PERIPHERAL_WINDOW: &[u8] = include_bytes!("../../../fixtures/bench/peripheral_window.pgm");
+    /// Peripheral template, 16x16.
+    pub const PERIPHERAL_TEMPLATE: &[u8] = include_bytes!("../../../fixtures/bench/peripheral_template.pgm");
+    /// Watch frame t-1, 256x256.
+    pub const WATCH_PREV: &[u8] = include_bytes!("../../../fixtures/bench/watch_prev.pgm");
+    /// Watch frame t, 256x256.
+    pub const WATCH_NEXT: &[u8] = include_bytes!("../../../fixtures/bench/watch_next.pgm");
+    /// Corner window, 20x20.
+    pub const CORNER_20: &[u8] = include_bytes!("../../../fixtures/bench/corner_20.pgm");
+    /// Corner window, 24x24.
+    pub const CORNER_24: &[u8] = include_bytes!("../../../fixtures/bench/corner_24.pgm");
+    /// The COOP pair's windows recorded from the testbench (`fixtures/board/README.md`).
+    pub const WINDOWS: &[u8] = include_bytes!("../../../fixtures/board/windows.bin");
+}
+
+/// Brackets each measured piece of work. The board counts instructions; the host runs it.
+pub trait Meter {
+    /// Runs the pure computation `f` (possibly several times, for a finer count) and
+    /// returns its result.
+    fn kernel<R>(&mut self, id: &str, f: &mut dyn FnMut() -> R) -> R;
+    /// Runs the stateful step `f` exactly once.
+    fn once<R>(&mut self, id: &str, f: &mut dyn FnMut() -> R) -> R;
+}
+
+/// A meter that measures nothing (the host).
+pub struct NoMeter;
+
+impl Meter for NoMeter {
+    fn kernel<R>(&mut self, _: &str, f: &mut dyn FnMut() -> R) -> R {
+        f()
+    }
+    fn once<R>(&mut self, _: &str, f: &mut dyn FnMut() -> R) -> R {
+        f()
+    }
+}
+
+/// Why the suite stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SuiteError {
+    /// An embedded image is not a PGM.
+    Pgm(&'static str, PgmError),
+    /// An image's size does not make a view.
+    View(&'static str),
+    /// The window stream is malformed.
+    Stream(StreamError),
+    /// The stream's template is not a valid template.
+    Template,
+    /// The processors asked for a window other than the one recorded at this frame: the
+    /// replay no longer follows the recorded run.
+    Diverged(u16),
+    /// The output sink refused a line.
+    Fmt,
+}
+
+impl From<fmt::Error> for SuiteError {
+    fn from(_: fmt::Error) -> Self {
+        SuiteError::Fmt
+    }
+}
+
+fn image(name: &'static str, bytes: &'static [u8]) -> Result<WindowView<'static>, SuiteError> {
+    let p = pgm::parse(bytes).map_err(|e| SuiteError::Pgm(name, e))?;
+    WindowView::packed(p.pixels, p.width, p.height).map_err(|_| SuiteError::View(name))
+}
+
+/// FNV-1a, 64-bit: a checksum of a byte buffer for one output line.
+pub fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3))
+}
+
+fn match_line(out: &mut dyn Write, id: &str, m: Result<Match, MatchError>) -> fmt::Result {
+    match m {
+        Ok(m) => writeln!(
+            out,
+            "{id} x={} y={} score={:016x} sub={:08x},{:08x} frame={:08x},{:08x}",
+            m.x,
+            m.y,
+            m.score.to_bits(),
+            m.sub_x.to_bits(),
+            m.sub_y.to_bits(),
+            m.frame_x.to_bits(),
+            m.frame_y.to_bits()
+        ),
+        Err(e) => writeln!(out, "{id} error={e:?}"),
+    }
+}
+
+/// Runs the whole suite, writing its lines to `out`.
+pub fn run<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
+    kernels(out, meter)?;
+    float_formats(out, meter)?;
+    decisions(out, meter)?;
+    tracker(out, meter, inputs::WINDOWS)
+}
+
+fn kernels<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
+    let fw = image("foveal_window", inputs::FOVEAL_WINDOW)?;
+    let ft = image("foveal_template", inputs::FOVEAL_TEMPLATE)?;
+    let pw = image("peripheral_window", inputs::PERIPHERAL_WINDOW)?;
+    let pt = image("peripheral_template", inputs::PERIPHERAL_TEMPLATE)?;
+    for (id, method, w, t) in [
+        ("foveal_ncc_20in24", Method::Ncc, &fw, &ft),
+        ("foveal_zncc_20in24", Method::Zncc, &fw, &ft),
+        ("peripheral_ssd_16in40", Method::Ssd, &pw, &pt),
+        ("peripheral_sad_16in40", Method::Sad, &pw, &pt),
+    ] {
+        let m = meter.kernel(id, &mut || best_match(method, w, t));
+        match_line(out, id, m)?;
+    }
+    let id = "peripheral_ssd_16in40_dec";
+    let m = meter.kernel(id, &mut || best_match_decimated(Method::Ssd, &pw, &pt));
+    match_line(out, id, m)?;
+
+    let prev = image("watch_prev", inputs::WATCH_PREV)?;
+    let next = image("watch_next", inputs::WATCH_NEXT)?;
+    match meter.kernel("watch_motion_256", &mut || detect_motion(&prev, &next, 30)) {
+        Ok(Some(a)) => writeln!(out, "watch_motion_256 bbox={},{},{},{} count={}", a.xmin, a.xmax, a.ymin, a.ymax, a.count)?,
+        other => writeln!(out, "watch_motion_256 none={other:?}")?,
+    }
+
+    let mut det = CornerDetector::new();
+    let params = CornerParams::new(50);
+    let mut edges24 = 0;
+    for (id, name, bytes) in [("corner_20", "corner_20", inputs::CORNER_20), ("corner_24", "corner_24", inputs::CORNER_24)] {
+        let v = image(name, bytes)?;
+        // Detection is a pure function of the window; the detector only holds scratch space.
+        match meter.kernel(id, &mut || det.detect(&v, &params)) {
+            Ok(c) => writeln!(
+                out,
+                "{id} x={:08x} y={:08x} case={:?} edge={} clean={} map={:016x}",
+                c.x.to_bits(),
+                c.y.to_bits(),
+                c.case,
+                c.edge_pixels,
+                c.clean_pixels,
+                fnv1a(det.edge_map().0)
+            )?,
+            Err(e) => writeln!(out, "{id} none={e:?}")?,
+        }
+        edges24 = det.edge_pixels();
+    }
+    // The thesis's rules alone (3.2-3.3), without the line-fit refinement of the default.
+    let v = image("corner_24", inputs::CORNER_24)?;
+    let literal = CornerParams::literal(50);
+    match meter.kernel("corner_24_literal", &mut || det.detect(&v, &literal)) {
+        Ok(c) => writeln!(out, "corner_24_literal x={:08x} y={:08x} case={:?}", c.x.to_bits(), c.y.to_bits(), c.case)?,
+        Err(e) => writeln!(out, "corner_24_literal none={e:?}")?,
+    }
+    let info = meter.kernel("info", &mut || {
+        (edge_information(edges24, 576), edge_information_with_prior(edges24, 576, 0.1), corner_information(0.37))
+    });
+    let bits = |v: Option<f64>| v.map_or(0, f64::to_bits);
+    writeln!(out, "info n={edges24} i={:016x} prior={:016x} cd={:016x}", info.0.to_bits(), bits(info.1), bits(info.2))?;
+    Ok(())
+}
+
+/// The Foveal NCC's normalisation `P / sqrt(E_R E_I)` over the 25 placements of the 20x20
+/// template in the 24x24 window, in three number formats: f64 (what `matching` uses; soft
+/// float on the M4F), f32 (the M4F's FPU, `VSQRT`), and Q1.15 fixed point from an integer
+/// square root. The integer sums are exact in all three, so only the last step differs.
+fn float_formats<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
+    let fw = image("foveal_window", inputs::FOVEAL_WINDOW)?;
+    let ft = image("foveal_template", inputs::FOVEAL_TEMPLATE)?;
+    let (n, nx, ny) = (ft.width(), fw.width() - ft.width() + 1, fw.height() - ft.height() + 1);
+    let px = |v: &WindowView<'_>, x: usize, y: usize| u64::from(v.get(x, y).unwrap_or(0));
+    let mut sums = [(0u64, 0u64); 25];
+    let e_r: u64 = (0..n * n).map(|i| px(&ft, i % n, i / n).pow(2)).sum();
+    for (k, s) in sums.iter_mut().enumerate().take(nx * ny) {
+        let (ox, oy) = (k % nx, k / nx);
+        for i in 0..n * n {
+            let (u, v) = (i % n, i / n);
+            let w = px(&fw, ox + u, oy + v);
+            s.0 += px(&ft, u, v) * w;
+            s.1 += w * w;
+        }
+    }
+    let f64s = meter.kernel("ncc_norm25_f64", &mut || {
+        sums.map(|(p, e)| p as f64 / libm::sqrt(e_r as f64 * e as f64))
+    });
+    let f32s = meter.kernel("ncc_norm25_f32", &mut || {
+        sums.map(|(p, e)| p as f32 / libm::sqrtf(e_r as f32 * e as f32))
+    });
+    let q15s = meter.kernel("ncc_norm25_q15", &mut || {
+        // P / sqrt(E_R E_I) in Q1.15: P and both energies are under 2^25 (400 * 255²), so
+        // the product fits u64 and P << 15 as well.
+        sums.map(|(p, e)| ((p << 15) / isqrt(e_r * e).max(1)).min(1 << 15) as u16)
+    });
+    let best = |s: &[f64]| s.iter().enumerate().fold(0, |b, (i, &v)| if v > s[b] { i } else { b });
+    let f32w: [f64; 25] = core::array::from_fn(|i| f64::from(f32s[i]));
+    let q15w: [f64; 25] = core::array::from_fn(|i| f64::from(q15s[i]));
+    let mut bytes64 = [0u8; 200];
+    let mut bytes32 = [0u8; 100];
+    let mut bytes16 = [0u8; 50];
+    for i in 0..25 {
+        bytes64[8 * i..8 * i + 8].copy_from_slice(&f64s[i].to_le_bytes());
+        bytes32[4 * i..4 * i + 4].copy_from_slice(&f32s[i].to_le_bytes());
+        bytes16[2 * i..2 * i + 2].copy_from_slice(&q15s[i].to_le_bytes());
+    }
+    // Largest deviation from the f64 scores, in units of 1e-9.
+    let dev = |w: &[f64; 25]| w.iter().zip(&f64s).map(|(a, b)| libm::fabs(a - b)).fold(0.0, f64::max);
+    let q15dev: [f64; 25] = core::array::from_fn(|i| q15w[i] / 32768.0);
+    writeln!(out, "ncc_norm25_f64 best={} sum={:016x}", best(&f64s), fnv1a(&bytes64))?;
+    writeln!(out, "ncc_norm25_f32 best={} sum={:016x} maxdev_e9={}", best(&f32w), fnv1a(&bytes32), (dev(&f32w) * 1e9) as u64)?;
+    writeln!(out, "ncc_norm25_q15 best={} sum={:016x} maxdev_e9={}", best(&q15dev), fnv1a(&bytes16), (dev(&q15dev) * 1e9) as u64)?;
+    Ok(())
+}
+
+/// Integer square root, rounded down (Newton's method from above).
+fn isqrt(v: u64) -> u64 {
+    if v < 2 {
+        return v;
+    }
+    let mut x = 1u64 << ((64 - v.leading_zeros()).div_ceil(2));
+    loop {
+        let y = (x + v / x) / 2;
+        if y >= x {
+            return x;
+        }
+        x = y;
+    }
+}
+
+/// The COOP decision (4.3) and the Kalman policy (5.2) on a fixed sequence: NCC steady, CD
+/// with a disturbance, one decision a frame (the thesis's 8.8 ms).
+fn decisions<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
+    let mut sse = SseCoop::new(4).map_err(|_| SuiteError::Template)?;
+    let mut kal = KalmanCoop::new(1.0e4, 0.25, 0.3).map_err(|_| SuiteError::Template)?;
+    let mut picks = [0u8; 2];
+    let mut hist = [[0u8; 16]; 2];
+    for k in 0..16u32 {
+        let t = f64::from(k) * 0.0088;
+        let ncc = (100.0 + 50.0 * t + 0.1 * f64::from(k % 3), 50.0 + 20.0 * t);
+        let wobble = if (6..9).contains(&k) { 3.0 } else { 0.05 * f64::from(k % 2) };
+        let cd = (100.5 + 50.0 * t + wobble, 50.2 + 20.0 * t);
+        for (j, policy) in [&mut sse as &mut dyn ConfidencePolicy, &mut kal].into_iter().enumerate() {
+            let id = if j == 0 { "coop_decision_sse" } else { "coop_decision_kalman" };
+            let pick = meter.once(id, &mut || {
+                let _ = policy.push(Source::Ncc, t, ncc.0, ncc.1);
+                let _ = policy.push(Source::Cd, t, cd.0, cd.1);
+                policy.choose()
+            });
+            hist[j][k as usize] = if pick == Source::Ncc { b'N' } else { b'C' };
+            picks[j] += u8::from(pick == Source::Cd);
+        }
+    }
+    for (j, id) in ["coop_decision_sse", "coop_decision_kalman"].into_iter().enumerate() {
+        write!(out, "{id} picks=")?;
+        for &c in &hist[j] {
+            out.write_char(char::from(c))?;
+        }
+        writeln!(out, " cd={}", picks[j])?;
+    }
+    let fit = |s: Source| sse.fit(s).map_or((0, 0, 0), |f| (f.a.to_bits(), f.b.to_bits(), f.sse.to_bits()));
+    let (n, c) = (fit(Source::Ncc), fit(Source::Cd));
+    writeln!(out, "coop_decision_sse fit_ncc={:016x},{:016x},{:016x} fit_cd={:016x},{:016x},{:016x}", n.0, n.1, n.2, c.0, c.1, c.2)?;
+    let score = |s: Source| kal.score(s).map_or(0, f64::to_bits);
+    writeln!(out, "coop_decision_kalman score_ncc={:016x} score_cd={:016x}", score(Source::Ncc), score(Source::Cd))?;
+    Ok(())
+}
+
+/// Messages to the partner go to it; the Peripheral's (Tracked, Lost) have no processor here.
+fn to_partner(step: &Step) -> impl Iterator<Item = &Msg> {
+    step.sends.iter().filter(|(d, _)| *d == Dest::FovealCd).map(|(_, m)| m)
+}
+
+/// The COOP Foveal pair (4.2): a master running NCC and the decision, a partner running the
+/// corner detector on the same coordinates, wired to each other as their link would be.
+/// The testbench's recorder and the replay below drive it alike.
+pub struct CoopPair {
+    master: Foveal,
+    partner: Foveal,
+    want: Option<WindowRequest>,
+}
+
+impl CoopPair {
+    /// A pair tracking from `start` with `template` (default thesis parameters).
+    pub fn new(template: Template, start: Point) -> Self {
+        let params = Params::default();
+        let mut master = Foveal::new(FovealKind::CoopMaster, params, Some(template));
+        let mut partner = Foveal::new(FovealKind::CoopPartner, params, None);
+        let first = master.start_at(start);
+        for m in to_partner(&first) {
+            partner.on_message(m, 0.0);
+        }
+        CoopPair { master, partner, want: first.request }
+    }
+
+    /// The window the pair wants next (both processors' window; `None` once lost).
+    pub fn want(&self) -> Option<WindowRequest> {
+        self.want
+    }
+
+    /// One COOP frame: the window goes to both, the partner's result to the master, which
+    /// decides; returns the master's decision step (`None` if the partner sent no result).
+    /// Metered as `coop_frame`: both Foveal kernels and the decision.
+    pub fn frame<M: Meter>(&mut self, meter: &mut M, view: &WindowView<'_>, t: f64) -> Option<Step> {
+        let (master, partner) = (&mut self.master, &mut self.partner);
+        let step = meter.once("coop_frame", &mut || {
+            let _own = master.on_window(view, t);
+            let theirs = partner.on_window(view, t);
+            let mut decided = None;
+            for (_, m) in theirs.sends.iter().filter(|(d, _)| *d == Dest::Foveal) {
+                decided = Some(master.on_message(m, t));
+            }
+            decided
+        })?;
+        for m in to_partner(&step) {
+            self.partner.on_message(m, t);
+        }
+        self.want = step.request;
+        Some(step)
+    }
+}
+
+/// Replays `bytes` through a [`CoopPair`]. Each frame the master must ask for the window
+/// recorded next, or the replay has left the recorded run.
+pub fn tracker<W: Write, M: Meter>(out: &mut W, meter: &mut M, bytes: &[u8]) -> Result<(), SuiteError> {
+    let s = Stream::parse(bytes).map_err(SuiteError::Stream)?;
+    let anchor = Point { x: s.anchor.0, y: s.anchor.1 };
+    let tpl = Template::from_parts(usize::from(s.side), anchor, s.template).ok_or(SuiteError::Template)?;
+    let mut pair = CoopPair::new(tpl, Point { x: s.start.0, y: s.start.1 });
+    let (mut reports, mut cd) = (0u32, 0u32);
+    for (k, f) in s.frames().enumerate() {
+        let k = k as u16;
+        let r = pair.want().ok_or(SuiteError::Diverged(k))?;
+        if (r.x0, r.y0, r.width, r.height) != (f.x0, f.y0, f.w, f.h) {
+            return Err(SuiteError::Diverged(k));
+        }
+        let (w, h) = (usize::from(f.w), usize::from(f.h));
+        let view = WindowView::new(f.pixels, w, h, w, u32::from(f.x0), u32::from(f.y0)).map_err(|_| SuiteError::View("window"))?;
+        let step = pair.frame(meter, &view, f.t).ok_or(SuiteError::Diverged(k))?;
+        write!(out, "tracker {k} win={},{}", f.x0, f.y0)?;
+        match (step.report, step.lost) {
+            (Some((p, algo)), _) => {
+                reports += 1;
+                cd += u32::from(algo == Algo::Cd);
+                writeln!(out, " x={:08x} y={:08x} algo={algo:?}", p.x.to_bits(), p.y.to_bits())?
+            }
+            (None, Some(p)) => writeln!(out, " lost={:08x},{:08x}", p.x.to_bits(), p.y.to_bits())?,
+            (None, None) => writeln!(out, " none")?,
+        }
+    }
+    writeln!(out, "tracker_total frames={} reports={reports} cd={cd}", s.count)?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn isqrt_is_the_floor_root() {
+        for v in (0u64..5000).chain([u64::MAX, 1 << 48, (1 << 48) - 1, 999_999_999_999]) {
+            let r = isqrt(v);
+            assert!(u128::from(r) * u128::from(r) <= u128::from(v), "{v}");
+            assert!(u128::from(r + 1) * u128::from(r + 1) > u128::from(v), "{v}");
+        }
+    }
+
+    #[test]
+    fn fnv1a_matches_the_published_vectors() {
+        // From the FNV reference (Fowler, Noll, Vo): "" and "a".
+        assert_eq!(fnv1a(b""), 0xcbf2_9ce4_8422_2325);
+        assert_eq!(fnv1a(b"a"), 0xaf63_dc4c_8601_ec8c);
+    }
+}

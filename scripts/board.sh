@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# The firmware on a Cortex-M4F (thesis 2.6: the tracking code on the window processors):
+# builds firmware/board for thumbv7em-none-eabihf with Debian's rustc (core built from source),
+# runs it on QEMU's mps2-an386 with one instruction per virtual nanosecond, and fails unless
+# its result lines equal fixtures/board/expected.txt, which the host computes
+# (firmware/parity/tests/board_parity.rs).
+#
+#   scripts/board.sh             build, run, compare
+#   scripts/board.sh --figures   also regenerate docs/firmware-target.md
+#
+# Needs: apt-get install rustc-web cargo-web rust-web-src qemu-system-arm binutils-arm-none-eabi
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+figures=0
+case "${1:-}" in
+  --figures) figures=1 ;;
+  "") ;;
+  *) echo "usage: $0 [--figures]" >&2; exit 2 ;;
+esac
+for tool in /usr/bin/rustc /usr/bin/cargo qemu-system-arm arm-none-eabi-ld arm-none-eabi-size; do
+  command -v "$tool" >/dev/null || { echo "board.sh: $tool is missing (see the header of $0)" >&2; exit 2; }
+done
+
+out="$root/target/board"
+mkdir -p "$out"
+elf="$out/thumbv7em-none-eabihf/release/coopwin-board"
+# The host's rustup toolchain stays the workspace's; only this build uses Debian's, whose
+# core sources build `core` for the target (RUSTC_BOOTSTRAP for -Zbuild-std).
+(cd "$root/firmware/board" &&
+  CARGO_TARGET_DIR="$out" RUSTC=/usr/bin/rustc RUSTC_BOOTSTRAP=1 /usr/bin/cargo build --release --locked -q)
+
+run="$out/run.txt"
+# A hang (a fault handler spinning) ends at the timeout, as a failure.
+if ! timeout 300 qemu-system-arm -cpu cortex-m4 -machine mps2-an386 -nographic \
+  -semihosting-config enable=on,target=native -icount shift=0 -kernel "$elf" >"$run" 2>&1; then
+  echo "board.sh: the board run failed or timed out; its output:" >&2
+  tail -20 "$run" >&2
+  exit 1
+fi
+# `#` lines are measurements (instruction counts, stack); everything else is compared.
+if ! grep -v '^#' "$run" | diff -u "$root/fixtures/board/expected.txt" - >"$out/diff.txt"; then
+  echo "board.sh: the Cortex-M4 output differs from the host's (fixtures/board/expected.txt):" >&2
+  head -40 "$out/diff.txt" >&2
+  exit 1
+fi
+echo "board.sh: $(grep -vc '^#' "$run") result lines bit-identical to the host's; $(grep '^# pins' "$run" | sed 's/^# //')"
+
+if [ "$figures" = 1 ]; then
+  arm-none-eabi-size -A "$elf" >"$out/size.txt"
+  arm-none-eabi-objdump -d --no-show-raw-insn -C "$elf" >"$out/disasm.txt"
+  python3 "$root/scripts/board_figures.py" "$run" "$out/size.txt" "$out/disasm.txt" >"$root/docs/firmware-target.md"
+  echo "board.sh: wrote docs/firmware-target.md"
+fi

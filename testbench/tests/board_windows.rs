@@ -1,0 +1,38 @@
+//! `fixtures/board/windows.bin`, the COOP window stream the Cortex-M4 replays (thesis 4.2),
+//! is what the recorder makes today, and the replay of it tracks the scene's true corner.
+use coopwin_parity::stream::Stream;
+use coopwin_parity::suite::{self, NoMeter};
+use coopwin_testbench::board_stream::{record, scene};
+use coopwin_testbench::scene::Scene;
+
+#[test]
+fn the_committed_stream_is_current() {
+    let fresh = record(&scene()).unwrap();
+    assert!(
+        fresh == suite::inputs::WINDOWS,
+        "fixtures/board/windows.bin is stale: cargo run -p coopwin-testbench --example record_board_windows"
+    );
+    assert_eq!(usize::from(Stream::parse(&fresh).unwrap().count), scene().frames);
+}
+
+#[test]
+fn the_replay_reports_the_true_corner() {
+    let mut out = String::new();
+    suite::tracker(&mut out, &mut NoMeter, suite::inputs::WINDOWS).unwrap();
+    let truth = Scene::new(scene());
+    let f = |s: &str| f32::from_bits(u32::from_str_radix(s, 16).unwrap()) as f64;
+    let mut worst: f64 = 0.0;
+    let mut n = 0;
+    for line in out.lines().filter(|l| l.starts_with("tracker ")) {
+        let fields: Vec<&str> = line.split(' ').collect();
+        let k: usize = fields[1].parse().unwrap();
+        let x = f(fields.iter().find_map(|s| s.strip_prefix("x=")).unwrap());
+        let y = f(fields.iter().find_map(|s| s.strip_prefix("y=")).unwrap());
+        let c = truth.truth(k).corner;
+        worst = worst.max(((x - c.0).powi(2) + (y - c.1).powi(2)).sqrt());
+        n += 1;
+    }
+    assert_eq!(n, scene().frames);
+    // The testbench's COOP errors on this kind of scene are well under a pixel.
+    assert!(worst < 1.0, "worst error {worst:.3} px");
+}
