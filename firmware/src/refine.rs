@@ -24,54 +24,58 @@ const CONVERGED: f32 = 0.01;
 /// is within half a pixel of the truth, so a longer walk means the iteration diverged).
 const MAX_WALK: f32 = 1.0;
 
+/// Largest template side refined (the processors' templates are at most 32 x 32).
+pub const MAX_SIDE: usize = 32;
+const INTERIOR: usize = (MAX_SIDE - 2) * (MAX_SIDE - 2);
+
 /// The refined top-left placement of `tpl` in `win`, starting from `(x, y)` (window pixels,
-/// real-valued, e.g. the parabola fit), or `None` when the template has no texture in some
-/// direction (singular `H`), the window is flat, a sample would fall outside the window, or
-/// the iteration walks more than a pixel.
+/// real-valued, e.g. the parabola fit), or `None` when the template is over [`MAX_SIDE`] or
+/// has no texture in some direction (singular `H`), the window is flat, a sample would fall
+/// outside the window, or the iteration walks more than a pixel.
 pub fn refine_translation(win: &WindowView<'_>, tpl: &WindowView<'_>, x: f32, y: f32) -> Option<(f32, f32)> {
     let (tw, th) = (tpl.width(), tpl.height());
-    if tw < 3 || th < 3 || !x.is_finite() || !y.is_finite() {
+    if !(3..=MAX_SIDE).contains(&tw) || !(3..=MAX_SIDE).contains(&th) || !x.is_finite() || !y.is_finite() {
         return None;
     }
+    // The template's interior pixels and their central-difference gradients, row by row.
+    let (iw, ih) = (tw - 2, th - 2);
+    let n = iw * ih;
+    let (mut tv, mut gx, mut gy) = ([0f32; INTERIOR], [0f32; INTERIOR], [0f32; INTERIOR]);
     let t = |i: usize, j: usize| tpl.get(i, j).map(f32::from);
-    let interior = || (1..th - 1).flat_map(move |j| (1..tw - 1).map(move |i| (i, j)));
-    let count = ((tw - 2) * (th - 2)) as f32;
-    let (mut h11, mut h12, mut h22, mut t_sum) = (0.0f32, 0.0f32, 0.0f32, 0.0f32);
-    for (i, j) in interior() {
-        let gx = (t(i + 1, j)? - t(i - 1, j)?) / 2.0;
-        let gy = (t(i, j + 1)? - t(i, j - 1)?) / 2.0;
-        h11 += gx * gx;
-        h12 += gx * gy;
-        h22 += gy * gy;
-        t_sum += t(i, j)?;
+    for j in 0..ih {
+        for i in 0..iw {
+            let k = j * iw + i;
+            *tv.get_mut(k)? = t(i + 1, j + 1)?;
+            *gx.get_mut(k)? = (t(i + 2, j + 1)? - t(i, j + 1)?) / 2.0;
+            *gy.get_mut(k)? = (t(i + 1, j + 2)? - t(i + 1, j)?) / 2.0;
+        }
     }
+    let (tv, gx, gy) = (tv.get(..n)?, gx.get(..n)?, gy.get(..n)?);
+    let dot = |a: &[f32], b: &[f32]| a.iter().zip(b).map(|(p, q)| p * q).sum::<f32>();
+    let (h11, h12, h22) = (dot(gx, gx), dot(gx, gy), dot(gy, gy));
     let det = h11 * h22 - h12 * h12;
     if det.is_nan() || det <= 1e-3 * (h11 + h22) * (h11 + h22) {
         return None;
     }
-    let t_mean = t_sum / count;
-    let t_dev = libm::sqrtf(interior().filter_map(|(i, j)| t(i, j)).map(|v| (v - t_mean) * (v - t_mean)).sum());
+    let t_mean = tv.iter().sum::<f32>() / n as f32;
+    let t_dev = libm::sqrtf(tv.iter().map(|v| (v - t_mean) * (v - t_mean)).sum());
+    let mut w = [0f32; INTERIOR];
     let (mut px, mut py) = (x, y);
     for _ in 0..ITERATIONS {
-        let mut w_sum = 0.0f32;
-        let mut w_sq = 0.0f32;
-        for (i, j) in interior() {
-            let v = bilinear(win, px + i as f32, py + j as f32)?;
-            w_sum += v;
-            w_sq += v * v;
-        }
-        let w_mean = w_sum / count;
-        let w_dev = libm::sqrtf((w_sq - w_sum * w_mean).max(0.0));
+        sample(win, px + 1.0, py + 1.0, iw, ih, w.get_mut(..n)?)?;
+        let wv = w.get(..n)?;
+        let w_sum: f32 = wv.iter().sum();
+        let w_mean = w_sum / n as f32;
+        let w_dev = libm::sqrtf(wv.iter().map(|v| (v - w_mean) * (v - w_mean)).sum());
         if w_dev.is_nan() || w_dev <= 0.0 {
             return None;
         }
         let gain = t_dev / w_dev;
         let (mut b1, mut b2) = (0.0f32, 0.0f32);
-        for (i, j) in interior() {
-            let v = bilinear(win, px + i as f32, py + j as f32)?;
-            let e = (v - w_mean) * gain + t_mean - t(i, j)?;
-            b1 += (t(i + 1, j)? - t(i - 1, j)?) / 2.0 * e;
-            b2 += (t(i, j + 1)? - t(i, j - 1)?) / 2.0 * e;
+        for ((wk, tk), (gxk, gyk)) in wv.iter().zip(tv).zip(gx.iter().zip(gy)) {
+            let e = (wk - w_mean) * gain + t_mean - tk;
+            b1 += gxk * e;
+            b2 += gyk * e;
         }
         let (dx, dy) = ((h22 * b1 - h12 * b2) / det, (h11 * b2 - h12 * b1) / det);
         px -= dx;
@@ -86,21 +90,35 @@ pub fn refine_translation(win: &WindowView<'_>, tpl: &WindowView<'_>, x: f32, y:
     Some((px, py))
 }
 
-/// The window's gray level at real-valued `(x, y)` by bilinear interpolation, or `None`
-/// outside the window.
-fn bilinear(win: &WindowView<'_>, x: f32, y: f32) -> Option<f32> {
+/// The `iw` x `ih` block of `win` whose top-left sample sits at real-valued `(x, y)`, by
+/// bilinear interpolation (a translation: one set of weights for every pixel), into `out`;
+/// `None` when it would reach outside the window.
+fn sample(win: &WindowView<'_>, x: f32, y: f32, iw: usize, ih: usize, out: &mut [f32]) -> Option<()> {
     if !(x >= 0.0 && y >= 0.0) {
         return None;
     }
     let (fx, fy) = (libm::floorf(x), libm::floorf(y));
     let (ax, ay) = (x - fx, y - fy);
-    let (ix, iy) = (fx as usize, fy as usize);
-    let g = |i: usize, j: usize| win.get(i, j).map(f32::from);
-    // On the last row or column the weight of the next one is 0: do not read past the edge.
-    let right = |j: usize| if ax > 0.0 { g(ix + 1, j) } else { Some(0.0) };
-    let top = g(ix, iy)? * (1.0 - ax) + right(iy)? * ax;
-    let bottom = if ay > 0.0 { g(ix, iy + 1)? * (1.0 - ax) + right(iy + 1)? * ax } else { 0.0 };
-    Some(top * (1.0 - ay) + bottom * ay)
+    let (x0, y0) = (fx as usize, fy as usize);
+    // A zero weight never reads the next column or row, so a block ending on the window's
+    // last one is inside.
+    let (cols, rows) = (iw + usize::from(ax > 0.0), ih + usize::from(ay > 0.0));
+    if x0 + cols > win.width() || y0 + rows > win.height() {
+        return None;
+    }
+    let w = [(1.0 - ax) * (1.0 - ay), ax * (1.0 - ay), (1.0 - ax) * ay, ax * ay];
+    for j in 0..ih {
+        let top = win.row(y0 + j)?.get(x0..x0 + cols)?;
+        let bottom = if ay > 0.0 { win.row(y0 + j + 1)?.get(x0..x0 + cols)? } else { top };
+        let dst = out.get_mut(j * iw..(j + 1) * iw)?;
+        for (i, d) in dst.iter_mut().enumerate() {
+            let right = |r: &[u8]| if ax > 0.0 { r.get(i + 1).copied().map(f32::from) } else { Some(0.0) };
+            let (a, b) = (f32::from(*top.get(i)?), right(top)?);
+            let (c, e) = (f32::from(*bottom.get(i)?), right(bottom)?);
+            *d = w[0] * a + w[1] * b + w[2] * c + w[3] * e;
+        }
+    }
+    Some(())
 }
 
 #[cfg(test)]
@@ -151,8 +169,13 @@ mod tests {
         let tpl = WindowView::packed(&tex, 20, 20).unwrap();
         let flat_win = WindowView::packed(&[90u8; 1024], 32, 32).unwrap();
         assert_eq!(refine_translation(&flat_win, &tpl, 6.0, 6.0), None);
-        // Placed past the right edge: samples would fall outside.
+        // Placed past the right edge: samples would fall outside. Too large a template: refused.
         assert_eq!(refine_translation(&win, &tpl, 14.5, 6.0), None);
         assert_eq!(refine_translation(&win, &tpl, f32::NAN, 6.0), None);
+        let big = render(33, 33, 0.0, 0.0);
+        let big_tpl = WindowView::packed(&big, 33, 33).unwrap();
+        let big_win_px = render(40, 40, 3.0, 3.0);
+        let big_win = WindowView::packed(&big_win_px, 40, 40).unwrap();
+        assert_eq!(refine_translation(&big_win, &big_tpl, 3.0, 3.0), None);
     }
 }

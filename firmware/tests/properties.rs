@@ -8,6 +8,7 @@ use coopwin_firmware::window_ports::{coordinate_bytes, WriteError};
 use coopwin_firmware::motion::{detect_motion, motion_mask};
 use coopwin_firmware::ports::{Decimation, MessageDecoder, WindowRequest};
 use coopwin_firmware::tracker::Msg;
+use coopwin_firmware::refine::refine_translation;
 use coopwin_firmware::view::WindowView;
 use proptest::prelude::*;
 
@@ -108,6 +109,17 @@ proptest! {
             let (bx, by) = b.to_frame(mb.x, mb.y);
             prop_assert_eq!((ax, ay), (bx, by));
             prop_assert!((ma.frame_x - ax as f32).abs() <= 0.5 && (mb.frame_y - by as f32).abs() <= 0.5);
+        }
+    }
+
+    #[test]
+    fn refinement_never_panics_and_never_walks_far(
+        (ww, wh, wd) in image(40), (tw, th, td) in image(34), x in -3.0f32..40.0, y in -3.0f32..40.0,
+    ) {
+        let (Ok(win), Ok(tpl)) = (WindowView::packed(&wd, ww, wh), WindowView::packed(&td, tw, th)) else { return Ok(()) };
+        if let Some((rx, ry)) = refine_translation(&win, &tpl, x, y) {
+            prop_assert!(rx.is_finite() && ry.is_finite());
+            prop_assert!((rx - x).hypot(ry - y) <= 1.0 + 1e-4, "walked from ({x}, {y}) to ({rx}, {ry})");
         }
     }
 
