@@ -32,14 +32,15 @@
 //!    outlier, and NCC keeps the track. Otherwise trusted NCC wins. An untrusted NCC
 //!    (appearance changed: a lamp, an occluder) and a disagreeing CD candidate are judged by
 //!    the prediction (the least-squares line through the last [`HISTORY`] positions
-//!    followed, per axis): the one nearer to it wins, and only within `gate` px of it. With
-//!    NCC below its acceptance score, the CD candidate carries the track alone, also only
-//!    within `gate` px of the prediction: a step of `jump` at a time would let an untrusted
-//!    measurement creep onto clutter.
+//!    followed, per axis): NCC counts within `gate` px of it, the corner within `gate / 2`, the
+//!    nearer if both; otherwise neither is believed. An untrusted NCC match alone
+//!    is followed within `reacquire` px of the prediction; with NCC under its acceptance
+//!    score, the CD candidate carries the track alone only within `gate / 2` px of it: a step
+//!    of `jump` at a time would let a corner creep onto clutter.
 //! 5. **Coasting.** When neither source measures the point (an occluder passes over it), the
 //!    track coasts for up to `coast` windows: the next window is placed at the prediction and
 //!    nothing is reported; an NCC match within `reacquire` px of the prediction (a corner
-//!    alone: within `gate` px) resumes the track. After `coast` windows the target is lost.
+//!    alone: within `gate / 2` px) resumes the track. After `coast` windows the target is lost.
 //!
 //! Everything is `f32`/`f64` arithmetic on a few values: no allocation, no panic.
 
@@ -145,6 +146,11 @@ impl Guard {
         self.offset
     }
 
+    /// Whether the track is coasting: its last window measured nothing believable.
+    pub fn coasting(&self) -> bool {
+        self.coasted > 0
+    }
+
     /// Whether CD is anchored at the tracked point (the track started on a corner).
     pub fn anchored(&self) -> bool {
         self.anchored
@@ -178,11 +184,9 @@ impl Guard {
         };
         let prediction = self.predict(t);
         let within = |p: Point, r: f32| prediction.is_none_or(|q| dist(p, q) <= r);
-        // An untrusted measurement must sit close to the prediction: a step of `jump` at a
-        // time would let it creep onto clutter. Resuming a coasting track, a template match
-        // may be up to `reacquire` px off.
-        let close = |p: Point| within(p, self.params.gate);
-        let resumes = |p: Point| self.coasted > 0 && within(p, self.params.reacquire);
+        // A lone corner must sit close to the prediction: a step of `jump` at a time would let
+        // it creep onto clutter. A lone template match is evidence of the target's identity and
+        // may be up to `reacquire` px off (after an occlusion, the prediction has drifted).
         let disagree = |n: Point, c: Point| dist(n, c) > self.params.gate;
         self.parted = match (m.ncc, cd) {
             (Some((n, _)), Some(c)) if disagree(n, c) => {
@@ -207,9 +211,19 @@ impl Guard {
             }
             (_, Some(n), Some(c)) if !disagree(n, c) => Some(self.fuse(t, n, c)),
             (Some(n), _, _) => Some((n, Source::Ncc)),
-            // Two untrusted measurements that disagree: neither is believed; the track coasts.
-            (None, Some(_), Some(_)) => None,
-            (None, Some(n), None) => (close(n) || resumes(n)).then_some((n, Source::Ncc)),
+            // Two untrusted measurements that disagree: the one the motion bears out (NCC within
+            // `gate`, a corner within `gate / 2` of the prediction; the nearer if both), else
+            // neither, and the track coasts.
+            (None, Some(n), Some(c)) => {
+                let off = |p: Point| prediction.map_or(0.0, |q| dist(p, q));
+                match (off(n) <= self.params.gate, off(c) <= self.params.gate / 2.0) {
+                    (true, true) if off(c) < off(n) => Some((c, Source::Cd)),
+                    (true, _) => Some((n, Source::Ncc)),
+                    (false, true) => Some((c, Source::Cd)),
+                    (false, false) => None,
+                }
+            }
+            (None, Some(n), None) => within(n, self.params.reacquire).then_some((n, Source::Ncc)),
             (None, None, Some(c)) => within(c, self.params.gate / 2.0).then_some((c, Source::Cd)),
             (None, None, None) => None,
         };
@@ -396,6 +410,18 @@ mod tests {
         assert_eq!(got, None);
         let q = g.coast(0.09).expect("coasting");
         assert!(dist(q, p(50.0, 50.0)) < 1e-3, "the target stood still: {q:?}");
+    }
+
+    #[test]
+    fn of_two_untrusted_sources_the_one_the_motion_bears_out_is_followed() {
+        let mut g = Guard::new(GuardParams::default());
+        for k in 0..=8 {
+            g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.995, p(40.0, 50.0)));
+        }
+        // NCC under the lamp (score 0.975) stays 0.5 px from the still target; the corner is
+        // 3 px off. NCC is followed.
+        let got = g.decide(0.09, both(p(50.5, 50.0), 0.975, p(43.0, 50.0)));
+        assert_eq!(got, Some((p(50.5, 50.0), Source::Ncc)));
     }
 
     #[test]

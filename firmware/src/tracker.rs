@@ -642,6 +642,11 @@ impl Foveal {
         }
     }
 
+    /// Whether a COOP master's track is coasting: tracking, but with no current position.
+    pub fn coasting(&self) -> bool {
+        matches!(&self.coop, Policy::Guarded(g) if g.coasting())
+    }
+
     /// Whether it is tracking.
     pub fn mode(&self) -> Mode {
         if self.tracking.is_some() {
@@ -711,7 +716,7 @@ impl Foveal {
         self.own = None;
         self.partner = None;
         let chosen = self.coop.decide(t, own, partner);
-        if let (None, Some(q)) = (chosen, self.coop.coast(t)) {
+        if let Some(q) = chosen.is_none().then(|| self.coop.coast(t)).flatten() {
             // Nothing measured the point: look where it should be next, report nothing.
             let side = self.params.foveal + 2 * COAST_MARGIN;
             return Step::new(Work::Decision)

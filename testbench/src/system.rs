@@ -720,7 +720,9 @@ fn record(frame: usize, procs: &[Proc], last: Option<Report>) -> FrameRecord {
             _ => Mode::Watch,
         };
     }
-    let tracked = if mode == Mode::Track { last } else { None };
+    // A coasting COOP track has no current position: its last one is not this frame's.
+    let coasting = procs.iter().any(|p| matches!(p, Proc::Foveal(f) if f.coasting()));
+    let tracked = if mode == Mode::Track && !coasting { last } else { None };
     FrameRecord {
         frame,
         point: tracked.map(|r| (f64::from(r.point.x), f64::from(r.point.y))),
