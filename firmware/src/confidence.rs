@@ -41,6 +41,12 @@ pub enum ConfidenceError {
     TimeNotIncreasing,
 }
 
+error_messages!(ConfidenceError {
+    BadParameter => "the data set size must be 3 to 8, and filter parameters positive and finite",
+    NonFinite => "a time or coordinate is not a finite number",
+    TimeNotIncreasing => "times must increase from one sample to the next",
+});
+
 /// A least-squares line `p̂ = a t + b` and its sum of squared errors.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LineFit {

@@ -26,6 +26,19 @@
 #[cfg(test)]
 extern crate std;
 
+/// Implements `Display`, one message per variant, and `core::error::Error` for a field-less
+/// error enum, so callers can show a person what went wrong without `{:?}`.
+macro_rules! error_messages {
+    ($ty:ty { $($variant:ident => $msg:literal),* $(,)? }) => {
+        impl core::fmt::Display for $ty {
+            fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+                f.write_str(match self { $(Self::$variant => $msg),* })
+            }
+        }
+        impl core::error::Error for $ty {}
+    };
+}
+
 pub mod confidence;
 pub mod corner;
 pub mod guard;

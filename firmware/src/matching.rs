@@ -89,6 +89,15 @@ pub enum MatchError {
     MapTooSmall,
 }
 
+error_messages!(MatchError {
+    Empty => "the window or the template has no pixel",
+    TemplateLarger => "the template is wider or taller than the window",
+    TooLarge => "the window is too large for the matcher's buffers",
+    ZeroEnergy => "the template is flat (no energy for NCC, no variance for ZNCC)",
+    NoMatch => "every placement's window patch is flat",
+    MapTooSmall => "the score map is shorter than the number of placements",
+});
+
 /// The best placement of a template in a window.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Match {
@@ -945,6 +954,25 @@ mod tests {
             best_match(Method::Ssd, &v(&[], 0, 0), &t),
             Err(MatchError::Empty)
         );
+    }
+
+    #[test]
+    fn errors_read_as_sentences() {
+        use std::string::ToString;
+        // Every variant has its own message (a copied line would repeat one).
+        let all = [
+            MatchError::Empty,
+            MatchError::TemplateLarger,
+            MatchError::TooLarge,
+            MatchError::ZeroEnergy,
+            MatchError::NoMatch,
+            MatchError::MapTooSmall,
+        ];
+        let texts: std::vec::Vec<_> = all.iter().map(ToString::to_string).collect();
+        assert!(texts.iter().all(|t| !t.is_empty() && !t.contains("Error")));
+        let distinct: std::collections::BTreeSet<_> = texts.iter().collect();
+        assert_eq!(distinct.len(), all.len());
+        assert_eq!(MatchError::ZeroEnergy.to_string(), "the template is flat (no energy for NCC, no variance for ZNCC)");
     }
 
     #[test]

@@ -31,6 +31,10 @@ pub enum MotionError {
     SizeMismatch,
 }
 
+error_messages!(MotionError {
+    SizeMismatch => "the two images differ in size",
+});
+
 /// Rows are counted in chunks of 255 bytes so that the per-lane `u8` counters cannot
 /// overflow; this keeps the inner loop at 16 moving-pixel tests per SSE2 instruction.
 const CHUNK: usize = 255;

@@ -98,6 +98,12 @@ pub enum PortError {
     BufferTooSmall,
 }
 
+error_messages!(PortError {
+    NoRequest => "receive without a window requested",
+    OutOfFrame => "the window leaves the frame",
+    BufferTooSmall => "the receive buffer is too small",
+});
+
 /// A [`WindowPort`] cutting windows out of a frame held in memory (simulation).
 pub struct MemoryFramePort<'f> {
     frame: WindowView<'f>,
@@ -146,6 +152,13 @@ pub enum DecodeError {
     /// A template chunk out of sequence, or without its header.
     BrokenTemplate,
 }
+
+error_messages!(DecodeError {
+    BadTag => "unknown message tag or source byte",
+    BadLength => "wrong payload length",
+    NotFinite => "a position that is not a finite number",
+    BrokenTemplate => "a template chunk out of sequence or without its header",
+});
 
 fn source_byte(s: Source) -> u8 {
     match s {
@@ -252,6 +265,11 @@ pub enum FrameError {
     /// Checksum mismatch.
     BadChecksum,
 }
+
+error_messages!(FrameError {
+    BadLength => "frame length byte 0 or over the largest payload",
+    BadChecksum => "frame checksum mismatch",
+});
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum DecState {

@@ -18,6 +18,12 @@ pub enum ViewError {
     Overflow,
 }
 
+error_messages!(ViewError {
+    StrideTooSmall => "the row stride is smaller than the width (rows would overlap)",
+    BufferTooShort => "the pixel buffer is shorter than the view needs",
+    Overflow => "the view's dimensions or frame coordinates overflow",
+});
+
 /// A borrowed, possibly decimated, view of window pixels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct WindowView<'a> {

@@ -32,6 +32,11 @@ pub enum WriteError {
     QueueFull,
 }
 
+error_messages!(WriteError {
+    OutOfRange => "the window is empty or reaches past column or row 255",
+    QueueFull => "the coordinate port's queue is full",
+});
+
 /// Coordinate sets the writer holds before refusing more.
 pub const QUEUE_SETS: usize = 4;
 
@@ -115,6 +120,11 @@ pub enum ReceiveError {
     /// The buffer is smaller than the window.
     BufferTooSmall,
 }
+
+error_messages!(ReceiveError {
+    Unexpected => "a pixel was strobed with no window expected",
+    BufferTooSmall => "the buffer is smaller than the window",
+});
 
 /// Collects one window's strobed pixels into a caller's buffer.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -551,7 +551,7 @@ impl HdlBackend {
 
 impl WindowBackend for HdlBackend {
     fn request(&mut self, p: usize, req: WindowRequest, at: u64) -> Result<(), String> {
-        coordinate_bytes(&req).map_err(|e| format!("processor {p}: window {req:?} cannot be written: {e:?}"))?;
+        coordinate_bytes(&req).map_err(|e| format!("processor {p}: window {req:?} cannot be written: {e}"))?;
         if let Some(u) = self.units.get_mut(p) {
             u.queued.push_back((at, req));
         }

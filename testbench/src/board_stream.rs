@@ -20,7 +20,7 @@ pub fn record(cfg: &SceneConfig) -> Result<Vec<u8>, String> {
     let (w, h) = (cfg.width, cfg.height);
     let (frame0, truth) = scene.render(0);
     let start = Point { x: truth.corner.0 as f32, y: truth.corner.1 as f32 };
-    let view = WindowView::packed(&frame0, w, h).map_err(|e| format!("frame 0: {e:?}"))?;
+    let view = WindowView::packed(&frame0, w, h).map_err(|e| format!("frame 0: {e}"))?;
     let tpl = Template::capture(&view, start, 20).ok_or("the template does not fit in frame 0")?;
     let mut pair = CoopPair::new(tpl.clone(), start);
     let mut windows: Vec<(f64, [u16; 4], Vec<u8>)> = Vec::new();
@@ -33,7 +33,7 @@ pub fn record(cfg: &SceneConfig) -> Result<Vec<u8>, String> {
         }
         let px: Vec<u8> = (y0..y0 + wh).flat_map(|y| img[y * w + x0..y * w + x0 + ww].iter().copied()).collect();
         let t = k as f64 / cfg.fps;
-        let v = WindowView::new(&px, ww, wh, ww, r.x0.into(), r.y0.into()).map_err(|e| format!("frame {k}: {e:?}"))?;
+        let v = WindowView::new(&px, ww, wh, ww, r.x0.into(), r.y0.into()).map_err(|e| format!("frame {k}: {e}"))?;
         pair.frame(&mut NoMeter, &v, t).ok_or_else(|| format!("frame {k}: the partner sent no result"))?;
         windows.push((t, [r.x0, r.y0, r.width, r.height], px));
     }

@@ -282,10 +282,10 @@ pub fn raster(source: &dyn FrameSource, jitter: Option<Jitter>) -> Clocks {
 fn coop_policy(cfg: &SystemConfig) -> Result<Policy, String> {
     Ok(match cfg.policy {
         CoopPolicy::Guarded => Policy::Guarded(Guard::new(GuardParams::default())),
-        CoopPolicy::Sse => Policy::Sse(SseCoop::new(cfg.coop_n).map_err(|e| format!("COOP data set size {}: {e:?}", cfg.coop_n))?),
+        CoopPolicy::Sse => Policy::Sse(SseCoop::new(cfg.coop_n).map_err(|e| format!("COOP data set size {}: {e}", cfg.coop_n))?),
         // Process noise for a part that turns corners at up to ~100 px/s each frame;
         // measurement noise of half a pixel; newest innovation 30%.
-        CoopPolicy::Kalman => Policy::Kalman(KalmanCoop::new(1.0e4, 0.25, 0.3).map_err(|e| format!("{e:?}"))?),
+        CoopPolicy::Kalman => Policy::Kalman(KalmanCoop::new(1.0e4, 0.25, 0.3).map_err(|e| format!("Kalman policy: {e}"))?),
     })
 }
 
@@ -325,7 +325,7 @@ pub fn run_with(
     let template = match reference {
         Some((k, (x, y))) => {
             let f = source.frame(k)?;
-            let view = WindowView::packed(f, w, h).map_err(|e| format!("frame {k}: {e:?}"))?;
+            let view = WindowView::packed(f, w, h).map_err(|e| format!("frame {k}: {e}"))?;
             let p = Point { x: x as f32, y: y as f32 };
             Some(Template::capture(&view, p, params.template as usize).ok_or_else(|| {
                 format!("the {0}x{0} template around ({x}, {y}) does not fit in the frame", params.template)

@@ -109,6 +109,18 @@ pub enum NoCorner {
     OutsideWindow,
 }
 
+error_messages!(NoCorner {
+    Empty => "the window has no pixel",
+    TooLarge => "the window is larger than the detector's buffers",
+    NoEdges => "no pixel exceeds the edge threshold",
+    FilteredOut => "the opening removed every edge pixel",
+    VerticalLine => "the edges form a vertical line",
+    HorizontalLine => "the edges form a horizontal line",
+    StraightLine => "the edges form a straight line, not a corner",
+    TooFewPoints => "a side of the corner has too few edge points",
+    OutsideWindow => "the edge lines meet outside the window",
+});
+
 /// How the corner was found.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CornerCase {

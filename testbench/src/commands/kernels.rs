@@ -32,7 +32,7 @@ impl Gray {
     }
 
     fn view(&self) -> Result<WindowView<'_>, CliError> {
-        WindowView::packed(&self.px, self.w, self.h).map_err(|e| CliError::new(format!("image view: {e:?}")))
+        WindowView::packed(&self.px, self.w, self.h).map_err(|e| CliError::new(format!("image view: {e}")))
     }
 }
 
@@ -117,7 +117,7 @@ pub fn motion_images(prev: &Path, next: &Path, threshold: u8) -> Result<serde_js
     if (a.w, a.h) != (b.w, b.h) {
         return Err(CliError::new(format!("the images differ in size: {}x{} and {}x{}", a.w, a.h, b.w, b.h)));
     }
-    let area = detect_motion(&a.view()?, &b.view()?, threshold).map_err(|e| CliError::new(format!("{e:?}")))?;
+    let area = detect_motion(&a.view()?, &b.view()?, threshold).map_err(|e| CliError::new(format!("motion: {e}")))?;
     Ok(match area {
         Some(m) => json!({"moving": true, "xmin": m.xmin, "xmax": m.xmax, "ymin": m.ymin, "ymax": m.ymax, "count": m.count}),
         None => json!({"moving": false, "count": 0}),
