@@ -38,9 +38,9 @@
 //!    score, the CD candidate carries the track alone only within `gate / 2` px of it: a step
 //!    of `jump` at a time would let a corner creep onto clutter.
 //! 5. **Coasting.** When neither source measures the point (an occluder passes over it), the
-//!    track coasts for up to `coast` windows: the next window is placed at the prediction and
+//!    track coasts for up to `coast` seconds: the next window is placed at the prediction and
 //!    nothing is reported; an NCC match within `reacquire` px of the prediction (a corner
-//!    alone: within `gate / 2` px) resumes the track. After `coast` windows the target is lost.
+//!    alone: within `gate / 2` px) resumes the track. After `coast` seconds the target is lost.
 //!
 //! Everything is `f32`/`f64` arithmetic on a few values: no allocation, no panic.
 
@@ -66,8 +66,9 @@ pub struct GuardParams {
     pub anchor: f32,
     /// Consecutive disagreements after which an anchored CD outvotes NCC.
     pub persist: u8,
-    /// Windows a track may coast through without a measurement before it is lost.
-    pub coast: u8,
+    /// Longest time in seconds a track may coast without a measurement before it is lost
+    /// (in time, not windows: a coasting window can take a slow processor several frames).
+    pub coast: f64,
     /// Largest distance in pixels from the prediction at which a coasting track resumes.
     pub reacquire: f32,
 }
@@ -76,7 +77,7 @@ impl Default for GuardParams {
     fn default() -> Self {
         // trust: NCC of a 20x20 textured template under sensor noise stays above 0.99 while
         // the appearance holds; a lamp's highlight or a partial occluder takes it under.
-        GuardParams { trust: 0.99, gate: 1.5, learn: 8, learn_spread: 0.5, unlearn: 3, jump: 4.0, anchor: 3.0, persist: 3, coast: 40, reacquire: 8.0 }
+        GuardParams { trust: 0.99, gate: 1.5, learn: 8, learn_spread: 0.5, unlearn: 3, jump: 4.0, anchor: 3.0, persist: 3, coast: 0.35, reacquire: 8.0 }
     }
 }
 
@@ -235,14 +236,14 @@ impl Guard {
     }
 
     /// After a window with no position at time `t`: where to look next (the prediction one
-    /// window interval ahead), or `None` when the track has coasted `coast` windows or has
+    /// window interval ahead), or `None` when the track has coasted `coast` seconds or has
     /// no motion to go by, and is lost.
     pub fn coast(&mut self, t: f64) -> Option<Point> {
         let (Some((t1, _)), Some((t0, _))) = (self.history[0], self.history[1]) else { return None };
-        if self.coasted >= self.params.coast || t1 <= t0 {
+        if t - t1 > self.params.coast || t1 <= t0 {
             return None;
         }
-        self.coasted += 1;
+        self.coasted = self.coasted.saturating_add(1);
         self.predict(t + (t1 - t0))
     }
 
@@ -528,27 +529,29 @@ mod tests {
     #[test]
     fn a_track_coasts_through_an_occlusion_and_resumes() {
         let mut g = Guard::new(GuardParams::default());
+        let at = |k: usize| 0.01 * k as f64;
         for k in 0..8 {
-            g.decide(k as f64, Measured { ncc: Some((p(10.0 + k as f32, 20.0), 0.999)), corner: None });
+            g.decide(at(k), Measured { ncc: Some((p(10.0 + k as f32, 20.0), 0.999)), corner: None });
         }
-        // Occluded for 10 windows: each coasting step looks one interval ahead on the line.
+        // Occluded for 10 windows (0.1 s): each coasting step looks one interval ahead.
         for k in 8..18 {
-            let q = g.coast(k as f64).expect("within the coast limit");
+            let q = g.coast(at(k)).expect("within the coast limit");
             assert!((q.x - (11.0 + k as f32)).abs() < 1e-3 && (q.y - 20.0).abs() < 1e-3, "{q:?}");
-            assert_eq!(g.decide(k as f64 + 1.0, Measured::default()), None);
+            assert_eq!(g.decide(at(k + 1), Measured::default()), None);
         }
         // The object shows again 6 px from the prediction: inside the re-acquisition reach.
-        let got = g.decide(19.0, Measured { ncc: Some((p(35.0, 20.0), 0.98)), corner: None });
+        let got = g.decide(at(19), Measured { ncc: Some((p(35.0, 20.0), 0.98)), corner: None });
         assert_eq!(got, Some((p(35.0, 20.0), Source::Ncc)));
     }
 
     #[test]
     fn coasting_ends_after_its_limit() {
-        let params = GuardParams { coast: 2, ..GuardParams::default() };
+        let params = GuardParams { coast: 1.5, ..GuardParams::default() };
         let mut g = Guard::new(params);
         g.decide(0.0, Measured { ncc: Some((p(0.0, 0.0), 0.999)), corner: None });
         g.decide(1.0, Measured { ncc: Some((p(1.0, 0.0), 0.999)), corner: None });
-        assert!(g.coast(1.0).is_some() && g.coast(2.0).is_some());
-        assert_eq!(g.coast(3.0), None);
+        // Last position at t = 1 s: coasting holds until 1.5 s later.
+        assert!(g.coast(1.0).is_some() && g.coast(2.5).is_some());
+        assert_eq!(g.coast(2.6), None);
     }
 }

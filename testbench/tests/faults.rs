@@ -15,7 +15,8 @@ use common::Dropout;
 fn all_zero_frames_lose_the_target_then_tracking_recovers() {
     for strategy in [Strategy::Spmf, Strategy::Tpdf, Strategy::Coop] {
         for hdl in [HdlChoice::Model, HdlChoice::RustHdl] {
-            let scene = SceneConfig { frames: 24, ..triangle(40.0, 8) };
+            // 48 frames: a coasting COOP resumes from a 36x36 window, about 15 C40 frames.
+            let scene = SceneConfig { frames: 48, ..triangle(40.0, 8) };
             let target = Scene::new(scene.clone()).truth(0).corner;
             let mut cfg = system(strategy, CostModel::C40, Some(target));
             cfg.hdl = hdl;
@@ -23,18 +24,30 @@ fn all_zero_frames_lose_the_target_then_tracking_recovers() {
             let log = run(&cfg, &mut src, &mut |_| {}).unwrap();
             let period = log.frame_period;
             let what = format!("{strategy:?} on {hdl:?}");
-            assert_eq!(log.losses.len(), 1, "{what}: {:?}", log.losses);
-            assert!(log.losses[0] > 8.0 * period && log.losses[0] < 11.0 * period, "{what}: lost at {}", log.losses[0]);
+            // COOP coasts through a short dropout on its prediction (no loss, no position);
+            // the others lose the target at the dropout and the Peripheral searches.
+            let coasts = strategy == Strategy::Coop;
+            if coasts {
+                assert!(log.losses.is_empty(), "{what}: {:?}", log.losses);
+                assert_eq!(log.frames[9].mode, Mode::Track, "{what}: coasting is tracking");
+            } else {
+                assert_eq!(log.losses.len(), 1, "{what}: {:?}", log.losses);
+                assert!(log.losses[0] > 8.0 * period && log.losses[0] < 11.0 * period, "{what}: lost at {}", log.losses[0]);
+                assert_eq!(log.frames[9].mode, Mode::Detect, "{what}: the Peripheral searches after the loss");
+            }
             assert!(log.reports.iter().any(|r| r.frame >= 12), "{what}: tracking never recovered");
             // No stale position: a frame counts as tracked only on a measurement at most two
-            // frames old (the C40's NCC updates every other frame), never across the dropout.
+            // frames old (the C40's NCC updates every other frame), never across the dropout;
+            // a track resuming from coasting measured a 36x36 window, which takes the C40
+            // about 15 frame periods.
             for f in &log.frames {
                 if let Some(m) = f.measured_frame {
-                    assert!(m + 2 >= f.frame && !(8..10).contains(&m), "{what}: frame {} tracked from frame {m}", f.frame);
+                    let resumed = coasts && m > 0 && log.frames[m - 1].point.is_none();
+                    let latency = if resumed { 20 } else { 2 };
+                    assert!(m + latency >= f.frame && !(8..10).contains(&m), "{what}: frame {} tracked from frame {m}", f.frame);
                 }
             }
             assert!(log.frames[9].point.is_none(), "{what}: a dark frame reported as tracked");
-            assert_eq!(log.frames[9].mode, Mode::Detect, "{what}: the Peripheral searches after the loss");
         }
     }
 }
@@ -42,13 +55,13 @@ fn all_zero_frames_lose_the_target_then_tracking_recovers() {
 #[test]
 fn a_long_dropout_falls_back_to_watch_then_relocks() {
     // Thesis 2.3: a lost target is searched for by the Peripheral (Detection); when that fails
-    // the system watches the whole frame again, and locks on anew once the part moves. 22
-    // dark frames make the Peripheral give up.
+    // the system watches the whole frame again, and locks on anew once the part moves. 60
+    // dark frames (0.53 s) make the Peripheral give up, and outlast COOP's coasting (0.35 s).
     for strategy in [Strategy::Spmf, Strategy::Tpdf, Strategy::Coop] {
-        let scene = SceneConfig { frames: 110, ..triangle(40.0, 8) };
+        let scene = SceneConfig { frames: 150, ..triangle(40.0, 8) };
         let target = Scene::new(scene.clone()).truth(0).corner;
         let cfg = system(strategy, CostModel::C40, Some(target));
-        let mut src = Dropout { inner: SceneFrames::new(scene), dark: 8..30, zeros: vec![0; 65536] };
+        let mut src = Dropout { inner: SceneFrames::new(scene), dark: 8..68, zeros: vec![0; 65536] };
         let log = run(&cfg, &mut src, &mut |_| {}).unwrap();
         assert_eq!(log.losses.len(), 1, "{strategy:?}");
         let modes: Vec<Mode> = log.frames.iter().map(|f| f.mode).collect();
@@ -56,7 +69,7 @@ fn a_long_dropout_falls_back_to_watch_then_relocks() {
         let watch = detect.and_then(|d| modes[d..].iter().position(|&m| m == Mode::Watch).map(|i| i + d));
         let track = watch.and_then(|w| modes[w..].iter().position(|&m| m == Mode::Track).map(|i| i + w));
         assert!(track.is_some(), "{strategy:?}: Detect {detect:?}, Watch {watch:?}, Track {track:?}");
-        assert!(log.reports.iter().any(|r| r.frame > 30), "{strategy:?}: no report after the camera came back");
+        assert!(log.reports.iter().any(|r| r.frame > 68), "{strategy:?}: no report after the camera came back");
     }
 }
 
@@ -205,7 +218,7 @@ fn a_window_the_port_cannot_carry_is_refused_and_nothing_is_written() {
         assert!(why.contains("window"), "{why}");
         assert!(backend.next_window(clocks.frame_start(3), &mut SceneFrames::new(scene.clone())).unwrap().is_none());
     }
-    assert!(hdl.request(0, wide, 0).unwrap_err().contains("OutOfRange"));
+    assert!(hdl.request(0, wide, 0).unwrap_err().contains("reaches past column or row 255"));
     assert!(hdl.next_window(clocks.frame_start(3), &mut SceneFrames::new(scene)).unwrap().is_none());
     assert_eq!(hdl.clocks_stepped, clocks.frame_start(3) + 1, "the units ran the run through");
 }
