@@ -382,6 +382,12 @@ fn mac16(l: &mut [i32; 16], t: &[i16; 16], a: &[i16; 16]) {
     }
 }
 
+/// The four runs of `n` values of `s` starting at `0`, `step`, `2·step` and `3·step`.
+#[inline(always)]
+fn four_runs(s: &[i16], step: usize, n: usize) -> Option<[&[i16]; 4]> {
+    Some([s.get(..n)?, s.get(step..step + n)?, s.get(2 * step..2 * step + n)?, s.get(3 * step..3 * step + n)?])
+}
+
 /// The dot products of `t` (length `n`, a multiple of 16; see [`dot_tail`]) with the
 /// four runs of `s` starting at `0`, `step`, `2·step` and `3·step`: four placements of
 /// one strip column, sharing each template chunk. (A remainder loop in the same
@@ -389,15 +395,7 @@ fn mac16(l: &mut [i32; 16], t: &[i16; 16], a: &[i16; 16]) {
 #[cfg(not(target_arch = "arm"))]
 #[inline(never)]
 fn dot_long4(t: &[i16], s: &[i16], step: usize) -> [i32; 4] {
-    let n = t.len();
-    let (Some(s0), Some(s1), Some(s2), Some(s3)) = (
-        s.get(..n),
-        s.get(step..step + n),
-        s.get(2 * step..2 * step + n),
-        s.get(3 * step..3 * step + n),
-    ) else {
-        return [0; 4];
-    };
+    let Some([s0, s1, s2, s3]) = four_runs(s, step, t.len()) else { return [0; 4] };
     let (mut l0, mut l1, mut l2, mut l3) = ([0i32; 16], [0i32; 16], [0i32; 16], [0i32; 16]);
     let ct = t.chunks_exact(16);
     let it = ct
@@ -435,15 +433,7 @@ fn dot_long4(t: &[i16], s: &[i16], step: usize) -> [i32; 4] {
 #[cfg(any(test, target_arch = "arm"))]
 #[inline(never)]
 fn dot_long4_pairs(t: &[i16], s: &[i16], step: usize) -> [i32; 4] {
-    let n = t.len();
-    let (Some(s0), Some(s1), Some(s2), Some(s3)) = (
-        s.get(..n),
-        s.get(step..step + n),
-        s.get(2 * step..2 * step + n),
-        s.get(3 * step..3 * step + n),
-    ) else {
-        return [0; 4];
-    };
+    let Some([s0, s1, s2, s3]) = four_runs(s, step, t.len()) else { return [0; 4] };
     let (mut a0, mut a1, mut a2, mut a3) = (0i32, 0i32, 0i32, 0i32);
     let it = t
         .chunks_exact(2)
