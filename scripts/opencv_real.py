@@ -42,12 +42,14 @@ from __future__ import annotations
 import argparse
 import csv
 import math
-import re
 import sys
 from pathlib import Path
 
 import cv2
 import numpy as np
+
+# The sequence readers are shared with the ground-truth check (same folder as this script).
+from real_images import frame_files, read_gray
 
 REPO = Path(__file__).resolve().parent.parent
 BOX = 20
@@ -55,27 +57,6 @@ SEARCH = 16
 MIN_SCORE = 0.5
 LOSS_PX = 5.0
 TRACKERS = ("match", "csrt", "kcf")
-
-
-def frame_files(folder: Path) -> list[Path]:
-    files = []
-    for p in folder.iterdir():
-        m = re.fullmatch(r"frame_(\d+)\.png", p.name)
-        if m:
-            files.append((int(m.group(1)), p))
-    files.sort()
-    return [p for _, p in files]
-
-
-def read_gray(path: Path) -> np.ndarray:
-    img = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
-    if img is None:
-        raise RuntimeError(f"cannot read {path}")
-    if img.ndim == 3:
-        img = cv2.cvtColor(img, cv2.COLOR_BGR2GRAY if img.shape[2] == 3 else cv2.COLOR_BGRA2GRAY)
-    if img.dtype != np.uint8:
-        raise RuntimeError(f"{path}: expected 8-bit, got {img.dtype}")
-    return img
 
 
 def read_truth(folder: Path, kind: str) -> dict[int, tuple[float, float, bool]]:

@@ -214,6 +214,8 @@ def read_gray(path: Path) -> np.ndarray:
         raise RuntimeError(f"cannot read {path}")
     if img.ndim == 3:
         img = cv2.cvtColor(img, cv2.COLOR_BGR2GRAY if img.shape[2] == 3 else cv2.COLOR_BGRA2GRAY)
+    if img.dtype != np.uint8:
+        raise RuntimeError(f"{path}: expected 8-bit, got {img.dtype}")
     return img
 
 

@@ -303,11 +303,14 @@ fn ncc_track(win: &WindowView<'_>, tpl: &Template, p: &Params) -> (Option<(Point
     let Some(tv) = tpl.view() else { return (None, work) };
     let Ok(m) = best_match(Method::Ncc, win, &tv) else { return (None, work) };
     let score = m.score as f32;
+    if score < p.ncc_min {
+        return (None, work);
+    }
     // Lucas-Kanade from the parabola's placement; the parabola's own when it is refused.
     let (ox, oy) = win.origin();
     let (x, y) = refine_translation(win, &tv, m.sub_x, m.sub_y)
         .map_or((m.frame_x, m.frame_y), |(x, y)| (x + ox as f32, y + oy as f32));
-    ((score >= p.ncc_min).then(|| (tpl.point_at(x, y), score)), work)
+    (Some((tpl.point_at(x, y), score)), work)
 }
 
 /// The corner in `win`, or `None` when the detector finds none.
