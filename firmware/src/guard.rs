@@ -18,28 +18,32 @@
 //!    running mean (a texture detail that the detector takes for a corner now and then does
 //!    not qualify), which then becomes the offset `o`; afterwards each agreeing frame refines it
 //!    (`o += (d - o) / 8`). A CD candidate is `p_cd + o`.
-//! 3. **Agreement.** NCC and the CD candidate agree when `|p_ncc - (p_cd + o)| <= gate`;
-//!    then both measure the tracked point and are fused, each weighted by the inverse of its
-//!    mean squared innovation (distance from the prediction, averaged with weight 1/10):
-//!    the steadier source counts more, as in the thesis's SSE rule, but neither can take the
-//!    track off the other. The source reported is the one with the larger weight. A learnt (not anchored) offset that
-//!    disagrees `unlearn` times running while NCC is trusted means CD has locked onto
-//!    another corner or slides along an edge: the offset is dropped and learnt again.
-//! 4. **Choice on disagreement.** An anchored CD that has disagreed with NCC `persist` frames
-//!    running (NCC sliding off the object, stuck on the background) wins while it stays
-//!    within `jump` px of the prediction, if they parted gradually (by at most `4 gate / 3`
-//!    in the first frame: a corner that jumps onto clutter parts at once); a single disagreement is more likely a detector
-//!    outlier, and NCC keeps the track. Otherwise trusted NCC wins. An untrusted NCC
-//!    (appearance changed: a lamp, an occluder) and a disagreeing CD candidate are judged by
-//!    the prediction (the least-squares line through the last [`HISTORY`] positions
-//!    followed, per axis): NCC counts within `gate` px of it, the corner within `gate / 2`, the
-//!    nearer if both; otherwise neither is believed. An untrusted NCC match alone
-//!    is followed within `reacquire` px of the prediction; with NCC under its acceptance
-//!    score, the CD candidate carries the track alone only within `gate / 2` px of it: a step
-//!    of `jump` at a time would let a corner creep onto clutter.
+//! 3. **Trusted NCC.** An NCC match scoring `trust` or more is followed as it is: with the
+//!    template's support ([`crate::support`]) it measures the tracked point to a tenth of a
+//!    pixel, and the sources' steadiness, which the fusion below weighs, is not accuracy. A
+//!    learnt (not anchored) offset that disagrees `unlearn` times running while NCC is
+//!    trusted means CD has locked onto another corner or slides along an edge: the offset
+//!    is dropped and learnt again.
+//! 4. **Agreement and choice.** An untrusted NCC (appearance changed: a lamp, an occluder)
+//!    and a CD candidate that agree (`|p_ncc - (p_cd + o)| <= gate`) both measure the
+//!    tracked point and are fused, each weighted by the inverse of its mean squared
+//!    innovation (distance from the prediction, averaged with weight 1/10): the steadier
+//!    source counts more, as in the thesis's SSE rule, but neither can take the track off
+//!    the other. The source reported is the one with the larger weight. When they disagree,
+//!    an anchored CD that has disagreed `persist` frames running (NCC sliding off the
+//!    object) wins while it stays within `jump` px of the prediction, if they parted
+//!    gradually (by at most `4 gate / 3` in the first frame: a corner that jumps onto clutter
+//!    parts at once); a single disagreement is more likely a detector outlier. Otherwise the
+//!    two are judged by the prediction (the least-squares line through the last [`HISTORY`]
+//!    positions followed, per axis): NCC counts within `gate` px of it, the corner within
+//!    `gate / 2`, the nearer if both; otherwise neither is believed. An untrusted NCC match
+//!    alone is followed within `reacquire` px of the prediction; with NCC under its
+//!    acceptance score, the CD candidate carries the track alone only within `gate / 2` px
+//!    of it: a step of `jump` at a time would let a corner creep onto clutter.
 //! 5. **Coasting.** When neither source measures the point (an occluder passes over it), the
-//!    track coasts for up to `coast` seconds: the next window is placed at the prediction and
-//!    nothing is reported; an NCC match within `reacquire` px of the prediction (a corner
+//!    track coasts for up to `coast` seconds: the next window is placed at the prediction
+//!    (its velocity from the last [`MOTION_HISTORY`] positions, so that a source dragged by
+//!    clutter just before the loss does not set it) and nothing is reported; an NCC match within `reacquire` px of the prediction (a corner
 //!    alone: within `gate / 2` px) resumes the track. After `coast` seconds the target is lost.
 //!
 //! Everything is `f32`/`f64` arithmetic on a few values: no allocation, no panic.
@@ -84,6 +88,9 @@ impl Default for GuardParams {
 /// Positions in the prediction's least-squares fit.
 pub const HISTORY: usize = 8;
 
+/// Positions whose fit gives a coasting track's velocity (0.28 s at 114 frames/s).
+pub const MOTION_HISTORY: usize = 32;
+
 /// Weight of the newest squared innovation in each source's running mean.
 const NOISE_WEIGHT: f32 = 0.1;
 
@@ -109,7 +116,7 @@ pub struct Guard {
     learnt: u8,
     disagreements: u8,
     /// The last positions followed, with their times, newest first, for the prediction.
-    history: [Option<(f64, Point)>; HISTORY],
+    history: [Option<(f64, Point)>; MOTION_HISTORY],
     /// Windows coasted through since the last measurement.
     coasted: u8,
     /// Each source's last positions while they agree, for the thesis's SSE (4.3).
@@ -133,7 +140,7 @@ impl Guard {
             learning: Point::default(),
             learnt: 0,
             disagreements: 0,
-            history: [None; HISTORY],
+            history: [None; MOTION_HISTORY],
             coasted: 0,
             lines: SseCoop::thesis(),
             jitter: [None; 2],
@@ -161,7 +168,7 @@ impl Guard {
     /// itself (`exact`) may anchor CD; one started from an approximate location keeps the
     /// offset (the template, and so the tracked point's place on the object, has not changed).
     pub fn begin(&mut self, p: Point, exact: bool) {
-        self.history = [None; HISTORY];
+        self.history = [None; MOTION_HISTORY];
         self.coasted = 0;
         self.parted = 0;
         self.start = (exact && self.offset.is_none()).then_some(p);
@@ -203,15 +210,15 @@ impl Guard {
         let gradual = self.parted_by <= self.params.gate * 4.0 / 3.0;
         let persistent = self.anchored && gradual && self.parted >= self.params.persist;
         let chosen = match (trusted, m.ncc.map(|(p, _)| p), cd) {
-            (_, Some(n), Some(c)) if persistent => {
+            (None, Some(n), Some(c)) if persistent => {
                 if within(c, self.params.jump) {
                     Some((c, Source::Cd))
                 } else {
                     within(n, self.params.jump).then_some((n, Source::Ncc))
                 }
             }
-            (_, Some(n), Some(c)) if !disagree(n, c) => Some(self.fuse(t, n, c)),
             (Some(n), _, _) => Some((n, Source::Ncc)),
+            (_, Some(n), Some(c)) if !disagree(n, c) => Some(self.fuse(t, n, c)),
             // Two untrusted measurements that disagree: the one the motion bears out (NCC within
             // `gate`, a corner within `gate / 2` of the prediction; the nearer if both), else
             // neither, and the track coasts.
@@ -296,43 +303,62 @@ impl Guard {
         }
     }
 
-    /// The least-squares line through the positions followed, evaluated at `t`.
+    /// Where the tracked point is at `t`: the least-squares line through the last [`HISTORY`]
+    /// positions followed. While coasting, its velocity comes from the last
+    /// [`MOTION_HISTORY`] instead: the positions just before a loss are the least reliable (a
+    /// source dragged by clutter stalls), and the object's motion is better told by the longer
+    /// past.
     fn predict(&self, t: f64) -> Option<Point> {
-        line_at(&self.history, t)
+        let recent = Line::fit(&self.history[..HISTORY])?;
+        let long = Line::fit(&self.history).filter(|_| self.coasted > 0);
+        recent.at(t, long.unwrap_or(recent).velocity)
     }
 }
 
-/// The least-squares line through timed positions (per axis, against time), newest first,
-/// evaluated at `t`; the one position when there is only one.
-fn line_at(history: &[Option<(f64, Point)>; HISTORY], t: f64) -> Option<Point> {
-    {
+/// A least-squares line through timed positions (per axis, against time).
+#[derive(Clone, Copy, Debug)]
+struct Line {
+    /// The mean time of the positions.
+    t: f64,
+    /// The line's point at that time (the mean position).
+    at: (f64, f64),
+    /// The slope, in pixels per second (zero through a single position).
+    velocity: (f64, f64),
+}
+
+impl Line {
+    /// The line through `history` (newest first), `None` when it is empty.
+    fn fit(history: &[Option<(f64, Point)>]) -> Option<Line> {
         let pts = history.iter().flatten();
         let n = pts.clone().count() as f64;
-        let (t_new, p_new) = history[0]?;
-        if n < 2.0 {
-            return Some(p_new);
-        }
+        let (t_new, _) = history.first().copied().flatten()?;
         // Times relative to the newest keep the sums well conditioned.
         let mean = |f: &dyn Fn(&(f64, Point)) -> f64| pts.clone().map(f).sum::<f64>() / n;
         let mt = mean(&|q| q.0 - t_new);
         let mx = mean(&|q| f64::from(q.1.x));
         let my = mean(&|q| f64::from(q.1.y));
         let stt = pts.clone().map(|q| (q.0 - t_new - mt) * (q.0 - t_new - mt)).sum::<f64>();
-        if stt <= 0.0 {
-            return Some(p_new);
-        }
         let slope = |v: &dyn Fn(&(f64, Point)) -> f64, m: f64| {
-            pts.clone().map(|q| (q.0 - t_new - mt) * (v(q) - m)).sum::<f64>() / stt
+            if stt > 0.0 {
+                pts.clone().map(|q| (q.0 - t_new - mt) * (v(q) - m)).sum::<f64>() / stt
+            } else {
+                0.0
+            }
         };
-        let (vx, vy) = (slope(&|q| f64::from(q.1.x), mx), slope(&|q| f64::from(q.1.y), my));
-        let dt = t - t_new - mt;
-        let p = Point { x: (mx + vx * dt) as f32, y: (my + vy * dt) as f32 };
+        let velocity = (slope(&|q| f64::from(q.1.x), mx), slope(&|q| f64::from(q.1.y), my));
+        Some(Line { t: t_new + mt, at: (mx, my), velocity })
+    }
+
+    /// The point at `t` of the line through this one's mean with `velocity`.
+    fn at(&self, t: f64, velocity: (f64, f64)) -> Option<Point> {
+        let dt = t - self.t;
+        let p = Point { x: (self.at.0 + velocity.0 * dt) as f32, y: (self.at.1 + velocity.1 * dt) as f32 };
         (p.x.is_finite() && p.y.is_finite()).then_some(p)
     }
 }
 
 /// Records `p` at `t` as the newest entry of `history`.
-fn remember(history: &mut [Option<(f64, Point)>; HISTORY], t: f64, p: Point) {
+fn remember(history: &mut [Option<(f64, Point)>; MOTION_HISTORY], t: f64, p: Point) {
     history.rotate_right(1);
     history[0] = Some((t, p));
 }
@@ -442,20 +468,20 @@ mod tests {
     }
 
     #[test]
-    fn a_corner_at_the_start_point_anchors_cd_and_outvotes_a_stuck_ncc() {
+    fn a_corner_at_the_start_point_anchors_cd_and_outvotes_a_sliding_ncc() {
         let mut g = Guard::new(GuardParams::default());
         g.begin(p(50.0, 50.0), true);
         // First window: the detector's corner is 0.4 px from the start point.
         let got = g.decide(0.0, both(p(50.0, 50.0), 1.0, p(50.4, 50.0)));
         assert_eq!(got, Some((p(50.0, 50.0), Source::Ncc)));
         assert!(g.anchored());
-        // The object moves 1 px a frame; NCC sticks to the background at (50, 50) with a high
-        // score. They part by more than the gate from frame 2; the third disagreement in a row
-        // (frame 4) hands the track to the anchored corner.
+        // The object moves 1 px a frame; NCC sticks to the background at (50, 50), its score
+        // under the trust level. They part by more than the gate from frame 2; the third
+        // disagreement in a row (frame 4) hands the track to the anchored corner.
         let mut got = [None; 4];
         for (k, slot) in (1..=4).zip(got.iter_mut()) {
             let x = 50.0 + k as f32;
-            *slot = g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.998, p(x + 0.4, 50.0)));
+            *slot = g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.985, p(x + 0.4, 50.0)));
         }
         assert_eq!(got[2], Some((p(50.0, 50.0), Source::Ncc)));
         assert_eq!(got[3], Some((p(54.0, 50.0), Source::Cd)));
@@ -500,19 +526,23 @@ mod tests {
     fn agreeing_sources_are_fused_by_their_steadiness() {
         let mut g = Guard::new(GuardParams::default());
         g.decide(0.0, Measured { ncc: Some((p(50.0, 50.0), 0.999)), corner: None });
-        // A static target seen by an anchored CD; NCC jitters by +-0.4 px, CD by +-0.1 px.
+        // A static target seen by an anchored CD; NCC, accepted but not trusted, jitters by
+        // +-0.4 px, CD by +-0.1 px.
         g.begin(p(50.0, 50.0), true);
         g.decide(0.0, both(p(50.0, 50.0), 0.999, p(50.0, 50.0)));
         for k in 1..=40 {
             let s = if k % 2 == 0 { 1.0 } else { -1.0 };
-            g.decide(0.01 * k as f64, both(p(50.0 + 0.4 * s, 50.0), 0.995, p(50.0 - 0.1 * s, 50.0)));
+            g.decide(0.01 * k as f64, both(p(50.0 + 0.4 * s, 50.0), 0.985, p(50.0 - 0.1 * s, 50.0)));
         }
         // Hand calculation: each source's SSE about its own line through 4 alternating points
         // is 4 a^2 (a = 0.4, 0.1), so the weights are 1/0.64 and 1/0.04 and CD's share
         // k = 25 / (25 + 1.5625) = 0.94: 50.4 + 0.94 * (49.9 - 50.4) = 49.93.
-        let (q, src) = g.decide(0.41, both(p(50.4, 50.0), 0.995, p(49.9, 50.0))).expect("agreeing");
+        let (q, src) = g.decide(0.41, both(p(50.4, 50.0), 0.985, p(49.9, 50.0))).expect("agreeing");
         assert_eq!(src, Source::Cd);
         assert!((q.x - 49.93).abs() < 0.02, "fused {q:?}");
+        // A trusted NCC is followed as it is: the sources' steadiness does not measure accuracy.
+        let (q, src) = g.decide(0.42, both(p(50.4, 50.0), 0.995, p(49.9, 50.0))).expect("trusted");
+        assert_eq!((q, src), (p(50.4, 50.0), Source::Ncc));
     }
 
     #[test]

@@ -49,6 +49,7 @@ pub mod matching;
 pub mod motion;
 pub mod ports;
 pub mod refine;
+pub mod support;
 pub mod tracker;
 pub mod types;
 pub mod view;

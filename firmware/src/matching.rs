@@ -753,7 +753,7 @@ fn with_packed<R>(
 
 /// Parabola vertex offset through `(−1, l), (0, c), (1, r)`, or 0 when the parabola
 /// does not open towards the optimum or a neighbour is missing.
-fn parabola(l: Option<f64>, c: f64, r: Option<f64>, maximise: bool) -> f64 {
+pub(crate) fn parabola(l: Option<f64>, c: f64, r: Option<f64>, maximise: bool) -> f64 {
     let (Some(l), Some(r)) = (l, r) else {
         return 0.0;
     };

@@ -14,6 +14,7 @@
 //!
 //! Arithmetic is `f32` (the Cortex-M4F's single-precision FPU); no allocation, no panic.
 
+use crate::support::Support;
 use crate::view::WindowView;
 
 /// Iterations at most.
@@ -33,22 +34,41 @@ const INTERIOR: usize = (MAX_SIDE - 2) * (MAX_SIDE - 2);
 /// has no texture in some direction (singular `H`), the window is flat, a sample would fall
 /// outside the window, or the iteration walks more than a pixel.
 pub fn refine_translation(win: &WindowView<'_>, tpl: &WindowView<'_>, x: f32, y: f32) -> Option<(f32, f32)> {
+    refine(win, tpl, None, x, y)
+}
+
+/// [`refine_translation`] with the sums over the template pixels in `support` only (the
+/// object's part of a corner template, see [`crate::support`]); `None` also when the
+/// support is not the template's size.
+pub fn refine_translation_on(win: &WindowView<'_>, tpl: &WindowView<'_>, support: &Support, x: f32, y: f32) -> Option<(f32, f32)> {
+    if support.size() != (tpl.width(), tpl.height()) {
+        return None;
+    }
+    refine(win, tpl, Some(support), x, y)
+}
+
+fn refine(win: &WindowView<'_>, tpl: &WindowView<'_>, support: Option<&Support>, x: f32, y: f32) -> Option<(f32, f32)> {
     let (tw, th) = (tpl.width(), tpl.height());
     if !(3..=MAX_SIDE).contains(&tw) || !(3..=MAX_SIDE).contains(&th) || !x.is_finite() || !y.is_finite() {
         return None;
     }
-    // The template's interior pixels and their central-difference gradients, row by row.
+    // The template's interior pixels (those in the support) and their central-difference
+    // gradients, row by row.
     let (iw, ih) = (tw - 2, th - 2);
-    let n = iw * ih;
+    let used = |i: usize, j: usize| support.is_none_or(|s| s.contains(i + 1, j + 1));
     let (mut tv, mut gx, mut gy) = ([0f32; INTERIOR], [0f32; INTERIOR], [0f32; INTERIOR]);
     let t = |i: usize, j: usize| tpl.get(i, j).map(f32::from);
+    let mut n = 0;
     for j in 0..ih {
-        for i in 0..iw {
-            let k = j * iw + i;
-            *tv.get_mut(k)? = t(i + 1, j + 1)?;
-            *gx.get_mut(k)? = (t(i + 2, j + 1)? - t(i, j + 1)?) / 2.0;
-            *gy.get_mut(k)? = (t(i + 1, j + 2)? - t(i + 1, j)?) / 2.0;
+        for i in (0..iw).filter(|&i| used(i, j)) {
+            *tv.get_mut(n)? = t(i + 1, j + 1)?;
+            *gx.get_mut(n)? = (t(i + 2, j + 1)? - t(i, j + 1)?) / 2.0;
+            *gy.get_mut(n)? = (t(i + 1, j + 2)? - t(i + 1, j)?) / 2.0;
+            n += 1;
         }
+    }
+    if n == 0 {
+        return None;
     }
     let (tv, gx, gy) = (tv.get(..n)?, gx.get(..n)?, gy.get(..n)?);
     let dot = |a: &[f32], b: &[f32]| a.iter().zip(b).map(|(p, q)| p * q).sum::<f32>();
@@ -59,10 +79,14 @@ pub fn refine_translation(win: &WindowView<'_>, tpl: &WindowView<'_>, x: f32, y:
     }
     let t_mean = tv.iter().sum::<f32>() / n as f32;
     let t_dev = libm::sqrtf(tv.iter().map(|v| (v - t_mean) * (v - t_mean)).sum());
-    let mut w = [0f32; INTERIOR];
+    let (mut block, mut w) = ([0f32; INTERIOR], [0f32; INTERIOR]);
     let (mut px, mut py) = (x, y);
     for _ in 0..ITERATIONS {
-        sample(win, px + 1.0, py + 1.0, iw, ih, w.get_mut(..n)?)?;
+        sample(win, px + 1.0, py + 1.0, iw, ih, block.get_mut(..iw * ih)?)?;
+        let picked = block.iter().enumerate().filter(|(k, _)| used(k % iw, k / iw)).map(|(_, v)| *v);
+        for (dst, v) in w.iter_mut().zip(picked) {
+            *dst = v;
+        }
         let wv = w.get(..n)?;
         let w_sum: f32 = wv.iter().sum();
         let w_mean = w_sum / n as f32;

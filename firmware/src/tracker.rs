@@ -20,7 +20,8 @@ use crate::corner::{CornerDetector, CornerParams};
 use crate::guard::{Guard, GuardParams, Measured};
 use crate::matching::{best_match, Method};
 use crate::motion::detect_motion;
-use crate::refine::refine_translation;
+use crate::refine::{refine_translation, refine_translation_on};
+use crate::support::{best_match_on, Support};
 use crate::ports::{Decimation, WindowRequest};
 use crate::view::WindowView;
 
@@ -297,19 +298,32 @@ fn placements(win: &WindowView<'_>, n: usize, step: usize) -> u32 {
 /// NCC tracking of `tpl` in `win`: the new point (the best placement, refined to sub-pixel
 /// accuracy by [`refine_translation`]) and its score, or `None` if the best score is under
 /// `ncc_min` (the target has left the window, or no longer looks like the template).
-fn ncc_track(win: &WindowView<'_>, tpl: &Template, p: &Params) -> (Option<(Point, f32)>, Work) {
+fn ncc_track(win: &WindowView<'_>, tpl: &Template, support: Option<&Support>, p: &Params) -> (Option<(Point, f32)>, Work) {
     let n = tpl.side();
+    // The cost model counts the whole template: the support is a part of it.
     let work = Work::Match { method: Method::Ncc, template: (n * n) as u32, placements: placements(win, n, 1) };
     let Some(tv) = tpl.view() else { return (None, work) };
-    let Ok(m) = best_match(Method::Ncc, win, &tv) else { return (None, work) };
+    // The object's part of a corner template first; the whole template where that finds no
+    // placement with the object's texture (a lamp's highlight across the support).
+    let on_support = support.and_then(|s| Some((best_match_on(win, &tv, s).ok()?, s)));
+    let (m, support) = match on_support {
+        Some((m, s)) => (m, Some(s)),
+        None => match best_match(Method::Ncc, win, &tv) {
+            Ok(m) => (m, None),
+            Err(_) => return (None, work),
+        },
+    };
     let score = m.score as f32;
     if score < p.ncc_min {
         return (None, work);
     }
     // Lucas-Kanade from the parabola's placement; the parabola's own when it is refused.
     let (ox, oy) = win.origin();
-    let (x, y) = refine_translation(win, &tv, m.sub_x, m.sub_y)
-        .map_or((m.frame_x, m.frame_y), |(x, y)| (x + ox as f32, y + oy as f32));
+    let refined = match support {
+        Some(s) => refine_translation_on(win, &tv, s, m.sub_x, m.sub_y),
+        None => refine_translation(win, &tv, m.sub_x, m.sub_y),
+    };
+    let (x, y) = refined.map_or((m.frame_x, m.frame_y), |(x, y)| (x + ox as f32, y + oy as f32));
     (Some((tpl.point_at(x, y), score)), work)
 }
 
@@ -596,6 +610,8 @@ impl From<Source> for Algo {
 pub struct Foveal {
     kind: FovealKind,
     template: Option<Template>,
+    /// The object's part of a corner template ([`crate::support`]), when it is one.
+    support: Option<Support>,
     detector: CornerDetector,
     tracking: Option<Point>,
     params: Params,
@@ -609,16 +625,30 @@ impl Foveal {
     /// A Foveal processor; a COOP master decides with guarded cooperation
     /// ([`Foveal::with_policy`] chooses another policy).
     pub fn new(kind: FovealKind, params: Params, template: Option<Template>) -> Self {
-        Foveal {
+        let mut f = Foveal {
             kind,
-            template,
+            template: None,
+            support: None,
             detector: CornerDetector::default(),
             tracking: None,
             params,
             coop: Policy::Guarded(Guard::new(GuardParams::default())),
             own: None,
             partner: None,
+        };
+        if let Some(t) = template {
+            f.set_template(t);
         }
+        f
+    }
+
+    /// Takes `tpl` as the template, with its support when it is centred on a corner.
+    fn set_template(&mut self, tpl: Template) {
+        let a = tpl.anchor();
+        self.support = tpl.view().and_then(|v| {
+            Support::of_template(&v, (a.x, a.y), &mut self.detector, &CornerParams::new(self.params.corner_threshold))
+        });
+        self.template = Some(tpl);
     }
 
     /// The same processor with another confidence policy (COOP master).
@@ -663,7 +693,7 @@ impl Foveal {
     pub fn on_message(&mut self, m: &Msg, t: f64) -> Step {
         match m {
             Msg::Template(tpl) => {
-                self.template = Some(tpl.clone());
+                self.set_template(tpl.clone());
                 Step::new(Work::None)
             }
             Msg::Approx(p) if self.tracking.is_none() => self.start(*p, false),
@@ -697,7 +727,7 @@ impl Foveal {
             }
             FovealKind::Ncc | FovealKind::CoopMaster => {
                 let (found, work) = match &self.template {
-                    Some(tpl) => ncc_track(win, tpl, &self.params),
+                    Some(tpl) => ncc_track(win, tpl, self.support.as_ref(), &self.params),
                     None => (None, Work::None),
                 };
                 if self.kind == FovealKind::CoopMaster {

@@ -327,14 +327,15 @@ fn two_sides(pts: &EdgePoints) -> Option<[(f32, f32); 2]> {
     Some(c)
 }
 
-/// The apex (window coordinates) from the sub-pixel edge points (steps 2-4).
+/// The apex (window coordinates) from the sub-pixel edge points (steps 2-4), with the unit
+/// directions of the two edges away from it.
 ///
 /// Refuses with [`NoCorner::StraightLine`] when the two sides are within
 /// [`MIN_ANGLE_DEG`] of parallel or one has fewer than [`MIN_SIDE_POINTS`] points,
 /// [`NoCorner::TooFewPoints`] when a side keeps fewer once the points near the apex
 /// are left out, and [`NoCorner::OutsideWindow`] when the apex is not within
 /// `[0, w-1] x [0, h-1]`.
-pub(super) fn apex_from_points(pts: &EdgePoints, w: usize, h: usize) -> Result<(f32, f32), NoCorner> {
+pub(super) fn apex_from_points(pts: &EdgePoints, w: usize, h: usize) -> Result<((f32, f32), [(f32, f32); 2]), NoCorner> {
     let c = two_sides(pts).ok_or(NoCorner::TooFewPoints)?;
     // Doubled angles: sides θ apart have centres 2θ apart.
     if c[0].0 * c[1].0 + c[0].1 * c[1].1 > libm::cosf(2.0 * MIN_ANGLE_DEG.to_radians()) {
@@ -369,7 +370,11 @@ pub(super) fn apex_from_points(pts: &EdgePoints, w: usize, h: usize) -> Result<(
     }
     let inside = |v: f32, n: usize| v.is_finite() && v >= 0.0 && v <= n.saturating_sub(1) as f32;
     if inside(apex.0, w) && inside(apex.1, h) {
-        Ok(apex)
+        let rays = [
+            ray(&lines[0], apex, pts, |p| on_side(0, p)),
+            ray(&lines[1], apex, pts, |p| on_side(1, p)),
+        ];
+        Ok((apex, rays))
     } else {
         Err(NoCorner::OutsideWindow)
     }

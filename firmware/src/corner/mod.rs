@@ -149,6 +149,9 @@ pub struct Corner {
     pub edge_pixels: u32,
     /// Edge pixels left after labelling and opening.
     pub clean_pixels: u32,
+    /// Unit directions of the two edges away from the corner (the line fit only; the
+    /// thesis's rules find no edge directions).
+    pub rays: Option<[(f32, f32); 2]>,
 }
 
 /// The corner detector with its fixed working buffers (window, edge maps, labelling
@@ -270,13 +273,14 @@ impl CornerDetector {
         if clean == 0 {
             return Err(NoCorner::FilteredOut);
         }
-        let (x, y, case) = if params.refine {
+        let (x, y, case, rays) = if params.refine {
             collect_points(&self.wide, rows, w, h, &mut self.points);
-            let (x, y) = apex_from_points(&self.points, w, h)?;
-            (x, y, CornerCase::Lines)
+            let ((x, y), rays) = apex_from_points(&self.points, w, h)?;
+            (x, y, CornerCase::Lines, Some(rays))
         } else {
             let b = bounding_points_bits(rows).ok_or(NoCorner::FilteredOut)?;
-            corner_from_bounds(&self.edges, w, h, &b, params)?
+            let (x, y, case) = corner_from_bounds(&self.edges, w, h, &b, params)?;
+            (x, y, case, None)
         };
         let (ox, oy) = view.origin();
         let step = view.step() as f32;
@@ -286,6 +290,7 @@ impl CornerDetector {
             case,
             edge_pixels: self.edge_pixels,
             clean_pixels: clean,
+            rays,
         })
     }
 }
