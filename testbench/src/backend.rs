@@ -15,10 +15,10 @@
 //! Clock 0 of a run is the start of the vertical blanking before frame 0; frame k's FVAL rises
 //! on clock `blank + k * period`.
 use crate::system::FrameSource;
-use coopwin_firmware::ports::{Decimation, WindowRequest};
+use coopwin_firmware::types::{Decimation, WindowRequest};
 use coopwin_hdl::camera::{CameraBus, FrameRaster, Jitter, RasterTiming, Window};
-use coopwin_firmware::hal_pins::{HalCoordinatePins, HalPixelPins};
-use coopwin_firmware::window_ports::{coordinate_bytes, CoordinateWriter, PixelReceiver};
+use coopwin_firmware::ports::hal_pins::{HalCoordinatePins, HalPixelPins};
+use coopwin_firmware::ports::window::{coordinate_bytes, CoordinateWriter, PixelReceiver};
 use core::cell::Cell;
 use core::convert::Infallible;
 use embedded_hal::digital::{InputPin, OutputPin};

@@ -339,7 +339,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         None => coopwin_testbench::commands::main_job::run(&PathBuf::from("report")),
         Some(Command::Match { image, template, method, decimate }) => {
-            use coopwin_firmware::matching::Method;
+            use coopwin_firmware::kernels::matching::Method;
             let m = match method {
                 MethodArg::Ncc => Method::Ncc,
                 MethodArg::Zncc => Method::Zncc,
@@ -520,7 +520,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
                     ProfileArg::C40 => CostModel::C40,
                     ProfileArg::Native => CostModel::NATIVE,
                 },
-                params: coopwin_firmware::tracker::Params {
+                params: coopwin_firmware::processors::Params {
                     template,
                     foveal: template + 4,
                     ..Default::default()

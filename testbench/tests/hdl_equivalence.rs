@@ -77,8 +77,8 @@ fn the_firmware_writer_drives_the_port_as_the_hdl_testbench_writer_does() {
     // timing was measured with the hdl testbench's `CoordWriter`. Reference: that writer, on a
     // second unit given the same sets at the same clocks; the two ports must see the same bus
     // on every clock (mid-frame, back to back, a 25% set and a refused one-column set).
-    use coopwin_firmware::window_ports::{CoordinatePins, CoordinateWriter};
-    use coopwin_firmware::ports::{Decimation, WindowRequest};
+    use coopwin_firmware::ports::window::{CoordinatePins, CoordinateWriter};
+    use coopwin_firmware::types::{Decimation, WindowRequest};
     use coopwin_hdl::camera::RasterTiming;
     use coopwin_hdl::driver::{CoordBus, CoordWriter, UnitDriver, UnitOutputs};
 

@@ -36,7 +36,7 @@
 //! for ZNCC) scores 0, as in OpenCV, and if no placement has energy the result is
 //! [`MatchError::NoMatch`]. No score is ever NaN.
 
-use crate::view::WindowView;
+use crate::kernels::view::WindowView;
 use heapless::Vec;
 
 /// Maximum number of placements along x (window width - template width + 1) and of

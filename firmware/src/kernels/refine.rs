@@ -1,5 +1,5 @@
 //! Sub-pixel refinement of a template match (beyond the thesis, which stops at the best
-//! integer placement; [`crate::matching`] adds a parabola through three scores).
+//! integer placement; [`crate::kernels::matching`] adds a parabola through three scores).
 //!
 //! A parabola through correlation scores is biased toward whole pixels ("pixel locking"): on
 //! textured real images its error stays near 0.3 px whatever the noise. Here the match is
@@ -14,7 +14,7 @@
 //!
 //! Arithmetic is `f32` (the Cortex-M4F's single-precision FPU); no allocation, no panic.
 
-use crate::view::WindowView;
+use crate::kernels::view::WindowView;
 
 /// Iterations at most.
 const ITERATIONS: usize = 8;

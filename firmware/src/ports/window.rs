@@ -10,7 +10,7 @@
 //! Neither blocks: each `poll` takes one step and returns, so on a board they run from a timer
 //! interrupt or a DMA-complete handler, and in the testbench once a pixel clock. The writer
 //! reaches its pins only through [`CoordinatePins`].
-use crate::ports::{Decimation, WindowRequest};
+use crate::types::{Decimation, WindowRequest};
 use heapless::Deque;
 
 /// The coordinate port's pins as the processor sees them.
@@ -138,11 +138,6 @@ impl PixelReceiver {
     pub fn expect(req: &WindowRequest) -> Self {
         let (w, h) = req.delivered_size();
         Self { expected: w * h, got: 0 }
-    }
-
-    /// Pixels stored so far.
-    pub fn received(&self) -> usize {
-        self.got
     }
 
     /// One clock of port 4: with `strobe`, `data` is the next pixel and goes into `buf`.

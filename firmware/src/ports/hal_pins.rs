@@ -2,10 +2,10 @@
 //! same driver runs on a board's GPIO and on the testbench's simulated pins:
 //!
 //! - [`HalCoordinatePins`]: port 1 (eight data lines, CSTRB1 and the decimation line out,
-//!   CRDY1 in) as a [`CoordinatePins`] for [`crate::window_ports::CoordinateWriter`];
+//!   CRDY1 in) as a [`CoordinatePins`] for [`CoordinateWriter`](crate::ports::window::CoordinateWriter);
 //! - [`HalPixelPins`]: port 4 (eight data lines and CSTRB4 in), sampled once a pixel clock
 //!   into a [`PixelReceiver`].
-use crate::window_ports::{CoordinatePins, PixelReceiver, ReceiveError};
+use crate::ports::window::{CoordinatePins, PixelReceiver, ReceiveError};
 use embedded_hal::digital::{InputPin, OutputPin};
 
 /// A pin failed, or (pixels) the receiver refused the pixel.
@@ -82,8 +82,8 @@ impl<I: InputPin> HalPixelPins<I> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ports::{Decimation, WindowRequest};
-    use crate::window_ports::{coordinate_bytes, CoordinateWriter};
+    use crate::ports::window::{coordinate_bytes, CoordinateWriter};
+    use crate::types::{Decimation, WindowRequest};
     use core::cell::Cell;
     use core::convert::Infallible;
     use std::vec::Vec;

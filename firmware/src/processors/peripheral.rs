@@ -1,0 +1,148 @@
+//! The Peripheral (Detection) processor (thesis 2.3.2, Table 2.2): SSD of the decimated
+//! template over a 25 % window to locate the target approximately, growing the window (40x40,
+//! then 64x64) when it fails, and handing the location to the Foveal processor.
+use super::messages::{Dest, Msg};
+use super::params::Params;
+use super::step::{placements, Mode, Step, Work};
+use super::template::Template;
+use crate::kernels::matching::{best_match, Method};
+use crate::kernels::view::WindowView;
+use crate::types::{Decimation, Point};
+
+
+/// SSD of the decimated template over a 25% window: the approximate target, or `None`.
+fn ssd_locate(win: &WindowView<'_>, tpl: &Template, p: &Params) -> (Option<Point>, Work) {
+    let n = tpl.side();
+    let Some(full) = tpl.view() else { return (None, Work::None) };
+    let dt = full.decimated();
+    let tn = (dt.width() * dt.height()) as u32;
+    let work = Work::Match { method: Method::Ssd, template: tn, placements: placements(win, n, 2) };
+    let Ok(m) = best_match(Method::Ssd, win, &dt) else { return (None, work) };
+    let per_pixel = m.score as f32 / tn.max(1) as f32;
+    (
+        (per_pixel <= p.ssd_max).then(|| tpl.point_at(m.frame_x, m.frame_y)),
+        work,
+    )
+}
+
+/// Peripheral processor states.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum State {
+    /// Waiting for motion from a Watch processor.
+    Idle,
+    /// Locating the target around a point with window size index k (0: 40x40, 1: 64x64);
+    /// `motion` marks the variable window sized from a motion area.
+    Search { at: Point, k: usize },
+    /// Located: following the target alongside the Foveal window.
+    Follow { at: Point },
+}
+
+/// The Peripheral (Detection) processor: SSD at 25% resolution (2.3.2).
+pub struct Peripheral {
+    template: Option<Template>,
+    state: State,
+    params: Params,
+    /// When set, it also tells the Foveal processor every location, not only on loss: the
+    /// thesis's lock-on sequence L2 -> L3.
+    foveal_waiting: bool,
+}
+
+impl Peripheral {
+    /// A Peripheral processor, with the template if it is known in advance.
+    pub fn new(params: Params, template: Option<Template>) -> Self {
+        Peripheral { template, state: State::Idle, params, foveal_waiting: true }
+    }
+
+    /// Starts searching at `p` (used when the target is given).
+    pub fn start_at(&mut self, p: Point) -> Step {
+        self.state = State::Search { at: p, k: 0 };
+        Step::new(Work::None).ask(Some(self.params.window(p, self.params.peripheral[0], Decimation::Quarter)))
+    }
+
+    /// Stops locating: back to waiting for motion (SPMF returning to its Watch mode).
+    pub(super) fn reset(&mut self) {
+        self.state = State::Idle;
+    }
+
+    /// The mode this processor is in.
+    pub fn mode(&self) -> Mode {
+        match self.state {
+            State::Idle => Mode::Watch,
+            _ => Mode::Detect,
+        }
+    }
+
+    /// A message arrived.
+    pub fn on_message(&mut self, m: &Msg) -> Step {
+        let idle = Step::new(Work::None);
+        match (m, self.state) {
+            (Msg::Template(t), _) => {
+                self.template = Some(t.clone());
+                idle
+            }
+            (Msg::Motion { xmin, xmax, ymin, ymax }, State::Idle) => {
+                // The variable window of Table 2.2: the motion area with a template's margin.
+                let at = Point { x: f32::from(*xmin + *xmax) / 2.0, y: f32::from(*ymin + *ymax) / 2.0 };
+                let span = (*xmax - *xmin).max(*ymax - *ymin) + self.params.template;
+                let side = span.clamp(self.params.peripheral[0], 128);
+                self.state = State::Search { at, k: 0 };
+                self.foveal_waiting = true;
+                idle.ask(Some(self.params.window(at, side, Decimation::Quarter)))
+            }
+            (Msg::Tracked(p), State::Follow { .. }) | (Msg::Tracked(p), State::Search { .. }) => {
+                self.state = State::Follow { at: *p };
+                self.foveal_waiting = false;
+                idle
+            }
+            (Msg::Lost(p), State::Follow { at }) => {
+                // Hand over the latest location at once (2.3.2); search again from there.
+                self.foveal_waiting = true;
+                self.state = State::Search { at: *p, k: 0 };
+                idle.send(Dest::Foveal, Msg::Approx(at))
+            }
+            (Msg::Lost(p), _) => {
+                self.foveal_waiting = true;
+                self.state = State::Search { at: *p, k: 0 };
+                idle.ask(Some(self.params.window(*p, self.params.peripheral[0], Decimation::Quarter)))
+            }
+            _ => idle,
+        }
+    }
+
+    /// A Peripheral window arrived.
+    pub fn on_window(&mut self, win: &WindowView<'_>) -> Step {
+        let Some(tpl) = &self.template else {
+            self.state = State::Idle;
+            return Step::new(Work::None);
+        };
+        let (found, work) = ssd_locate(win, tpl, &self.params);
+        let step = Step::new(work);
+        let side = |k: usize| self.params.peripheral[k.min(1)];
+        match (found, self.state) {
+            (Some(p), _) => {
+                let was_waiting = self.foveal_waiting;
+                self.state = State::Follow { at: p };
+                let step = step.ask(Some(self.params.window(p, side(0), Decimation::Quarter)));
+                if was_waiting {
+                    self.foveal_waiting = false;
+                    step.send(Dest::Foveal, Msg::Approx(p))
+                } else {
+                    step
+                }
+            }
+            (None, State::Follow { at }) => {
+                self.state = State::Search { at, k: 0 };
+                step.ask(Some(self.params.window(at, side(0), Decimation::Quarter)))
+            }
+            (None, State::Search { at, k }) if k < 1 => {
+                self.state = State::Search { at, k: k + 1 };
+                step.ask(Some(self.params.window(at, side(k + 1), Decimation::Quarter)))
+            }
+            (None, _) => {
+                // Both Detection sizes failed: back to waiting for the Watch processor.
+                self.state = State::Idle;
+                step
+            }
+        }
+    }
+}
