@@ -37,7 +37,7 @@ mod sobel;
 #[cfg(test)]
 mod tests;
 
-pub use bounds::{bounding_points, corner_from_edges, BoundingPoints, Point, Q3Source};
+pub use bounds::{bounding_points, corner_from_edges, BoundingPoints, Pixel, Q3Source};
 pub use labelling::{keep_largest_component, Components};
 pub use morphology::open_cross;
 pub use sobel::sobel_at;
