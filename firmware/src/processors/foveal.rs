@@ -216,3 +216,62 @@ impl Foveal {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::processors::testing::{cut, frame, params, square, template, TARGET};
+
+    fn near(p: Point, q: Point) -> bool {
+        (p.x - q.x).abs() < 0.01 && (p.y - q.y).abs() < 0.01
+    }
+
+    #[test]
+    fn ncc_tracks_the_block_and_loses_it_when_it_goes() {
+        let mut f = Foveal::new(FovealKind::Ncc, params(), Some(template()));
+        let s = f.start_at(TARGET);
+        let win = square(24, 14, 16, Decimation::Full);
+        assert_eq!((s.request, s.sends.len(), f.mode()), (Some(win), 0, Mode::Track));
+        // The template (8x8) placed at its own pixels: NCC 1, the point where it started.
+        let s = f.on_window(&cut(&frame(Some((30, 20))), &win), 0.0);
+        assert_eq!(s.work, Work::Match { method: Method::Ncc, template: 64, placements: 81 });
+        let (p, source) = s.report.unwrap();
+        assert!(near(p, TARGET) && source == Source::Ncc, "{p:?}");
+        assert_eq!(&s.sends[..], &[(Dest::Peripheral, Msg::Tracked(p))][..]);
+        assert_eq!(s.request, Some(win));
+        // The block moves by (2, 1): so does the point, and the window follows
+        // (round(33.5 - 7.5) = 26, round(22.5 - 7.5) = 15).
+        let s = f.on_window(&cut(&frame(Some((32, 21))), &win), 0.04);
+        let (p, _) = s.report.unwrap();
+        assert!(near(p, Point { x: 33.5, y: 22.5 }), "{p:?}");
+        assert_eq!(s.request, Some(square(26, 15, 16, Decimation::Full)));
+        // A flat window: NCC 5600 / sqrt(760000 * 64) = 0.80 < 0.97, lost where it last was.
+        let s = f.on_window(&cut(&frame(None), &win), 0.08);
+        assert_eq!((s.report, s.request, s.lost), (None, None, Some(p)));
+        assert_eq!(&s.sends[..], &[(Dest::Peripheral, Msg::Lost(p))][..]);
+        assert_eq!(f.mode(), Mode::Watch);
+    }
+
+    #[test]
+    fn the_coop_master_decides_once_both_results_of_a_window_are_in() {
+        let mut master = Foveal::new(FovealKind::CoopMaster, params(), Some(template()));
+        let mut partner = Foveal::new(FovealKind::CoopPartner, params(), None);
+        let win = square(24, 14, 16, Decimation::Full);
+        let s = master.start_at(TARGET);
+        assert_eq!(&s.sends[..], &[(Dest::FovealCd, Msg::Follow(TARGET))][..]);
+        assert_eq!(partner.on_message(&Msg::Follow(TARGET), 0.0).request, Some(win));
+        let block = frame(Some((30, 20)));
+        // The partner answers with its corner, whatever it is; it reports nothing itself.
+        let s = partner.on_window(&cut(&block, &win), 0.0);
+        assert!(matches!(&s.sends[..], [(Dest::Foveal, Msg::Result(_))]) && s.report.is_none());
+        // The master's own NCC waits for the partner's result.
+        let s = master.on_window(&cut(&block, &win), 0.0);
+        assert_eq!((s.report, s.request, s.sends.len()), (None, None, 0));
+        // No corner: trusted NCC (score 1 >= 0.99) is followed, and the partner told to follow.
+        let s = master.on_message(&Msg::Result(None), 0.0);
+        let (p, source) = s.report.unwrap();
+        assert!(near(p, TARGET) && source == Source::Ncc, "{p:?}");
+        assert_eq!(s.work, Work::Decision);
+        assert_eq!(&s.sends[..], &[(Dest::Peripheral, Msg::Tracked(p)), (Dest::FovealCd, Msg::Follow(p))][..]);
+    }
+}

@@ -26,6 +26,8 @@ pub mod peripheral;
 pub mod spmf;
 pub mod step;
 pub mod template;
+#[cfg(test)]
+mod testing;
 pub mod watch;
 
 pub use coop::Policy;

@@ -146,3 +146,51 @@ impl Peripheral {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::processors::testing::{cut, frame, params, square, template, TARGET};
+
+    #[test]
+    fn motion_locks_on_hands_the_location_over_and_the_window_grows_when_lost() {
+        let mut p = Peripheral::new(params(), Some(template()));
+        assert_eq!(p.mode(), Mode::Watch);
+        // Motion 4 px wide: 3 + the 8 px template = 11, raised to the 16 px window, centred on
+        // (31.5, 21.5): columns 24..=39, rows 14..=29 at 25 %.
+        let s = p.on_message(&Msg::Motion { xmin: 30, xmax: 33, ymin: 20, ymax: 23 });
+        let near = square(24, 14, 16, Decimation::Quarter);
+        assert_eq!((s.request, s.sends.len(), p.mode()), (Some(near), 0, Mode::Detect));
+        // The decimated template (4x4) sits at decimated placement (2, 2) of the 8x8 window,
+        // its SSD 0 and its neighbours' equal: the block's centre exactly.
+        let block = frame(Some((30, 20)));
+        let s = p.on_window(&cut(&block, &near));
+        assert_eq!(s.work, Work::Match { method: Method::Ssd, template: 16, placements: 25 });
+        assert_eq!(&s.sends[..], &[(Dest::Foveal, Msg::Approx(TARGET))][..]);
+        assert_eq!(s.request, Some(near));
+        // Found again: the Foveal processor already has it.
+        assert!(p.on_window(&cut(&block, &near)).sends.is_empty());
+        // Gone: 4 bright samples of 16 differ by 150, 5625 per pixel > 900. The same window,
+        // then the larger one (24 px: columns 20..=43), then back to waiting for motion.
+        let blank = frame(None);
+        assert_eq!(p.on_window(&cut(&blank, &near)).request, Some(near));
+        let far = square(20, 10, 24, Decimation::Quarter);
+        assert_eq!(p.on_window(&cut(&blank, &near)).request, Some(far));
+        let s = p.on_window(&cut(&blank, &far));
+        assert_eq!((s.request, s.sends.len(), p.mode()), (None, 0, Mode::Watch));
+        // A loss reported while waiting: search around it (round(40 - 7.5) = 33).
+        let s = p.on_message(&Msg::Lost(Point { x: 40.0, y: 40.0 }));
+        assert_eq!(s.request, Some(square(33, 33, 16, Decimation::Quarter)));
+    }
+
+    #[test]
+    fn a_foveal_loss_while_following_hands_the_latest_location_over_at_once() {
+        let mut p = Peripheral::new(params(), Some(template()));
+        let s = p.start_at(TARGET);
+        let near = square(24, 14, 16, Decimation::Quarter);
+        assert_eq!(s.request, Some(near));
+        p.on_window(&cut(&frame(Some((30, 20))), &near));
+        let s = p.on_message(&Msg::Lost(Point { x: 40.0, y: 40.0 }));
+        assert_eq!((&s.sends[..], s.request), (&[(Dest::Foveal, Msg::Approx(TARGET))][..], None));
+    }
+}

@@ -8,6 +8,8 @@ use super::template::Template;
 use super::watch::Watch;
 use crate::kernels::view::WindowView;
 use crate::types::{Decimation, Point, WindowRequest};
+#[cfg(test)]
+use crate::types::Source;
 
 
 /// The single processor of SPMF (2.3.1): Watch, Detection and Tracking modes in turn, one
@@ -90,5 +92,43 @@ impl<'b> Spmf<'b> {
         }
         self.mode = mode;
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::processors::testing::{cut, frame, params, square, TARGET};
+
+    #[test]
+    fn one_processor_watches_locates_tracks_and_falls_back() {
+        let mut prev = [0u8; 64 * 64];
+        let mut s = Spmf::new(params(), &mut prev, None);
+        let full = square(0, 0, 64, Decimation::Full);
+        let (blank, block) = (frame(None), frame(Some((30, 20))));
+        assert_eq!((s.start(None).request, s.mode()), (Some(full), Mode::Watch));
+        assert_eq!(s.on_window(&cut(&blank, &full), 0.0).request, Some(full));
+        // Motion: the template goes to both sub-processors, the Peripheral window is next.
+        let periph = square(24, 14, 16, Decimation::Quarter);
+        let st = s.on_window(&cut(&block, &full), 0.04);
+        assert_eq!((st.request, s.mode(), st.sends.len()), (Some(periph), Mode::Detect, 0));
+        // Located: the Foveal window around the location.
+        let fovea = square(24, 14, 16, Decimation::Full);
+        let st = s.on_window(&cut(&block, &periph), 0.08);
+        assert_eq!((st.request, s.mode(), st.report), (Some(fovea), Mode::Track, None));
+        let st = s.on_window(&cut(&block, &fovea), 0.12);
+        let (p, source) = st.report.unwrap();
+        assert!((p.x - TARGET.x).abs() < 0.01 && (p.y - TARGET.y).abs() < 0.01 && source == Source::Ncc);
+        assert_eq!((st.request, s.mode()), (Some(fovea), Mode::Track));
+        // Lost: the Peripheral hands over where it last located the target, tracked again there.
+        let st = s.on_window(&cut(&blank, &fovea), 0.16);
+        assert_eq!((st.lost, st.request, s.mode()), (Some(p), Some(fovea), Mode::Track));
+        // Lost there too: Detection around it, then the larger window, then Watch.
+        let st = s.on_window(&cut(&blank, &fovea), 0.20);
+        assert_eq!((st.request, s.mode()), (Some(periph), Mode::Detect));
+        let far = square(20, 10, 24, Decimation::Quarter);
+        assert_eq!(s.on_window(&cut(&blank, &periph), 0.24).request, Some(far));
+        let st = s.on_window(&cut(&blank, &far), 0.28);
+        assert_eq!((st.request, s.mode()), (Some(full), Mode::Watch));
     }
 }

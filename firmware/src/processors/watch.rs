@@ -69,3 +69,50 @@ impl<'b> Watch<'b> {
         )
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::processors::testing::{cut, frame, params, square, template};
+    use crate::types::Decimation;
+
+    #[test]
+    fn motion_is_reported_with_the_template_captured_once() {
+        let region = square(0, 0, 64, Decimation::Full);
+        let mut prev = [0u8; 64 * 64];
+        let mut w = Watch::new(region, &mut prev, params(), false);
+        assert_eq!(w.start().request, Some(region));
+        // The first window has nothing to difference against.
+        let blank = frame(None);
+        let s = w.on_window(&cut(&blank, &region));
+        assert_eq!((s.work, s.request, s.sends.len()), (Work::Motion { pixels: 4096 }, Some(region), 0));
+        // The 4x4 block appears at columns 30..=33, rows 20..=23: 16 pixels differ by 150.
+        let block = frame(Some((30, 20)));
+        let s = w.on_window(&cut(&block, &region));
+        let motion = Msg::Motion { xmin: 30, xmax: 33, ymin: 20, ymax: 23 };
+        let want = [
+            (Dest::Peripheral, Msg::Template(template())),
+            (Dest::Foveal, Msg::Template(template())),
+            (Dest::Peripheral, motion),
+        ];
+        assert_eq!(&s.sends[..], &want[..]);
+        // Nothing moved.
+        assert!(w.on_window(&cut(&block, &region)).sends.is_empty());
+        // The block moves 4 px right: its old and new places differ; no second template.
+        let moved = frame(Some((34, 20)));
+        let s = w.on_window(&cut(&moved, &region));
+        assert_eq!(&s.sends[..], &[(Dest::Peripheral, Msg::Motion { xmin: 30, xmax: 37, ymin: 20, ymax: 23 })][..]);
+    }
+
+    #[test]
+    fn motion_under_the_pixel_count_is_not_reported() {
+        let region = square(0, 0, 64, Decimation::Full);
+        let mut prev = [0u8; 64 * 64];
+        let p = Params { motion_min_pixels: 17, ..params() };
+        let mut w = Watch::new(region, &mut prev, p, true);
+        let (blank, block) = (frame(None), frame(Some((30, 20))));
+        w.on_window(&cut(&blank, &region));
+        // 16 moving pixels, 17 needed.
+        assert!(w.on_window(&cut(&block, &region)).sends.is_empty());
+    }
+}
