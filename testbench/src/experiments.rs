@@ -59,7 +59,7 @@ pub fn system(strategy: Strategy, cost: CostModel, target: Option<(f64, f64)>) -
         coop_n: 4,
         target,
         model: None,
-        pixel_clock_hz: coopwin_hdl::camera::CA_D1_PIXEL_CLOCK_HZ,
+        pixel_clock_hz: coopwin_hdl::sim::camera::CA_D1_PIXEL_CLOCK_HZ,
         hdl: crate::system::HdlChoice::Model,
         policy: CoopPolicy::Guarded,
         corrupt_request: None,

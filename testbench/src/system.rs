@@ -14,7 +14,7 @@ use coopwin_firmware::processors::{
 };
 use coopwin_firmware::kernels::view::WindowView;
 use coopwin_firmware::types::{Decimation, Point, Source, WindowRequest};
-use coopwin_hdl::camera::{Jitter, RasterTiming};
+use coopwin_hdl::sim::camera::{Jitter, RasterTiming};
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 

@@ -30,8 +30,7 @@ fn ssd_locate(win: &WindowView<'_>, tpl: &Template, p: &Params) -> (Option<Point
 enum State {
     /// Waiting for motion from a Watch processor.
     Idle,
-    /// Locating the target around a point with window size index k (0: 40x40, 1: 64x64);
-    /// `motion` marks the variable window sized from a motion area.
+    /// Locating the target around a point with window size index k (0: 40x40, 1: 64x64).
     Search { at: Point, k: usize },
     /// Located: following the target alongside the Foveal window.
     Follow { at: Point },
