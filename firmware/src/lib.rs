@@ -19,9 +19,25 @@
 #[cfg(test)]
 extern crate std;
 
-/// Implements `Display`, one message per variant, and `core::error::Error` for a field-less
-/// error enum, so callers can show a person what went wrong without `{:?}`.
+/// Implements `Display`, one message per variant, and `core::error::Error` for an error enum,
+/// so callers can show a person what went wrong without `{:?}`. A generic enum names its
+/// type parameters, and a variant that wraps an inner error (`Io(e) => "..."`) prints the
+/// message followed by the inner error's `Debug`.
 macro_rules! error_messages {
+    ($ty:ident<$($g:ident),+> { $($variant:ident $(($inner:ident))? => $msg:literal),* $(,)? }) => {
+        impl<$($g: core::fmt::Debug),+> core::fmt::Display for $ty<$($g),+> {
+            fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+                match self {
+                    $(Self::$variant $(($inner))? => {
+                        f.write_str($msg)?;
+                        $(write!(f, ": {:?}", $inner)?;)?
+                        Ok(())
+                    })*
+                }
+            }
+        }
+        impl<$($g: core::fmt::Debug),+> core::error::Error for $ty<$($g),+> {}
+    };
     ($ty:ty { $($variant:ident => $msg:literal),* $(,)? }) => {
         impl core::fmt::Display for $ty {
             fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {

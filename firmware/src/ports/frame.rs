@@ -50,16 +50,10 @@ pub enum FrameWriteError<E> {
     TooLong,
 }
 
-impl<E: core::fmt::Debug> core::fmt::Display for FrameWriteError<E> {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self {
-            Self::Io(e) => write!(f, "the byte stream failed: {e:?}"),
-            Self::TooLong => f.write_str("frame payload empty or over the largest payload"),
-        }
-    }
-}
-
-impl<E: core::fmt::Debug> core::error::Error for FrameWriteError<E> {}
+error_messages!(FrameWriteError<E> {
+    Io(e) => "the byte stream failed",
+    TooLong => "frame payload empty or over the largest payload",
+});
 
 /// A received frame was rejected.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

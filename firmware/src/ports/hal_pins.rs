@@ -17,6 +17,11 @@ pub enum PinError<O, I> {
     Input(I),
 }
 
+error_messages!(PinError<O, I> {
+    Output(e) => "an output pin failed",
+    Input(e) => "an input pin failed",
+});
+
 /// Port 1 on embedded-hal pins: `data[0]` is bit 0.
 pub struct HalCoordinatePins<O, I> {
     /// D0..D7.
@@ -63,6 +68,11 @@ pub enum PixelPinError<E> {
     /// The receiver refused the pixel.
     Receive(ReceiveError),
 }
+
+error_messages!(PixelPinError<E> {
+    Pin(e) => "an input pin failed",
+    Receive(e) => "the receiver refused the pixel",
+});
 
 impl<I: InputPin> HalPixelPins<I> {
     /// One pixel clock: samples CSTRB4 and, with it, the data lines into `rx`. True once the

@@ -202,16 +202,10 @@ pub enum LinkError<E> {
     Eof,
 }
 
-impl<E: core::fmt::Debug> core::fmt::Display for LinkError<E> {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self {
-            Self::Io(e) => write!(f, "the byte stream failed: {e:?}"),
-            Self::Eof => f.write_str("the byte stream ended"),
-        }
-    }
-}
-
-impl<E: core::fmt::Debug> core::error::Error for LinkError<E> {}
+error_messages!(LinkError<E> {
+    Io(e) => "the byte stream failed",
+    Eof => "the byte stream ended",
+});
 
 /// A [`Link`] sending framed messages over an `embedded_io` byte stream; bad frames,
 /// undecodable messages and broken templates are skipped on receive.
@@ -373,5 +367,13 @@ mod tests {
         assert_eq!(link.receive(), Ok(Msg::Follow(Point { x: 5.0, y: 6.0 })));
         assert_eq!(link.receive(), Ok(Msg::Result(None)));
         assert_eq!(link.receive(), Err(LinkError::Eof));
+    }
+
+    #[test]
+    fn link_errors_read_as_sentences() {
+        use std::string::ToString;
+        assert_eq!(LinkError::Io(7u8).to_string(), "the byte stream failed: 7");
+        assert_eq!(LinkError::<u8>::Eof.to_string(), "the byte stream ended");
+        assert_eq!(FrameWriteError::<u8>::TooLong.to_string(), "frame payload empty or over the largest payload");
     }
 }
