@@ -1,4 +1,5 @@
-//! The fields of a frame's payload: little-endian numbers, and what goes wrong decoding them.
+//! The fields of a frame's payload on the links of thesis 2.2 and 2.6: little-endian numbers, and
+//! what goes wrong decoding them.
 
 /// A received payload could not be decoded into a message or position.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -1,7 +1,7 @@
-//! Direct-stepping drivers for long runs: inputs are set, the clock toggled and the block
-//! settled with rust-hdl's `simulate`, with no threads. rust-hdl's thread-based `Simulation`
-//! (kept for the Appendix B timing tests) runs this design at thousands of clocks per second;
-//! stepping the block directly runs it at millions.
+//! Direct-stepping drivers for long runs of the window logic (thesis 2.2.2, B1.1): inputs are
+//! set, the clock toggled and the block settled with rust-hdl's `simulate`, with no threads.
+//! rust-hdl's thread-based `Simulation` (kept for the Appendix B timing tests) runs this design
+//! at thousands of clocks per second; stepping the block directly runs it at millions.
 //!
 //! The processor's side of the coordinate port is the firmware's own
 //! [`CoordinateWriter`], one [`write_step`] a clock.

@@ -1,6 +1,7 @@
-//! A unit run end to end: camera frames stream past while a processor writes coordinate sets
-//! at chosen clocks; every clock's inputs and outputs are recorded, so the same stimulus can be
-//! replayed in another simulator (Icarus Verilog, Verilator) and compared clock for clock.
+//! A unit run end to end (thesis 2.2.2, B1.1): camera frames stream past while a processor
+//! writes coordinate sets at chosen clocks; every clock's inputs and outputs are recorded, so
+//! the same stimulus can be replayed in another simulator (Icarus Verilog, Verilator) and
+//! compared clock for clock.
 use super::camera::{CameraBus, RasterTiming, Window};
 use super::driver::{queue_window, write_step, CoordBus, UnitDriver, UnitOutputs};
 use coopwin_firmware::ports::window::{CoordinateWriter, WriteError};
