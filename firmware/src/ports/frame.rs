@@ -70,7 +70,7 @@ error_messages!(FrameError {
 });
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum DecState {
+enum DecoderState {
     Sync,
     Len,
     Payload(u8),
@@ -80,7 +80,7 @@ enum DecState {
 /// Byte-at-a-time decoder of the frame format.
 #[derive(Clone, Debug)]
 pub struct FrameDecoder {
-    state: DecState,
+    state: DecoderState,
     buf: Vec<u8, MAX_PAYLOAD>,
 }
 
@@ -93,38 +93,38 @@ impl Default for FrameDecoder {
 impl FrameDecoder {
     /// A decoder waiting for a sync byte.
     pub const fn new() -> Self {
-        Self { state: DecState::Sync, buf: Vec::new() }
+        Self { state: DecoderState::Sync, buf: Vec::new() }
     }
 
     /// Feeds one byte; returns a complete payload, a framing error (after which the
     /// decoder waits for the next sync byte), or `None` while a frame is incomplete.
     pub fn feed(&mut self, b: u8) -> Option<Result<Vec<u8, MAX_PAYLOAD>, FrameError>> {
         match self.state {
-            DecState::Sync => {
+            DecoderState::Sync => {
                 if b == SYNC {
-                    self.state = DecState::Len;
+                    self.state = DecoderState::Len;
                 }
                 None
             }
-            DecState::Len => {
+            DecoderState::Len => {
                 if b == 0 || usize::from(b) > MAX_PAYLOAD {
-                    self.state = DecState::Sync;
+                    self.state = DecoderState::Sync;
                     return Some(Err(FrameError::BadLength));
                 }
                 self.buf.clear();
-                self.state = DecState::Payload(b);
+                self.state = DecoderState::Payload(b);
                 None
             }
-            DecState::Payload(len) => {
+            DecoderState::Payload(len) => {
                 // Cannot overflow: len <= MAX_PAYLOAD and the state leaves at len bytes.
                 let _ = self.buf.push(b);
                 if self.buf.len() >= usize::from(len) {
-                    self.state = DecState::Crc(len);
+                    self.state = DecoderState::Crc(len);
                 }
                 None
             }
-            DecState::Crc(len) => {
-                self.state = DecState::Sync;
+            DecoderState::Crc(len) => {
+                self.state = DecoderState::Sync;
                 let crc = self.buf.iter().fold(crc8(&[len]), |c, &x| crc8_step(c, x));
                 if crc == b {
                     Some(Ok(core::mem::take(&mut self.buf)))
