@@ -2,11 +2,12 @@
 //! `fixtures/bench/` (see its README): Foveal NCC 20x20 in 24x24, Peripheral SSD 16x16 in
 //! 40x40 at 100 % and 25 %, Watch motion on 256x256, the corner detector on 20x20 and
 //! 24x24, and the COOP decision.
-use coopwin_firmware::confidence::{ConfidencePolicy, SseCoop, Source};
-use coopwin_firmware::corner::{CornerDetector, CornerParams};
-use coopwin_firmware::matching::{best_match, best_match_decimated, Method};
-use coopwin_firmware::motion::detect_motion;
-use coopwin_firmware::view::WindowView;
+use coopwin_firmware::kernels::confidence::{ConfidencePolicy, SseCoop};
+use coopwin_firmware::types::Source;
+use coopwin_firmware::kernels::corner::{CornerDetector, CornerParams};
+use coopwin_firmware::kernels::matching::{best_match, best_match_decimated, Method};
+use coopwin_firmware::kernels::motion::detect_motion;
+use coopwin_firmware::kernels::view::WindowView;
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 

@@ -10,8 +10,8 @@
 #[path = "support/optics.rs"]
 mod optics;
 
-use coopwin_firmware::corner::{CornerCase, CornerDetector, CornerParams, NoCorner};
-use coopwin_firmware::view::WindowView;
+use coopwin_firmware::kernels::corner::{CornerCase, CornerDetector, CornerParams, NoCorner};
+use coopwin_firmware::kernels::view::WindowView;
 
 type P = (f64, f64);
 

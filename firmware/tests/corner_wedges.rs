@@ -12,8 +12,8 @@
 #[path = "support/optics.rs"]
 mod optics;
 
-use coopwin_firmware::corner::{CornerDetector, CornerParams};
-use coopwin_firmware::view::WindowView;
+use coopwin_firmware::kernels::corner::{CornerDetector, CornerParams};
+use coopwin_firmware::kernels::view::WindowView;
 use std::f64::consts::PI;
 
 /// xorshift64* (deterministic).

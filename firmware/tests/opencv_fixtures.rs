@@ -4,10 +4,10 @@
 #[path = "support/pgm.rs"]
 mod pgm;
 
-use coopwin_firmware::corner::{keep_largest_component, open_cross, sobel_at};
-use coopwin_firmware::matching::{best_match, score_map, MatchError, Method};
-use coopwin_firmware::motion::{detect_motion, motion_mask};
-use coopwin_firmware::view::WindowView;
+use coopwin_firmware::kernels::corner::{keep_largest_component, open_cross, sobel_at};
+use coopwin_firmware::kernels::matching::{best_match, score_map, MatchError, Method};
+use coopwin_firmware::kernels::motion::{detect_motion, motion_mask};
+use coopwin_firmware::kernels::view::WindowView;
 use serde_json::Value;
 use std::path::PathBuf;
 
@@ -160,8 +160,8 @@ fn read_pgm(name: &str) -> Img {
 /// benchmarks time the same work.
 #[test]
 fn bench_inputs_agree_with_opencv() {
-    use coopwin_firmware::corner::{CornerDetector, CornerParams};
-    use coopwin_firmware::matching::best_match_decimated;
+    use coopwin_firmware::kernels::corner::{CornerDetector, CornerParams};
+    use coopwin_firmware::kernels::matching::best_match_decimated;
     let (fw, ft) = (read_pgm("foveal_window.pgm"), read_pgm("foveal_template.pgm"));
     let m = best_match(Method::Ncc, &fw.view(), &ft.view()).unwrap();
     assert_eq!((m.x, m.y), (2, 2));

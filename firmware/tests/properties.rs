@@ -1,15 +1,17 @@
 //! Property tests: no panic and no NaN for any size and content; NCC self-match is 1;
 //! translating the scene translates the match.
-use coopwin_firmware::confidence::{ConfidencePolicy, KalmanCoop, LsqTrack, SseCoop, Source};
-use coopwin_firmware::corner::{CornerDetector, CornerParams};
-use coopwin_firmware::info::edge_information;
-use coopwin_firmware::matching::{best_match, best_match_decimated, score_map, MatchError, Method};
-use coopwin_firmware::window_ports::{coordinate_bytes, WriteError};
-use coopwin_firmware::motion::{detect_motion, motion_mask};
-use coopwin_firmware::ports::{Decimation, MessageDecoder, WindowRequest};
-use coopwin_firmware::tracker::Msg;
-use coopwin_firmware::refine::refine_translation;
-use coopwin_firmware::view::WindowView;
+use coopwin_firmware::kernels::confidence::{ConfidencePolicy, KalmanCoop, LsqTrack, SseCoop};
+use coopwin_firmware::types::Source;
+use coopwin_firmware::kernels::corner::{CornerDetector, CornerParams};
+use coopwin_firmware::kernels::info::edge_information;
+use coopwin_firmware::kernels::matching::{best_match, best_match_decimated, score_map, MatchError, Method};
+use coopwin_firmware::ports::window::{coordinate_bytes, WriteError};
+use coopwin_firmware::kernels::motion::{detect_motion, motion_mask};
+use coopwin_firmware::ports::link::MessageDecoder;
+use coopwin_firmware::types::{Decimation, WindowRequest};
+use coopwin_firmware::processors::Msg;
+use coopwin_firmware::kernels::refine::refine_translation;
+use coopwin_firmware::kernels::view::WindowView;
 use proptest::prelude::*;
 
 const METHODS: [Method; 4] = [Method::Ssd, Method::Sad, Method::Ncc, Method::Zncc];

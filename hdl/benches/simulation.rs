@@ -2,9 +2,9 @@
 //! clocks per second (criterion's throughput): the direct-stepping driver used for long runs,
 //! and rust-hdl's thread-based `Simulation` used for the VCD and Appendix B tests.
 //! Run: cargo bench -p coopwin-hdl --bench simulation
-use coopwin_hdl::appendix_b::simulate_acquisition;
-use coopwin_hdl::camera::{RasterTiming, Window};
-use coopwin_hdl::run::{run_unit, Request};
+use coopwin_hdl::sim::appendix_b::simulate_acquisition;
+use coopwin_hdl::sim::camera::{RasterTiming, Window};
+use coopwin_hdl::sim::run::{run_unit, Request};
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use std::sync::Arc;
 

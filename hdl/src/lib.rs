@@ -1,20 +1,23 @@
 //! Window logic of the cooperative-windowing tracker (thesis 2.2, Appendices A and B) in
-//! rust-hdl: the blocks, their Verilog export, a camera raster generator and a fast driver.
+//! rust-hdl.
 //!
-//! Data flows camera -> [`WindowUnit`] -> processor: [`camera`] produces the CA-D1's raster,
-//! [`driver`] steps the rust-hdl blocks clock by clock, [`verilog`] exports `window_unit` and
-//! `window_network`.
-pub mod appendix_b;
-pub mod camera;
+//! The synthesizable blocks and their Verilog export are at the top: [`window_unit`] (one
+//! windowing unit, Figs. 2.3, A1.1, A1.2), [`coord_port`] (its coordinate input section),
+//! [`reg`] (the D flip-flop they are built of) and [`verilog`] (`window_unit` and
+//! `window_network`). [`sim`] holds what only simulates them: the camera raster, the drivers
+//! that step them, the Appendix B runs and the waveforms.
+//!
+//! Data flows camera -> [`WindowUnit`] -> processor.
+#![warn(missing_docs)]
+
 pub mod coord_port;
-pub mod driver;
 pub mod reg;
-pub mod run;
+pub mod sim;
 pub mod verilog;
 pub mod window_unit;
 
 pub use coord_port::CoordPort;
-pub use window_unit::WindowUnit;
+pub use window_unit::{WindowUnit, ARM_MARGIN};
 
 /// Counter and coordinate width of the thesis's 256x256 camera.
 pub const CA_D1_BITS: usize = 8;

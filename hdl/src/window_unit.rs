@@ -17,6 +17,12 @@ use crate::coord_port::CoordPort;
 use crate::reg::Reg;
 use rust_hdl::prelude::*;
 
+/// Clocks from a coordinate set's completion (the clock its fourth byte is taken: CRDY1 rises)
+/// to the first FVAL rise it can arm: the set passes the port's validity check and reaches the
+/// pending set registers in these clocks, so a set completed on clock `s` applies to the first
+/// frame whose FVAL rises on clock `s + ARM_MARGIN` or later (thesis B1.1 steps 1-2).
+pub const ARM_MARGIN: usize = 2;
+
 /// One window unit: `W`-bit position counters and coordinates (8 for the 256x256 CA-D1).
 #[derive(Clone, Debug, Default, LogicBlock)]
 pub struct WindowUnit<const W: usize> {
@@ -270,8 +276,8 @@ impl<const W: usize> WindowUnit<W> {
 /// one timing diagram, as adapted in docs/window-logic.md (flags are read after each edge).
 #[cfg(test)]
 mod appendix_b_tests {
-    use crate::appendix_b::{simulate_acquisition, Sequence};
-    use crate::camera::{RasterTiming, Window};
+    use crate::sim::appendix_b::{simulate_acquisition, Sequence};
+    use crate::sim::camera::{RasterTiming, Window};
     use crate::window_unit::Flags;
     use std::sync::{Arc, OnceLock};
 

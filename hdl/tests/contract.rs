@@ -1,8 +1,9 @@
 //! The window unit against the exported module's contract (issue #2), driven clock by clock
 //! with the direct-stepping driver. Reference: the software crop of each frame
 //! (`Window::crop`), an independent model of what must be delivered.
-use coopwin_hdl::camera::{RasterTiming, Window};
-use coopwin_hdl::run::{run_unit, Request};
+use coopwin_hdl::ARM_MARGIN;
+use coopwin_hdl::sim::camera::{RasterTiming, Window};
+use coopwin_hdl::sim::run::{run_unit, Request};
 use proptest::prelude::*;
 
 const CA_D1: RasterTiming = RasterTiming::CA_D1;
@@ -139,9 +140,9 @@ fn set_completed_two_clocks_before_fval_rises_arms_that_frame() {
     let w = win(3, 9, 0, 4);
     let probe = run_unit::<8>(&CA_D1, &f[..1], &[at(100, w, false)]);
     let latency = probe.completed[0] - 100;
-    let start = CA_D1.frame_clocks() - 2 - latency;
+    let start = CA_D1.frame_clocks() - ARM_MARGIN - latency;
     let rec = run_unit::<8>(&CA_D1, &f, &[at(start, w, false)]);
-    assert_eq!(rec.completed[0] + 2, CA_D1.frame_clocks());
+    assert_eq!(rec.completed[0] + ARM_MARGIN, CA_D1.frame_clocks());
     assert_eq!(
         rec.delivered_per_frame(&CA_D1)[1],
         w.crop(&f[1], 256, false)
@@ -219,7 +220,7 @@ fn writer_timing_is_what_the_unit_does() {
     // it on edge a, takes it and raises CRDY1 on a+1; the writer drops CSTRB1 for a+2, the
     // unit registers the low strobe on a+2 and drops CRDY1 on a+3; the writer offers the next
     // byte on a+4. So 4 clocks a byte, and the fourth byte (offered at 12) is taken on 13.
-    let (latency, repeat) = coopwin_hdl::run::writer_timing();
+    let (latency, repeat) = coopwin_hdl::sim::run::writer_timing();
     assert_eq!(repeat, 16);
     assert_eq!(latency, 13);
 }

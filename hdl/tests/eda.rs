@@ -3,9 +3,9 @@
 //! Without the tools these tests skip with a message, unless COOPWIN_REQUIRE_EDA=1.
 mod common;
 use common::{have_tool, run, scratch, verilog_dir};
-use coopwin_hdl::camera::{RasterTiming, Window};
-use coopwin_hdl::driver::UnitOutputs;
-use coopwin_hdl::run::{run_unit, Recording, Request};
+use coopwin_hdl::sim::camera::{RasterTiming, Window};
+use coopwin_hdl::sim::driver::UnitOutputs;
+use coopwin_hdl::sim::run::{run_unit, Recording, Request};
 use std::fmt::Write as _;
 use std::process::Command;
 

@@ -3,8 +3,8 @@
 //! alone: Verilator's model through its C interface, or four rust-hdl units stepped directly),
 //! against the camera raster alone. Throughput is in pixel clocks.
 //! Run: cargo bench -p coopwin-testbench --bench backends
-use coopwin_hdl::camera::RasterTiming;
-use coopwin_hdl::driver::{CoordBus, UnitDriver, UnitOutputs};
+use coopwin_hdl::sim::camera::RasterTiming;
+use coopwin_hdl::sim::driver::{CoordBus, UnitDriver, UnitOutputs};
 use coopwin_testbench::verilator::VerilatorNetwork;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use std::hint::black_box;

@@ -126,7 +126,7 @@ pub fn read_vcd(reader: impl BufRead, unit: usize) -> Result<Vec<Sample>, String
         match cmd {
             Command::Timestamp(t) => {
                 if started && clock_high {
-                    out.push(Sample { clock: time / coopwin_hdl::driver::VCD_CLOCK_PS, ..cur });
+                    out.push(Sample { clock: time / coopwin_hdl::sim::vcd::VCD_CLOCK_PS, ..cur });
                 }
                 started = true;
                 time = t;
@@ -164,7 +164,7 @@ pub fn read_vcd(reader: impl BufRead, unit: usize) -> Result<Vec<Sample>, String
         }
     }
     if started && clock_high {
-        out.push(Sample { clock: time / coopwin_hdl::driver::VCD_CLOCK_PS, ..cur });
+        out.push(Sample { clock: time / coopwin_hdl::sim::vcd::VCD_CLOCK_PS, ..cur });
     }
     Ok(out)
 }
@@ -254,7 +254,7 @@ pub fn audit(samples: &[Sample], requests: &[(usize, Set)]) -> Audit {
         let end = starts.get(i + 1).copied().unwrap_or(samples.len());
         // Invalid sets are refused: they arm nothing and cancel nothing.
         let valid = |s: &Set| s.0 < s.1 && s.2 < s.3;
-        let armed = (next_set..complete.len()).rfind(|&k| complete[k].0 + 2 <= f && valid(&complete[k].1));
+        let armed = (next_set..complete.len()).rfind(|&k| complete[k].0 + coopwin_hdl::ARM_MARGIN <= f && valid(&complete[k].1));
         let window = armed.map(|k| complete[k].1);
         if let Some(k) = armed {
             next_set = k + 1;

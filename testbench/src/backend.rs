@@ -15,14 +15,15 @@
 //! Clock 0 of a run is the start of the vertical blanking before frame 0; frame k's FVAL rises
 //! on clock `blank + k * period`.
 use crate::system::FrameSource;
-use coopwin_firmware::ports::{Decimation, WindowRequest};
-use coopwin_hdl::camera::{CameraBus, FrameRaster, Jitter, RasterTiming, Window};
-use coopwin_firmware::hal_pins::{HalCoordinatePins, HalPixelPins};
-use coopwin_firmware::window_ports::{coordinate_bytes, CoordinateWriter, PixelReceiver};
+use coopwin_firmware::types::{Decimation, WindowRequest};
+use coopwin_hdl::sim::camera::{CameraBus, FrameRaster, Jitter, RasterTiming, Window};
+use coopwin_firmware::ports::hal_pins::{HalCoordinatePins, HalPixelPins};
+use coopwin_firmware::ports::window::{coordinate_bytes, CoordinateWriter, PixelReceiver};
 use core::cell::Cell;
 use core::convert::Infallible;
 use embedded_hal::digital::{InputPin, OutputPin};
-use coopwin_hdl::driver::{CoordBus, NetworkDriver, UnitOutputs, VcdTrace};
+use coopwin_hdl::sim::driver::{CoordBus, NetworkDriver, UnitOutputs};
+use coopwin_hdl::sim::vcd::VcdTrace;
 use std::collections::VecDeque;
 
 /// A window delivered to processor `p`.
@@ -190,18 +191,18 @@ pub struct ModelBackend {
 impl ModelBackend {
     /// `n` units on the raster.
     pub fn new(clocks: Clocks, n: usize) -> Self {
-        let (latency, repeat) = coopwin_hdl::run::writer_timing();
+        let (latency, repeat) = coopwin_hdl::sim::run::writer_timing();
         ModelBackend { clocks, units: vec![UnitSets::default(); n], latency: latency as u64, repeat: repeat as u64 }
     }
 
     /// The window a unit's pending sets give: (frame, completion clock, request).
     fn armed(&self, u: &UnitSets) -> Option<(usize, u64, WindowRequest, usize)> {
         let first = u.pending.first()?;
-        // The first frame whose FVAL rises 2 clocks after the first pending set completes.
-        let k = self.clocks.first_frame_from(first.0 + 2);
+        // The first frame whose FVAL rises `ARM_MARGIN` clocks after the first pending set completes.
+        let k = self.clocks.first_frame_from(first.0 + coopwin_hdl::ARM_MARGIN as u64);
         let start = self.clocks.frame_start(k);
         // Of the sets complete by then, the latest wins.
-        let idx = u.pending.iter().rposition(|s| s.0 + 2 <= start)?;
+        let idx = u.pending.iter().rposition(|s| s.0 + coopwin_hdl::ARM_MARGIN as u64 <= start)?;
         let req = u.pending[idx].1;
         (k < self.clocks.frames).then(|| (k, start + self.clocks.last_strobe(k, &req), req, idx))
     }
@@ -411,7 +412,7 @@ impl HdlBackend {
                 // sample is just their pending set (which the VCD holds).
                 trace_first = clocks.frame_start(t.frames.start);
                 trace_span = trace_first.saturating_sub(clocks.blank())..clocks.frame_start(t.frames.end);
-                Some(VcdTrace::new(t.out, net.block(), coopwin_hdl::driver::VCD_CLOCK_PS))
+                Some(VcdTrace::new(t.out, net.block(), coopwin_hdl::sim::vcd::VCD_CLOCK_PS))
             }
             _ => None,
         };
@@ -470,7 +471,7 @@ impl HdlBackend {
             }
             if frame_rises {
                 // Which set the hardware arms: mirrored only to know the window's shape.
-                let valid = |s: &(u64, WindowRequest)| s.0 + 2 <= c && window_of(&s.1).is_valid();
+                let valid = |s: &(u64, WindowRequest)| s.0 + coopwin_hdl::ARM_MARGIN as u64 <= c && window_of(&s.1).is_valid();
                 if let Some(idx) = u.complete.iter().rposition(valid) {
                     let req = u.complete[idx].1;
                     u.complete.drain(..=idx);

@@ -3,8 +3,9 @@
 //! requested window is cut from it, and the pair runs on it to choose the next window.
 //! The file is `fixtures/board/windows.bin`; `tests/board_windows.rs` checks it is current.
 use crate::scene::{PathKind, Scene, SceneConfig};
-use coopwin_firmware::tracker::{Point, Template};
-use coopwin_firmware::view::WindowView;
+use coopwin_firmware::processors::Template;
+use coopwin_firmware::types::Point;
+use coopwin_firmware::kernels::view::WindowView;
 use coopwin_parity::stream::{encode, Frame};
 use coopwin_parity::suite::{CoopPair, NoMeter};
 

@@ -12,8 +12,8 @@
 //!   to windows in the top sixth of the image); docs/results.md discusses it.
 //! - `native`: our kernels on this machine, from `cargo bench -p coopwin-firmware --bench
 //!   kernels` (per-call medians; see docs/results.md for the run they come from).
-use coopwin_firmware::matching::Method;
-use coopwin_firmware::tracker::Work;
+use coopwin_firmware::kernels::matching::Method;
+use coopwin_firmware::processors::Work;
 
 /// Per-operation costs in seconds.
 #[derive(Clone, Copy, Debug, PartialEq)]

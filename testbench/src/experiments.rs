@@ -5,8 +5,8 @@ use crate::metrics::{self, Summary};
 use crate::plot::{self, Chart, Series};
 use crate::scene::{PathKind, Scene, SceneConfig, Truth};
 use crate::system::{self, CoopPolicy, FrameSource, HdlChoice, RunLog, Strategy, SystemConfig};
-use coopwin_firmware::info::{corner_information, edge_information};
-use coopwin_firmware::tracker::Params;
+use coopwin_firmware::kernels::info::{corner_information, edge_information};
+use coopwin_firmware::processors::Params;
 use std::collections::VecDeque;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -59,7 +59,7 @@ pub fn system(strategy: Strategy, cost: CostModel, target: Option<(f64, f64)>) -
         coop_n: 4,
         target,
         model: None,
-        pixel_clock_hz: coopwin_hdl::camera::CA_D1_PIXEL_CLOCK_HZ,
+        pixel_clock_hz: coopwin_hdl::sim::camera::CA_D1_PIXEL_CLOCK_HZ,
         hdl: crate::system::HdlChoice::Model,
         policy: CoopPolicy::Guarded,
         corrupt_request: None,
@@ -334,7 +334,7 @@ pub fn run(
                 series: vec![series(
                     "COOP",
                     coop.frames.iter().map(|r| {
-                        (r.frame as f64, r.source.map(|a| if a == coopwin_firmware::tracker::Algo::Cd { 2.0 } else { 1.0 }))
+                        (r.frame as f64, r.source.map(|a| if a == coopwin_firmware::types::Source::Cd { 2.0 } else { 1.0 }))
                     }),
                 )],
                 y_range: Some((0.5, 2.5)),
@@ -361,14 +361,14 @@ fn edge_count(scene: &SceneConfig, th: u16) -> (u32, u32) {
     let (w, _) = (scene.width, scene.height);
     let (cx, cy) = (t.corner.0.round() as usize, t.corner.1.round() as usize);
     let (x0, y0) = (cx.saturating_sub(10), cy.saturating_sub(10));
-    let view = coopwin_firmware::view::WindowView::packed(&img, w, scene.height)
+    let view = coopwin_firmware::kernels::view::WindowView::packed(&img, w, scene.height)
         .ok()
         .and_then(|v| v.sub(x0, y0, 20, 20));
     let Some(view) = view else { return (0, 400) };
     let mut n = 0;
     for y in 1..19 {
         for x in 1..19 {
-            if let Some((gx, gy)) = coopwin_firmware::corner::sobel_at(&view, x, y) {
+            if let Some((gx, gy)) = coopwin_firmware::kernels::corner::sobel_at(&view, x, y) {
                 if f64::from(gx).hypot(f64::from(gy)) > f64::from(th) {
                     n += 1;
                 }

@@ -3,7 +3,7 @@ use clap::{Parser, Subcommand};
 use coopwin_testbench::commands::{hardware, kernels, output::OutFile, scene, track, CliError};
 use coopwin_testbench::cost::CostModel;
 use coopwin_testbench::real_images;
-use coopwin_hdl::camera::Jitter;
+use coopwin_hdl::sim::camera::Jitter;
 use coopwin_testbench::system::{CoopPolicy, HdlChoice, Strategy, SystemConfig};
 use coopwin_testbench::scene::{PathKind, SceneConfig};
 use std::path::PathBuf;
@@ -50,7 +50,7 @@ enum Command {
         out: PathBuf,
         /// Window as XMIN,XMAX,YMIN,YMAX (0-based, inclusive); default the whole frame
         #[arg(long, default_value = "0,255,0,255", value_parser = hardware::parse_window)]
-        window: coopwin_hdl::camera::Window,
+        window: coopwin_hdl::sim::camera::Window,
         /// Frames to acquire, one coordinate set written before each
         #[arg(long, default_value_t = 1)]
         frames: usize,
@@ -339,7 +339,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         None => coopwin_testbench::commands::main_job::run(&PathBuf::from("report")),
         Some(Command::Match { image, template, method, decimate }) => {
-            use coopwin_firmware::matching::Method;
+            use coopwin_firmware::kernels::matching::Method;
             let m = match method {
                 MethodArg::Ncc => Method::Ncc,
                 MethodArg::Zncc => Method::Zncc,
@@ -520,7 +520,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
                     ProfileArg::C40 => CostModel::C40,
                     ProfileArg::Native => CostModel::NATIVE,
                 },
-                params: coopwin_firmware::tracker::Params {
+                params: coopwin_firmware::processors::Params {
                     template,
                     foveal: template + 4,
                     ..Default::default()
@@ -528,7 +528,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 coop_n,
                 target,
                 model: None,
-                pixel_clock_hz: coopwin_hdl::camera::CA_D1_PIXEL_CLOCK_HZ,
+                pixel_clock_hz: coopwin_hdl::sim::camera::CA_D1_PIXEL_CLOCK_HZ,
                 hdl: match hdl {
                     HdlArg::Model => HdlChoice::Model,
                     HdlArg::RustHdl => HdlChoice::RustHdl,

@@ -1,19 +1,20 @@
 //! The tracking system in simulated time (thesis 2.3-2.5, 4.2): a camera raster, one window
 //! unit per processor (a coordinate set applies to the first frame whose FVAL rises after the
 //! set is written, and a window is complete when the raster passes its last pixel), the
-//! firmware's processors from `coopwin_firmware::tracker`, each busy for as long as the cost
+//! firmware's processors from `coopwin_firmware::processors`, each busy for as long as the cost
 //! model says its kernels take, and 20 Mbyte/s links between them. A discrete-event loop.
 use crate::backend::{Bank, Clocks, Delivered, HdlBackend, ModelBackend, Trace, WindowBackend};
 use crate::cost::CostModel;
-use coopwin_firmware::ports::{Decimation, WindowRequest};
-use coopwin_firmware::confidence::{KalmanCoop, Source, SseCoop};
-use coopwin_firmware::guard::{Guard, GuardParams};
-use coopwin_firmware::ports::{FramedLink, FramedPositionSink, Link, PositionSink, PositionUpdate};
-use coopwin_firmware::tracker::{
-    Algo, Dest, Foveal, FovealKind, Mode, Msg, Params, Peripheral, Point, Policy, Spmf, Step, Template, Watch,
+use coopwin_firmware::kernels::confidence::{KalmanCoop, SseCoop};
+use coopwin_firmware::processors::coop::guard::{Guard, GuardParams};
+use coopwin_firmware::ports::link::{FramedLink, Link};
+use coopwin_firmware::ports::position::{FramedPositionSink, PositionSink, PositionUpdate};
+use coopwin_firmware::processors::{
+    Dest, Foveal, FovealKind, Mode, Msg, Params, Peripheral, Policy, Spmf, Step, Template, Watch,
 };
-use coopwin_firmware::view::WindowView;
-use coopwin_hdl::camera::{Jitter, RasterTiming};
+use coopwin_firmware::kernels::view::WindowView;
+use coopwin_firmware::types::{Decimation, Point, Source, WindowRequest};
+use coopwin_hdl::sim::camera::{Jitter, RasterTiming};
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
@@ -109,7 +110,7 @@ pub struct FrameRecord {
     /// Mode at the end of the frame period.
     pub mode: Mode,
     /// The algorithm behind `point`.
-    pub source: Option<Algo>,
+    pub source: Option<Source>,
 }
 
 /// A position report: when it was made, for which frame's window, where, and by what.
@@ -122,7 +123,7 @@ pub struct Report {
     /// The point.
     pub point: Point,
     /// The algorithm.
-    pub algo: Algo,
+    pub algo: Source,
 }
 
 /// A finished run.
@@ -315,7 +316,7 @@ pub fn run_with(
     let period = clocks.period() as f64 / hz;
     // Seconds from frame 0's FVAL rising, for reports.
     let secs = |c: u64| (c as f64 - clocks.blank() as f64) / hz;
-    let busy = |work: &coopwin_firmware::tracker::Work| (cfg.cost.seconds(work) * hz).ceil() as u64;
+    let busy = |work: &coopwin_firmware::processors::Work| (cfg.cost.seconds(work) * hz).ceil() as u64;
     let link = |bytes: usize| (cfg.cost.link_seconds(bytes) * hz).ceil() as u64;
     let params = Params { frame_w: w as u16, frame_h: h as u16, ..cfg.params };
 
@@ -404,7 +405,7 @@ pub fn run_with(
             (Proc::Spmf(s), t) => s.start(t),
             (Proc::Peripheral(pp), Some(t)) => pp.start_at(t),
             (Proc::Foveal(f), Some(t)) if Some(i) == routes.foveal => f.start_at(t),
-            _ => Step { work: coopwin_firmware::tracker::Work::None, request: None, sends: Default::default(), report: None, lost: None },
+            _ => Step { work: coopwin_firmware::processors::Work::None, request: None, sends: Default::default(), report: None, lost: None },
         };
         apply(i, step, 0, backend, &mut q, &routes, &mut links, &mut log.requests, &mut link_state)?;
     }
@@ -519,7 +520,7 @@ fn publish(
 
 /// Sends a report to the robot controller through the firmware's position sink.
 fn emit(sink: &mut FramedPositionSink<Pipe>, r: &Report) -> Result<(), String> {
-    let source = if r.algo == Algo::Cd { Source::Cd } else { Source::Ncc };
+    let source = r.algo;
     let update = PositionUpdate { t_us: (r.t.max(0.0) * 1e6) as u32, x: r.point.x, y: r.point.y, source };
     sink.emit(&update).map_err(|e| format!("robot link: {e:?}"))
 }

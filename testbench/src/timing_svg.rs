@@ -1,6 +1,6 @@
 //! Timing diagrams as SVG, drawn from the simulated flags of a window unit, one per sequence
 //! of Appendix B, so they can be laid next to Figures B1.1-B1.5.
-use coopwin_hdl::appendix_b::Sequence;
+use coopwin_hdl::sim::appendix_b::Sequence;
 use coopwin_hdl::window_unit::Flags;
 use std::fmt::Write as _;
 

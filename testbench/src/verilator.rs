@@ -1,7 +1,7 @@
 //! `--hdl verilator`: the exported `window_network` (4 units) compiled with Verilator on demand
 //! into a shared library beside the C interface of `hdl/verilog/tb/verilator_harness.cpp`, and
 //! stepped one pixel clock per call.
-use coopwin_hdl::driver::{CoordBus, UnitOutputs};
+use coopwin_hdl::sim::driver::{CoordBus, UnitOutputs};
 use std::ffi::c_void;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -164,7 +164,7 @@ impl VerilatorNetwork {
 
     /// One pixel clock: the camera bus, each unit's port (missing units idle), the outputs after
     /// the rising edge into `out` (as many as given).
-    pub fn step(&mut self, cam: coopwin_hdl::camera::CameraBus, ports: &[CoordBus], out: &mut [UnitOutputs]) {
+    pub fn step(&mut self, cam: coopwin_hdl::sim::camera::CameraBus, ports: &[CoordBus], out: &mut [UnitOutputs]) {
         let c = u32::from(cam.fval) | u32::from(cam.lval) << 1 | u32::from(cam.pixel) << 2;
         let mut p = [0u32; UNITS];
         for (slot, port) in p.iter_mut().zip(ports) {

@@ -1,7 +1,7 @@
 //! The waveform audit on a real rust-hdl run: the VCD of a window unit is read back (with the
 //! `vcd` crate) and checked against the coordinate sets its processor wrote. A clean run passes;
 //! a tampered request list and a tampered waveform are caught (the audit can fail).
-use coopwin_firmware::ports::Decimation;
+use coopwin_firmware::types::Decimation;
 use coopwin_testbench::audit::{audit, read_requests, read_vcd, Sample, Set};
 use coopwin_testbench::backend::Trace;
 use coopwin_testbench::commands::track::requests_csv;

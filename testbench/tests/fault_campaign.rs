@@ -7,9 +7,9 @@
 //! dropout), and tracking recovered after the last fault. The references are the scene's
 //! ground truth and, for the link, the reports the run sent. The figures printed at the end
 //! are the ones in docs/system.md ("Reliability").
-use coopwin_firmware::ports::{FrameDecoder, PositionUpdate};
-use coopwin_firmware::tracker::Mode;
-use coopwin_hdl::camera::Jitter;
+use coopwin_firmware::ports::{frame::FrameDecoder, position::PositionUpdate};
+use coopwin_firmware::processors::Mode;
+use coopwin_hdl::sim::camera::Jitter;
 use coopwin_testbench::cost::CostModel;
 use coopwin_testbench::experiments::{system, triangle, SceneFrames};
 use coopwin_testbench::metrics::summarise;

@@ -3,9 +3,9 @@
 use coopwin_testbench::cost::CostModel;
 use coopwin_testbench::experiments::{run_scene, system, triangle, watch_system, SceneFrames};
 use coopwin_testbench::scene::{PathKind, Scene, SceneConfig};
-use coopwin_hdl::camera::Jitter;
+use coopwin_hdl::sim::camera::Jitter;
 use coopwin_testbench::metrics::summarise;
-use coopwin_firmware::tracker::Mode;
+use coopwin_firmware::processors::Mode;
 use coopwin_testbench::system::{run, HdlChoice, Strategy};
 
 mod common;
@@ -204,8 +204,8 @@ fn coordinate_writes_at_every_raster_phase_agree_with_the_model() {
 fn a_window_the_port_cannot_carry_is_refused_and_nothing_is_written() {
     // An empty window has no bounds to write, and the units' coordinates are 8-bit: both are
     // refused with a reason before anything reaches the port, and no window comes of them.
-    use coopwin_firmware::ports::{Decimation, WindowRequest};
-    use coopwin_hdl::camera::RasterTiming;
+    use coopwin_firmware::types::{Decimation, WindowRequest};
+    use coopwin_hdl::sim::camera::RasterTiming;
     use coopwin_testbench::backend::{Clocks, HdlBackend, ModelBackend, WindowBackend};
     let scene = SceneConfig { frames: 3, ..triangle(40.0, 1) };
     let clocks = Clocks::new(RasterTiming { width: 256, height: 256, h_blank: 16, v_blank_lines: 2 }, 3, None);

@@ -67,63 +67,6 @@ fn coop_on_a_jittered_raster_model_equals_rust_hdl_and_verilator() {
     let scene = SceneConfig { frames: 12, ..triangle(60.0, 22) };
     let target = Scene::new(scene.clone()).truth(0).corner;
     let mut cfg = system(Strategy::Coop, CostModel::C40, Some(target));
-    cfg.jitter = Some(coopwin_hdl::camera::Jitter { seed: 4, line_max: 24, frame_max: 4_000 });
+    cfg.jitter = Some(coopwin_hdl::sim::camera::Jitter { seed: 4, line_max: 24, frame_max: 4_000 });
     both(&cfg, &scene);
-}
-
-#[test]
-fn the_firmware_writer_drives_the_port_as_the_hdl_testbench_writer_does() {
-    // The loop writes coordinates with the firmware's `CoordinateWriter`; the model's set
-    // timing was measured with the hdl testbench's `CoordWriter`. Reference: that writer, on a
-    // second unit given the same sets at the same clocks; the two ports must see the same bus
-    // on every clock (mid-frame, back to back, a 25% set and a refused one-column set).
-    use coopwin_firmware::window_ports::{CoordinatePins, CoordinateWriter};
-    use coopwin_firmware::ports::{Decimation, WindowRequest};
-    use coopwin_hdl::camera::RasterTiming;
-    use coopwin_hdl::driver::{CoordBus, CoordWriter, UnitDriver, UnitOutputs};
-
-    struct Pins<'a>(bool, &'a mut CoordBus);
-    impl CoordinatePins for Pins<'_> {
-        type Error = core::convert::Infallible;
-        fn drive(&mut self, strobe: bool, data: u8, decimate: bool) -> Result<(), Self::Error> {
-            *self.1 = CoordBus { strobe, data: data.into(), decimate };
-            Ok(())
-        }
-        fn ready(&mut self) -> Result<bool, Self::Error> {
-            Ok(self.0)
-        }
-    }
-
-    let t = RasterTiming { width: 32, height: 24, h_blank: 4, v_blank_lines: 2 };
-    let req = |x0, y0, width, height, decimation| WindowRequest { x0, y0, width, height, decimation };
-    let sets = [
-        (10, req(2, 3, 8, 6, Decimation::Full)),
-        (10, req(5, 5, 10, 10, Decimation::Quarter)),
-        (300, req(7, 1, 1, 4, Decimation::Full)),
-        (301, req(0, 0, 32, 24, Decimation::Full)),
-        (1_000, req(20, 10, 12, 14, Decimation::Quarter)),
-    ];
-    let (mut ours, mut theirs) = (UnitDriver::<8>::default(), UnitDriver::<8>::default());
-    let (mut fw, mut reference) = (CoordinateWriter::new(), CoordWriter::default());
-    let (mut last_fw, mut last_ref) = (UnitOutputs::default(), UnitOutputs::default());
-    let mut strobes = 0;
-    for c in 0..3 * t.frame_clocks() {
-        for (_, r) in sets.iter().filter(|s| s.0 == c) {
-            fw.write(r).unwrap();
-            let w = coopwin_testbench::backend::window_of(r);
-            reference.write(w, r.decimation == Decimation::Quarter);
-        }
-        let mut bus = CoordBus::default();
-        let Ok(()) = fw.poll(&mut Pins(last_fw.coord_ready, &mut bus));
-        let expected = reference.next(&last_ref);
-        assert_eq!(bus, expected, "clock {c}");
-        let cam = t.bus_at(c % t.frame_clocks(), |x, y| (x * 7 + y) as u8);
-        last_fw = ours.step(cam, bus);
-        last_ref = theirs.step(cam, expected);
-        assert_eq!(last_fw, last_ref, "clock {c}");
-        strobes += usize::from(bus.strobe);
-    }
-    assert_eq!(fw.sets_taken() as usize, sets.len());
-    assert_eq!(reference.sets_done(), sets.len());
-    assert!(strobes >= 4 * sets.len());
 }

@@ -85,9 +85,8 @@ fn coop_with_the_kalman_policy_tracks_within_a_pixel() {
 fn position_updates_reach_the_robot_link_framed_by_the_firmware() {
     // Decode the robot link's bytes with the firmware's own frame decoder: one update per
     // report, same position, time stamp and source.
-    use coopwin_firmware::confidence::Source;
-    use coopwin_firmware::ports::{FrameDecoder, PositionUpdate};
-    use coopwin_firmware::tracker::Algo;
+    use coopwin_firmware::types::Source;
+    use coopwin_firmware::ports::{frame::FrameDecoder, position::PositionUpdate};
     let scene = short_triangle(40.0);
     let (log, _) = run_scene(&system(Strategy::Coop, CostModel::C40, Some(corner0(&scene))), scene).unwrap();
     let mut dec = FrameDecoder::new();
@@ -101,6 +100,6 @@ fn position_updates_reach_the_robot_link_framed_by_the_firmware() {
     for (u, r) in updates.iter().zip(&log.reports) {
         assert_eq!((u.x, u.y), (r.point.x, r.point.y));
         assert_eq!(u.t_us, (r.t * 1e6) as u32);
-        assert_eq!(u.source == Source::Cd, r.algo == Algo::Cd);
+        assert_eq!(u.source == Source::Cd, r.algo == Source::Cd);
     }
 }

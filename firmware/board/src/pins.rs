@@ -6,10 +6,10 @@
 //! data, 8 strobe, 9 decimate, 10 CRDY1), read and written with volatile accesses; a small
 //! software window logic answers the handshake and strobes pixels on the same register.
 //! The driver is the firmware's `CoordinateWriter`/`PixelReceiver` over
-//! `coopwin_firmware::hal_pins`, exactly as the testbench runs it on its simulated pins.
-use coopwin_firmware::hal_pins::{HalCoordinatePins, HalPixelPins};
-use coopwin_firmware::ports::{Decimation, WindowRequest};
-use coopwin_firmware::window_ports::{coordinate_bytes, CoordinateWriter, PixelReceiver};
+//! `coopwin_firmware::ports::hal_pins`, exactly as the testbench runs it on its simulated pins.
+use coopwin_firmware::ports::hal_pins::{HalCoordinatePins, HalPixelPins};
+use coopwin_firmware::types::{Decimation, WindowRequest};
+use coopwin_firmware::ports::window::{coordinate_bytes, CoordinateWriter, PixelReceiver};
 use coopwin_parity::stream::Stream;
 use coopwin_parity::suite::{fnv1a, inputs, Meter};
 use core::convert::Infallible;

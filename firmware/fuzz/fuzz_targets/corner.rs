@@ -1,7 +1,7 @@
 //! Corner detector on arbitrary windows: never panics; a corner lies inside the window.
 #![no_main]
-use coopwin_firmware::corner::{CornerDetector, CornerParams};
-use coopwin_firmware::view::WindowView;
+use coopwin_firmware::kernels::corner::{CornerDetector, CornerParams};
+use coopwin_firmware::kernels::view::WindowView;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {

@@ -1,7 +1,8 @@
 //! Link decoding on arbitrary bytes: never panics, and every message it yields encodes back
 //! to payloads that decode to the same message.
 #![no_main]
-use coopwin_firmware::ports::{message_payloads, FrameDecoder, MessageDecoder};
+use coopwin_firmware::ports::frame::FrameDecoder;
+use coopwin_firmware::ports::link::{message_payloads, MessageDecoder};
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {

@@ -1,8 +1,8 @@
 //! Template matching on arbitrary windows and templates: never panics, never NaN.
 #![no_main]
-use coopwin_firmware::matching::{best_match, best_match_decimated, score_map, Method};
-use coopwin_firmware::motion::detect_motion;
-use coopwin_firmware::view::WindowView;
+use coopwin_firmware::kernels::matching::{best_match, best_match_decimated, score_map, Method};
+use coopwin_firmware::kernels::motion::detect_motion;
+use coopwin_firmware::kernels::view::WindowView;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {

@@ -4,14 +4,14 @@
 //! (4.2) replaying a recorded window stream. One line per result; floats as IEEE bits.
 use crate::pgm::{self, PgmError};
 use crate::stream::{Stream, StreamError};
-use coopwin_firmware::confidence::{ConfidencePolicy, KalmanCoop, SseCoop, Source};
-use coopwin_firmware::corner::{CornerDetector, CornerParams};
-use coopwin_firmware::info::{corner_information, edge_information, edge_information_with_prior};
-use coopwin_firmware::matching::{best_match, best_match_decimated, Match, MatchError, Method};
-use coopwin_firmware::motion::detect_motion;
-use coopwin_firmware::ports::WindowRequest;
-use coopwin_firmware::tracker::{Algo, Dest, Foveal, FovealKind, Msg, Params, Point, Step, Template};
-use coopwin_firmware::view::WindowView;
+use coopwin_firmware::kernels::confidence::{ConfidencePolicy, KalmanCoop, SseCoop};
+use coopwin_firmware::kernels::corner::{CornerDetector, CornerParams};
+use coopwin_firmware::kernels::info::{corner_information, edge_information, edge_information_with_prior};
+use coopwin_firmware::kernels::matching::{best_match, best_match_decimated, Match, MatchError, Method};
+use coopwin_firmware::kernels::motion::detect_motion;
+use coopwin_firmware::processors::{Dest, Foveal, FovealKind, Msg, Params, Step, Template};
+use coopwin_firmware::kernels::view::WindowView;
+use coopwin_firmware::types::{Point, Source, WindowRequest};
 use core::fmt::{self, Write};
 
 /// The benchmark inputs (`fixtures/bench/`, see its README) and the recorded window stream.
@@ -356,7 +356,7 @@ pub fn tracker<W: Write, M: Meter>(out: &mut W, meter: &mut M, bytes: &[u8]) -> 
         match (step.report, step.lost) {
             (Some((p, algo)), _) => {
                 reports += 1;
-                cd += u32::from(algo == Algo::Cd);
+                cd += u32::from(algo == Source::Cd);
                 writeln!(out, " x={:08x} y={:08x} algo={algo:?}", p.x.to_bits(), p.y.to_bits())?
             }
             (None, Some(p)) => writeln!(out, " lost={:08x},{:08x}", p.x.to_bits(), p.y.to_bits())?,

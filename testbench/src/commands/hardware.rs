@@ -2,8 +2,8 @@
 //! Appendix B waveforms.
 use super::{output::OutFile, CliError};
 use crate::timing_svg;
-use coopwin_hdl::appendix_b::{simulate_acquisition, Sequence};
-use coopwin_hdl::camera::{RasterTiming, Window};
+use coopwin_hdl::sim::appendix_b::{simulate_acquisition, Sequence};
+use coopwin_hdl::sim::camera::{RasterTiming, Window};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 

@@ -1,11 +1,11 @@
 //! `coopwin match`, `coopwin corner`, `coopwin motion`: the firmware's kernels on a person's
 //! own images, answering in JSON.
 use super::CliError;
-use coopwin_firmware::corner::{CornerDetector, CornerParams, MAX_DIM};
-use coopwin_firmware::info::edge_information;
-use coopwin_firmware::matching::{best_match, MatchError, Method};
-use coopwin_firmware::motion::detect_motion;
-use coopwin_firmware::view::WindowView;
+use coopwin_firmware::kernels::corner::{CornerDetector, CornerParams, MAX_DIM};
+use coopwin_firmware::kernels::info::edge_information;
+use coopwin_firmware::kernels::matching::{best_match, MatchError, Method};
+use coopwin_firmware::kernels::motion::detect_motion;
+use coopwin_firmware::kernels::view::WindowView;
 use serde_json::json;
 use std::path::Path;
 

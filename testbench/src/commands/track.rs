@@ -3,7 +3,8 @@ use super::{io_error, output::OutFile, CliError};
 use crate::backend::Trace;
 use crate::metrics::{self, Summary};
 use crate::system::{self, FrameRecord, FrameSource, RunLog, SystemConfig};
-use coopwin_firmware::tracker::{Algo, Mode};
+use coopwin_firmware::processors::Mode;
+use coopwin_firmware::types::Source;
 use std::collections::VecDeque;
 use std::fmt::Write as _;
 use std::io::IsTerminal;
@@ -183,11 +184,10 @@ pub fn mode_name(m: Mode) -> &'static str {
 }
 
 /// `ncc`, `cd` or `ssd`.
-pub fn algo_name(a: Algo) -> &'static str {
+pub fn algo_name(a: Source) -> &'static str {
     match a {
-        Algo::Ncc => "ncc",
-        Algo::Cd => "cd",
-        Algo::Ssd => "ssd",
+        Source::Ncc => "ncc",
+        Source::Cd => "cd",
     }
 }
 
@@ -203,7 +203,7 @@ pub fn requests_csv(log: &RunLog) -> String {
             continue;
         }
         let w = crate::backend::window_of(r);
-        let dec = r.decimation == coopwin_firmware::ports::Decimation::Quarter;
+        let dec = r.decimation == coopwin_firmware::types::Decimation::Quarter;
         let _ = writeln!(s, "{p},{clock},{},{},{},{},{}", w.xmin, w.xmax, w.ymin, w.ymax, dec as u8);
     }
     s

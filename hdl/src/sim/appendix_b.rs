@@ -2,8 +2,8 @@
 //! simulator, which also writes the VCD): a coordinate set written while FVAL is low, then one
 //! frame delivered. Every clock's [`Flags`] are recorded, and the five sequences of the timing
 //! diagrams (Figs. B1.1-B1.5) are located in the record for tests and drawings.
-use crate::camera::{CameraBus, RasterTiming, Window};
-use crate::driver::Latch;
+use super::camera::{CameraBus, RasterTiming, Window};
+use super::vcd::Latch;
 use crate::window_unit::{Flags, WindowUnit};
 use rust_hdl::prelude::*;
 use std::io::Write;

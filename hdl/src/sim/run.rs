@@ -1,8 +1,10 @@
-//! A unit run end to end: camera frames stream past while a processor writes coordinate sets
-//! at chosen clocks; every clock's inputs and outputs are recorded, so the same stimulus can be
-//! replayed in another simulator (Icarus Verilog, Verilator) and compared clock for clock.
-use crate::camera::{CameraBus, RasterTiming, Window};
-use crate::driver::{CoordBus, CoordWriter, UnitDriver, UnitOutputs};
+//! A unit run end to end (thesis 2.2.2, B1.1): camera frames stream past while a processor
+//! writes coordinate sets at chosen clocks; every clock's inputs and outputs are recorded, so
+//! the same stimulus can be replayed in another simulator (Icarus Verilog, Verilator) and
+//! compared clock for clock.
+use super::camera::{CameraBus, RasterTiming, Window};
+use super::driver::{queue_window, write_step, CoordBus, UnitDriver, UnitOutputs};
+use coopwin_firmware::ports::window::{CoordinateWriter, WriteError};
 
 /// A coordinate set the processor starts writing on clock `at` of the run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -48,7 +50,7 @@ pub fn run_unit<const W: usize>(
     requests: &[Request],
 ) -> Recording {
     let mut unit = UnitDriver::<W>::default();
-    let mut writer = CoordWriter::default();
+    let mut writer = CoordinateWriter::new();
     let mut rec = Recording::default();
     let mut pending = requests.iter().peekable();
     let mut last = UnitOutputs::default();
@@ -56,11 +58,17 @@ pub fn run_unit<const W: usize>(
     for (f, frame) in frames.iter().enumerate() {
         for c in 0..period {
             let t = f * period + c;
-            while let Some(r) = pending.next_if(|r| r.at <= t) {
-                writer.write(r.window, r.decimate);
+            // A set waits while the writer's queue is full: the writer takes no byte of it
+            // before the sets ahead of it are out, so the bus is the same as with a longer queue.
+            while let Some(r) = pending.peek().copied().filter(|r| r.at <= t) {
+                match queue_window(&mut writer, r.window, r.decimate) {
+                    Ok(()) => _ = pending.next(),
+                    Err(WriteError::QueueFull) => break,
+                    Err(WriteError::OutOfRange) => panic!("{:?}: the processor's port is 8 bits", r.window),
+                }
             }
             let cam = timing.bus_at(c, |x, y| frame[y * timing.width + x]);
-            let port = writer.next(&last);
+            let port = write_step(&mut writer, &last);
             last = unit.step(cam, port);
             rec.inputs.push((cam, port));
             rec.outputs.push(last);
@@ -87,7 +95,7 @@ fn completion_clocks(rec: &Recording) -> Vec<usize> {
     out
 }
 
-/// The coordinate handshake's timing as the processor's [`CoordWriter`] sees it, measured on
+/// The coordinate handshake's timing as the processor's [`CoordinateWriter`] sees it, measured on
 /// the rust-hdl unit itself: `latency`, clocks from queueing a set (writer idle) to the clock
 /// its fourth byte is taken; `repeat`, clocks between the completions of two sets queued
 /// back to back. Behavioural models use these so they agree with the hardware clock for clock.

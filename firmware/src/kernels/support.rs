@@ -7,7 +7,7 @@
 //! placement drifts and its score falls under the acceptance level exactly where tracking
 //! matters. The pixels that move with the object are those inside the corner: the cone
 //! between the two edges, seen from the apex. The corner detector's line fit
-//! ([`crate::corner`]) gives the apex and the edge directions, so the template's
+//! ([`crate::kernels::corner`]) gives the apex and the edge directions, so the template's
 //! *support* is that cone, shrunk by a margin so that no pixel blurred across an edge counts:
 //!
 //! `S = { p : n₁·(p - a) >= m  and  n₂·(p - a) >= m }`, where `a` is the apex, `n₁`, `n₂`
@@ -28,9 +28,9 @@
 //! 0.4 px. The convex cone is the object only for a convex corner; a template that holds
 //! no corner near its centre keeps the whole template ([`Support::of_template`]).
 
-use crate::corner::{CornerDetector, CornerParams};
-use crate::matching::{parabola, Match, MatchError};
-use crate::view::WindowView;
+use crate::kernels::corner::{CornerDetector, CornerParams};
+use crate::kernels::matching::{parabola, Match, MatchError};
+use crate::kernels::view::WindowView;
 
 /// Largest template side a support covers (the processors' templates are at most 32 x 32).
 pub const MAX_SIDE: usize = 32;
@@ -153,7 +153,7 @@ impl Support {
 
 /// The best placement of `tpl` in `win` by ZNCC over `support`, scored by NCC over it (see
 /// the module docs), with the parabola's sub-pixel position through the ZNCC scores as in
-/// [`crate::matching::best_match`]. Errors: the support does not fit the template, either
+/// [`crate::kernels::matching::best_match`]. Errors: the support does not fit the template, either
 /// view is empty or strided, the template is larger than the window, its support is flat
 /// ([`MatchError::ZeroEnergy`]), or no placement has the texture and the ZNCC of the object
 /// ([`MatchError::NoMatch`]).
@@ -229,7 +229,7 @@ pub fn best_match_on(win: &WindowView<'_>, tpl: &WindowView<'_>, support: &Suppo
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::matching::{best_match, Method};
+    use crate::kernels::matching::{best_match, Method};
     use std::vec::Vec;
 
     /// A textured object whose corner is at `(cx, cy)` with edges along +x and +y, on a

@@ -37,7 +37,7 @@ mod sobel;
 #[cfg(test)]
 mod tests;
 
-pub use bounds::{bounding_points, corner_from_edges, BoundingPoints, Point, Q3Source};
+pub use bounds::{bounding_points, corner_from_edges, BoundingPoints, Pixel, Q3Source};
 pub use labelling::{keep_largest_component, Components};
 pub use morphology::open_cross;
 pub use sobel::sobel_at;
@@ -46,7 +46,7 @@ use bounds::{bounding_points_bits, corner_from_bounds};
 use labelling::{largest_component_bits, Runs};
 use lines::{apex_from_points, collect_points, EdgePoints};
 use morphology::open_cross_bits;
-use crate::view::WindowView;
+use crate::kernels::view::WindowView;
 use sobel::{sobel_rows, BYTES};
 
 /// Largest window side handled by [`CornerDetector`] (the Foveal windows are 20x20 and

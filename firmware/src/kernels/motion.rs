@@ -7,7 +7,7 @@
 //! The motion area is the bounding box and the count of moving pixels. It works on any
 //! sub-window, including the MPDF strips (256x20 at the top and bottom of the frame).
 
-use crate::view::WindowView;
+use crate::kernels::view::WindowView;
 
 /// The motion area of a window pair, in frame coordinates (inclusive bounds).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

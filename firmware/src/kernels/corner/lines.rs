@@ -80,7 +80,7 @@ impl EdgePoints {
 
     /// Point `i`: position (px), unit doubled-angle orientation `(cos 2θ, sin 2θ)` of
     /// its gradient and the gradient magnitude.
-    fn get(&self, i: usize) -> Option<Point> {
+    fn get(&self, i: usize) -> Option<EdgePoint> {
         if i >= self.n {
             return None;
         }
@@ -89,7 +89,7 @@ impl EdgePoints {
         if m2 <= 0.0 {
             return None;
         }
-        Some(Point {
+        Some(EdgePoint {
             x: f32::from(*self.x.get(i)?) / FIX,
             y: f32::from(*self.y.get(i)?) / FIX,
             c2: (gx * gx - gy * gy) / m2,
@@ -112,13 +112,13 @@ impl EdgePoints {
         true
     }
 
-    fn iter(&self) -> impl Iterator<Item = Point> + '_ {
+    fn iter(&self) -> impl Iterator<Item = EdgePoint> + '_ {
         (0..self.n).filter_map(|i| self.get(i))
     }
 }
 
 #[derive(Clone, Copy)]
-struct Point {
+struct EdgePoint {
     x: f32,
     y: f32,
     c2: f32,
@@ -209,7 +209,7 @@ impl Line {
 /// noisy over a short side and the gradients are independent evidence: the mean
 /// lowers the worst errors (1.85 to 1.14 px over 6000 random wedges). `None` with
 /// fewer than [`MIN_SIDE_POINTS`] points.
-fn fit_side(pts: &EdgePoints, keep: impl Fn(&Point) -> bool) -> Option<Line> {
+fn fit_side(pts: &EdgePoints, keep: impl Fn(&EdgePoint) -> bool) -> Option<Line> {
     let (mut sw, mut sx, mut sy, mut sc, mut ss, mut n) = (0.0f32, 0.0f32, 0.0f32, 0.0f32, 0.0f32, 0usize);
     for p in pts.iter().filter(|p| keep(p)) {
         sw += p.m;
@@ -255,7 +255,7 @@ fn intersect(a: &Line, b: &Line) -> Option<(f32, f32)> {
 
 /// Unit direction of `line` pointing from `apex` towards the weighted mass of the
 /// points for which `keep` holds (where the side's edge lies).
-fn ray(line: &Line, apex: (f32, f32), pts: &EdgePoints, keep: impl Fn(&Point) -> bool) -> (f32, f32) {
+fn ray(line: &Line, apex: (f32, f32), pts: &EdgePoints, keep: impl Fn(&EdgePoint) -> bool) -> (f32, f32) {
     let (tx, ty) = (line.ny, -line.nx);
     let s: f32 = pts.iter().filter(|p| keep(p)).map(|p| p.m * ((p.x - apex.0) * tx + (p.y - apex.1) * ty)).sum();
     if s >= 0.0 {
@@ -284,7 +284,7 @@ fn ray_dist(x: f32, y: f32, apex: (f32, f32), t: (f32, f32)) -> f32 {
 fn two_sides(pts: &EdgePoints) -> Option<[(f32, f32); 2]> {
     let mut hist = [0.0f32; BINS];
     let width = 2.0 * core::f32::consts::PI / BINS as f32;
-    let bin = |p: &Point| {
+    let bin = |p: &EdgePoint| {
         let a = libm::atan2f(p.s2, p.c2) + core::f32::consts::PI;
         ((a / width) as usize).min(BINS - 1)
     };
@@ -342,7 +342,7 @@ pub(super) fn apex_from_points(pts: &EdgePoints, w: usize, h: usize) -> Result<(
         return Err(NoCorner::StraightLine);
     }
     let cos_tol = libm::cosf(2.0 * SIDE_TOL_DEG.to_radians());
-    let on_side = |k: usize, p: &Point| c.get(k).is_some_and(|ck| p.c2 * ck.0 + p.s2 * ck.1 >= cos_tol);
+    let on_side = |k: usize, p: &EdgePoint| c.get(k).is_some_and(|ck| p.c2 * ck.0 + p.s2 * ck.1 >= cos_tol);
     // A side without points: one edge orientation only.
     let mut lines = [
         fit_side(pts, |p| on_side(0, p)).ok_or(NoCorner::StraightLine)?,
@@ -355,7 +355,7 @@ pub(super) fn apex_from_points(pts: &EdgePoints, w: usize, h: usize) -> Result<(
             ray(&lines[1], apex, pts, |p| on_side(1, p)),
         ];
         let prev = lines;
-        let keep = |k: usize, p: &Point| {
+        let keep = |k: usize, p: &EdgePoint| {
             // The first lines still lean towards the merged bands, so the outlier test
             // waits until they are fitted without them.
             on_side(k, p)

@@ -16,19 +16,11 @@
 //! Both policies implement [`ConfidencePolicy`]. Non-finite samples are rejected, so no
 //! score is ever NaN.
 
+use crate::types::Source;
 use heapless::Deque;
 
 /// Largest data set of the least-squares measure.
 pub const MAX_SAMPLES: usize = 8;
-
-/// A position source of the cooperative Foveal windows (thesis 4.2).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Source {
-    /// Normalised cross-correlation (Fw2 in the thesis).
-    Ncc,
-    /// Corner detector (Fw1).
-    Cd,
-}
 
 /// Why a policy or sample was rejected.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

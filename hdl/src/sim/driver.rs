@@ -1,18 +1,16 @@
-//! Direct-stepping drivers for long runs: inputs are set, the clock toggled and the block
-//! settled with rust-hdl's `simulate`, with no threads. rust-hdl's thread-based `Simulation`
-//! (kept for the Appendix B timing tests) runs this design at thousands of clocks per second;
-//! stepping the block directly runs it at millions.
+//! Direct-stepping drivers for long runs of the window logic (thesis 2.2.2, B1.1): inputs are
+//! set, the clock toggled and the block settled with rust-hdl's `simulate`, with no threads.
+//! rust-hdl's thread-based `Simulation` (kept for the Appendix B timing tests) runs this design
+//! at thousands of clocks per second; stepping the block directly runs it at millions.
 //!
-//! Also here: [`CoordWriter`], the processor's side of the four-phase coordinate handshake,
-//! and [`VcdTrace`], rust-hdl's own VCD writer attached to a stepped unit.
-use crate::camera::{CameraBus, Window};
+//! The processor's side of the coordinate port is the firmware's own
+//! [`CoordinateWriter`], one [`write_step`] a clock.
+use super::camera::{CameraBus, Window};
+use super::vcd::VcdTrace;
 use crate::window_unit::WindowUnit;
-use rust_hdl::core::vcd_probe::VCDProbe;
+use coopwin_firmware::ports::window::{CoordinatePins, CoordinateWriter, WriteError};
 use rust_hdl::prelude::*;
-use std::cell::RefCell;
-use std::collections::VecDeque;
-use std::io::{self, Write};
-use std::rc::Rc;
+use std::io::Write;
 
 /// The processor's side of one unit's coordinate port, as driven on one clock.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -200,153 +198,53 @@ impl<const W: usize> NetworkDriver<W> {
     }
 }
 
-/// The processor's side of the coordinate handshake (thesis B1.1 step 1): a queue of coordinate
-/// sets written byte by byte, each byte held with CSTRB1 high until CRDY1 answers, then
-/// released until CRDY1 falls (four-phase).
-#[derive(Clone, Debug, Default)]
-pub struct CoordWriter {
-    queue: VecDeque<(u32, bool)>,
-    bus: CoordBus,
-    sets_done: usize,
-    bytes_done: usize,
+/// A unit's coordinate port as the firmware's writer sees its pins: CRDY1 as the unit drove it
+/// after the last edge, and the bus the writer drives for the next clock.
+struct BusPins<'a> {
+    ready: bool,
+    bus: &'a mut CoordBus,
 }
 
-impl CoordWriter {
-    /// Queues the four bytes of `w` (xmin, xmax, ymin, ymax), decimated or not.
-    pub fn write(&mut self, w: Window, decimate: bool) {
-        self.queue
-            .extend(w.bytes().into_iter().map(|b| (b, decimate)));
-    }
+impl CoordinatePins for BusPins<'_> {
+    type Error = core::convert::Infallible;
 
-    /// True while bytes are queued or a handshake is under way.
-    pub fn busy(&self) -> bool {
-        !self.queue.is_empty() || self.bus.strobe
-    }
-
-    /// Complete sets whose fourth byte has been taken.
-    pub fn sets_done(&self) -> usize {
-        self.sets_done
-    }
-
-    /// What to drive on the next clock, given the unit's outputs after the last edge.
-    pub fn next(&mut self, last: &UnitOutputs) -> CoordBus {
-        if self.bus.strobe && last.coord_ready {
-            self.bus.strobe = false;
-            self.bytes_done += 1;
-            if self.bytes_done.is_multiple_of(4) {
-                self.sets_done += 1;
-            }
-        } else if !self.bus.strobe && !last.coord_ready {
-            if let Some((data, decimate)) = self.queue.pop_front() {
-                self.bus = CoordBus {
-                    strobe: true,
-                    data,
-                    decimate,
-                };
-            }
-        }
-        self.bus
-    }
-}
-
-/// Picoseconds per pixel clock in the VCDs the testbench writes (8 MHz).
-pub const VCD_CLOCK_PS: u64 = 125_000;
-
-/// rust-hdl's VCD writer on a stepped unit. Write errors do not stop the simulation: the first
-/// one is kept and returned by [`finish`](Self::finish).
-pub struct VcdTrace<T: Write> {
-    probe: Option<VCDProbe<Latch<T>>>,
-    error: Rc<RefCell<Option<io::Error>>>,
-    period_ps: u64,
-    clocks: u64,
-}
-
-impl<T: Write> VcdTrace<T> {
-    /// A trace of `block`'s signals (a unit's `unit()`, or a network's `block()`) into `out`,
-    /// one pixel clock every `period_ps` picoseconds.
-    pub fn new(out: T, block: &dyn Block, period_ps: u64) -> Self {
-        let (latch, error) = Latch::new(out);
-        let probe = write_vcd_header(latch, block);
-        Self {
-            probe: Some(probe),
-            error,
-            period_ps,
-            clocks: 0,
-        }
-    }
-
-    fn sample(&mut self, unit: &dyn Block, half: u64) {
-        if let Some(mut probe) = self.probe.take() {
-            let t = self.clocks * self.period_ps + half * self.period_ps / 2;
-            // Errors land in the latch, so this result carries nothing new.
-            let _ = probe.timestamp(t);
-            self.probe = Some(write_vcd_change(probe, unit));
-        }
-        self.clocks += half;
-    }
-
-    /// A clock not recorded (outside the traced span); later timestamps stay run clocks.
-    pub fn skip(&mut self) {
-        self.clocks += 1;
-    }
-
-    /// Flushes the trace; the first write error, if any.
-    pub fn finish(mut self) -> io::Result<()> {
-        drop(self.probe.take());
-        match self.error.borrow_mut().take() {
-            Some(e) => Err(e),
-            None => Ok(()),
-        }
-    }
-}
-
-/// A writer that never fails: rust-hdl's VCD writer unwraps every write, so errors are held
-/// here instead and reported when the trace finishes.
-pub(crate) struct Latch<T: Write> {
-    inner: T,
-    error: Rc<RefCell<Option<io::Error>>>,
-}
-
-impl<T: Write> Latch<T> {
-    /// The writer, and the cell where its first error will be.
-    pub(crate) fn new(inner: T) -> (Self, Rc<RefCell<Option<io::Error>>>) {
-        let error = Rc::new(RefCell::new(None));
-        (
-            Latch {
-                inner,
-                error: error.clone(),
-            },
-            error,
-        )
-    }
-
-    fn keep(&self, r: io::Result<()>) {
-        let mut slot = self.error.borrow_mut();
-        if let (Err(e), None) = (r, slot.as_ref()) {
-            *slot = Some(e);
-        }
-    }
-}
-
-impl<T: Write> Write for Latch<T> {
-    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
-        if self.error.borrow().is_none() {
-            let r = self.inner.write_all(buf);
-            self.keep(r);
-        }
-        Ok(buf.len())
-    }
-
-    fn flush(&mut self) -> io::Result<()> {
-        let r = self.inner.flush();
-        self.keep(r);
+    fn drive(&mut self, strobe: bool, data: u8, decimate: bool) -> Result<(), Self::Error> {
+        *self.bus = CoordBus {
+            strobe,
+            data: data.into(),
+            decimate,
+        };
         Ok(())
     }
+
+    fn ready(&mut self) -> Result<bool, Self::Error> {
+        Ok(self.ready)
+    }
 }
 
-impl<T: Write> Drop for Latch<T> {
-    fn drop(&mut self) {
-        let r = self.inner.flush();
-        self.keep(r);
+/// One clock of the processor's side of the coordinate handshake (thesis B1.1 step 1), run by
+/// the firmware's [`CoordinateWriter`]: given the unit's outputs after the last edge, what the
+/// processor drives on the next clock.
+pub fn write_step(writer: &mut CoordinateWriter, last: &UnitOutputs) -> CoordBus {
+    let mut bus = CoordBus::default();
+    let Ok(()) = writer.poll(&mut BusPins {
+        ready: last.coord_ready,
+        bus: &mut bus,
+    });
+    bus
+}
+
+/// Queues `w`'s four bytes (xmin, xmax, ymin, ymax) on `writer` as they are, valid or not:
+/// [`WriteError::OutOfRange`] when a coordinate does not fit the processor's 8-bit port,
+/// [`WriteError::QueueFull`] when the writer holds its most sets.
+pub fn queue_window(
+    writer: &mut CoordinateWriter,
+    w: Window,
+    decimate: bool,
+) -> Result<(), WriteError> {
+    let [a, b, c, d] = w.bytes().map(u8::try_from);
+    match (a, b, c, d) {
+        (Ok(a), Ok(b), Ok(c), Ok(d)) => writer.write_bytes([a, b, c, d], decimate),
+        _ => Err(WriteError::OutOfRange),
     }
 }

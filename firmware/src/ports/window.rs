@@ -10,7 +10,7 @@
 //! Neither blocks: each `poll` takes one step and returns, so on a board they run from a timer
 //! interrupt or a DMA-complete handler, and in the testbench once a pixel clock. The writer
 //! reaches its pins only through [`CoordinatePins`].
-use crate::ports::{Decimation, WindowRequest};
+use crate::types::{Decimation, WindowRequest};
 use heapless::Deque;
 
 /// The coordinate port's pins as the processor sees them.
@@ -74,11 +74,17 @@ impl CoordinateWriter {
     /// with xmin = xmax or ymin = ymax (`coord_error`); only what cannot be encoded is refused
     /// here.
     pub fn write(&mut self, req: &WindowRequest) -> Result<(), WriteError> {
-        let bytes = coordinate_bytes(req)?;
+        self.write_bytes(coordinate_bytes(req)?, req.decimation == Decimation::Quarter)
+    }
+
+    /// Queues four coordinate bytes (xmin, xmax, ymin, ymax) as they are, behind any waiting,
+    /// for the window logic to judge: a set with xmin >= xmax or ymin >= ymax is refused there
+    /// (`coord_error`), which is how the window unit's tests write a set [`write`](Self::write)
+    /// would not.
+    pub fn write_bytes(&mut self, bytes: [u8; 4], decimate: bool) -> Result<(), WriteError> {
         if self.queue.capacity() - self.queue.len() < bytes.len() {
             return Err(WriteError::QueueFull);
         }
-        let decimate = req.decimation == Decimation::Quarter;
         for b in bytes {
             // Room was checked above.
             let _ = self.queue.push_back((b, decimate));
@@ -138,11 +144,6 @@ impl PixelReceiver {
     pub fn expect(req: &WindowRequest) -> Self {
         let (w, h) = req.delivered_size();
         Self { expected: w * h, got: 0 }
-    }
-
-    /// Pixels stored so far.
-    pub fn received(&self) -> usize {
-        self.got
     }
 
     /// One clock of port 4: with `strobe`, `data` is the next pixel and goes into `buf`.

@@ -25,27 +25,27 @@ pub enum Q3Source {
 }
 
 /// An edge pixel position in window coordinates.
-pub type Point = (i32, i32);
+pub type Pixel = (i32, i32);
 
 /// The eight bounding points of thesis 3.2.3, in window coordinates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct BoundingPoints {
     /// First minimum bounding X: `x00 = min x`, `y00 = min y` on column `x00`.
-    pub p00: Point,
+    pub p00: Pixel,
     /// Last minimum bounding X: `(x00, max y on column x00)`.
-    pub p01: Point,
+    pub p01: Pixel,
     /// First maximum bounding X: `x10 = max x`, `y10 = min y` on column `x10`.
-    pub p10: Point,
+    pub p10: Pixel,
     /// Last maximum bounding X: `(x10, max y on column x10)`.
-    pub p11: Point,
+    pub p11: Pixel,
     /// First minimum bounding Y: `ȳ00 = min y`, `x̄00 = min x` on row `ȳ00`.
-    pub bar_p00: Point,
+    pub bar_p00: Pixel,
     /// Last minimum bounding Y: `(max x on row ȳ00, ȳ00)`.
-    pub bar_p01: Point,
+    pub bar_p01: Pixel,
     /// First maximum bounding Y: `ȳ10 = max y`, `x̄10 = min x` on row `ȳ10`.
-    pub bar_p10: Point,
+    pub bar_p10: Pixel,
     /// Last maximum bounding Y: `(max x on row ȳ10, ȳ10)`.
-    pub bar_p11: Point,
+    pub bar_p11: Pixel,
 }
 
 /// The eight bounding points of the set pixels of a `w x h` binary map (thesis 3.2.3),
@@ -74,7 +74,7 @@ pub fn bounding_points(map: &[u8], w: usize, h: usize) -> Option<BoundingPoints>
 
 /// MidNum: number of set pixels in the 3x3 neighbourhood of the midpoint of `a` and `b`
 /// (midpoint rounded down to a pixel).
-fn mid_num(map: &[u8], w: usize, h: usize, a: Point, b: Point) -> u32 {
+fn mid_num(map: &[u8], w: usize, h: usize, a: Pixel, b: Pixel) -> u32 {
     let (mx, my) = ((a.0 + b.0).div_euclid(2), (a.1 + b.1).div_euclid(2));
     let mut n = 0;
     for y in my - 1..=my + 1 {
@@ -119,7 +119,7 @@ pub(super) fn corner_from_bounds(
     params: &CornerParams,
 ) -> Result<(f32, f32, CornerCase), NoCorner> {
     let tol = i32::from(params.distinct_tol);
-    let distinct = |p: Point, q: Point| (p.0 - q.0).abs().max((p.1 - q.1).abs()) > tol;
+    let distinct = |p: Pixel, q: Pixel| (p.0 - q.0).abs().max((p.1 - q.1).abs()) > tol;
     let (q1, q2) = (b.p00, b.p10);
     // A Sobel edge band is 3-4 px wide, so with a tolerance a bounding box up to
     // 2·tol + 1 px across is one straight edge (the literal rule: exactly 0 px).
@@ -133,7 +133,7 @@ pub(super) fn corner_from_bounds(
     // The thesis: "the selection of Q3 is such that it remains distinct from Q1 and
     // Q2"; its last four cases state only the partner test, so the Q1/Q2 test is added
     // to them (otherwise a horizontal line would make Q3 = Q2).
-    let fresh = |p: Point| distinct(p, q1) && distinct(p, q2);
+    let fresh = |p: Pixel| distinct(p, q1) && distinct(p, q2);
     let q3 = if fresh(b.bar_p00) {
         Some((b.bar_p00, Q3Source::BarP00))
     } else if fresh(b.bar_p10) {
@@ -169,7 +169,7 @@ pub(super) fn corner_from_bounds(
 /// walking both ways (the thesis picks one side from the edge pixels of row `y_v`;
 /// walking both sides and taking the farther is equivalent when the edges lie on one
 /// side of L and robust when the row is ambiguous), with that pixel.
-fn perpendicular_reach(map: &[u8], w: usize, h: usize, v: (f32, f32), m: f32) -> (f32, Point) {
+fn perpendicular_reach(map: &[u8], w: usize, h: usize, v: (f32, f32), m: f32) -> (f32, Pixel) {
     // Eq. 3.1: Δp = min(|m|, 1), m·m_p = -1; so each step moves at most 1 px per axis.
     let dp = m.abs().min(1.0);
     let mp = -1.0 / m;
@@ -205,8 +205,8 @@ fn gss_corner(
     map: &[u8],
     w: usize,
     h: usize,
-    q1: Point,
-    q2: Point,
+    q1: Pixel,
+    q2: Pixel,
     tol: i32,
 ) -> Result<(f32, f32, CornerCase), NoCorner> {
     let span = (q2.0 - q1.0) as f32;

@@ -2,10 +2,10 @@
 //! same driver runs on a board's GPIO and on the testbench's simulated pins:
 //!
 //! - [`HalCoordinatePins`]: port 1 (eight data lines, CSTRB1 and the decimation line out,
-//!   CRDY1 in) as a [`CoordinatePins`] for [`crate::window_ports::CoordinateWriter`];
+//!   CRDY1 in) as a [`CoordinatePins`] for [`CoordinateWriter`](crate::ports::window::CoordinateWriter);
 //! - [`HalPixelPins`]: port 4 (eight data lines and CSTRB4 in), sampled once a pixel clock
 //!   into a [`PixelReceiver`].
-use crate::window_ports::{CoordinatePins, PixelReceiver, ReceiveError};
+use crate::ports::window::{CoordinatePins, PixelReceiver, ReceiveError};
 use embedded_hal::digital::{InputPin, OutputPin};
 
 /// A pin failed, or (pixels) the receiver refused the pixel.
@@ -16,6 +16,11 @@ pub enum PinError<O, I> {
     /// An input pin's error.
     Input(I),
 }
+
+error_messages!(PinError<O, I> {
+    Output(e) => "an output pin failed",
+    Input(e) => "an input pin failed",
+});
 
 /// Port 1 on embedded-hal pins: `data[0]` is bit 0.
 pub struct HalCoordinatePins<O, I> {
@@ -64,6 +69,11 @@ pub enum PixelPinError<E> {
     Receive(ReceiveError),
 }
 
+error_messages!(PixelPinError<E> {
+    Pin(e) => "an input pin failed",
+    Receive(e) => "the receiver refused the pixel",
+});
+
 impl<I: InputPin> HalPixelPins<I> {
     /// One pixel clock: samples CSTRB4 and, with it, the data lines into `rx`. True once the
     /// window is whole.
@@ -82,8 +92,8 @@ impl<I: InputPin> HalPixelPins<I> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ports::{Decimation, WindowRequest};
-    use crate::window_ports::{coordinate_bytes, CoordinateWriter};
+    use crate::ports::window::{coordinate_bytes, CoordinateWriter};
+    use crate::types::{Decimation, WindowRequest};
     use core::cell::Cell;
     use core::convert::Infallible;
     use std::vec::Vec;

@@ -1,5 +1,5 @@
 //! Sub-pixel refinement of a template match (beyond the thesis, which stops at the best
-//! integer placement; [`crate::matching`] adds a parabola through three scores).
+//! integer placement; [`crate::kernels::matching`] adds a parabola through three scores).
 //!
 //! A parabola through correlation scores is biased toward whole pixels ("pixel locking"): on
 //! textured real images its error stays near 0.3 px whatever the noise. Here the match is
@@ -14,8 +14,8 @@
 //!
 //! Arithmetic is `f32` (the Cortex-M4F's single-precision FPU); no allocation, no panic.
 
-use crate::support::Support;
-use crate::view::WindowView;
+use crate::kernels::support::Support;
+use crate::kernels::view::WindowView;
 
 /// Iterations at most.
 const ITERATIONS: usize = 8;
@@ -38,7 +38,7 @@ pub fn refine_translation(win: &WindowView<'_>, tpl: &WindowView<'_>, x: f32, y:
 }
 
 /// [`refine_translation`] with the sums over the template pixels in `support` only (the
-/// object's part of a corner template, see [`crate::support`]); `None` also when the
+/// object's part of a corner template, see [`super::support`]); `None` also when the
 /// support is not the template's size.
 pub fn refine_translation_on(win: &WindowView<'_>, tpl: &WindowView<'_>, support: &Support, x: f32, y: f32) -> Option<(f32, f32)> {
     if support.size() != (tpl.width(), tpl.height()) {

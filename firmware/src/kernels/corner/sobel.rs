@@ -2,7 +2,7 @@
 //! thresholded edge map.
 
 use super::MAX_DIM;
-use crate::view::WindowView;
+use crate::kernels::view::WindowView;
 
 /// BORDER_REFLECT_101 index: `-1 -> 1`, `n -> n-2` (`0` for a single pixel).
 #[inline]

@@ -1,0 +1,358 @@
+//! The dot products `Σ R·I` (and `Σ |R - I|`) of every placement, the inner loop of template
+//! matching (thesis 2.4).
+//!
+//! All sums are exact integers. The window energies `Σ I²` (and `Σ I` for ZNCC) of every
+//! placement come from running column sums, updated by one row in and one row out per
+//! placement row, and a running sum along the row, so each placement costs only the
+//! dot product `Σ R·I`. SSD uses `Σ R² + Σ I² - 2 Σ R·I`, so it costs the same dot
+//! product. The dot products of all placements come from column strips widened to `i16`
+//! (see `strip_dot_products`), in which every patch is one contiguous run; four
+//! placements share each template load and LLVM turns the 16-lane `i16·i16 -> i32`
+//! reduction into `pmaddwd` on baseline x86-64. Windows too large for the strips use
+//! per-row `u8` dot products.
+//!
+use super::SCORE_CACHE;
+use crate::kernels::view::WindowView;
+use heapless::Vec;
+
+/// Row dot products accumulate in `u32` in chunks of this many pixels:
+/// `16384 · 255² < 2³²`, so no chunk can overflow.
+const DOT_CHUNK: usize = 16384;
+
+/// `Σ a·b` of two pixel rows.
+#[inline(always)]
+pub(super) fn dot_row(a: &[u8], b: &[u8]) -> u64 {
+    let mut s = 0u64;
+    for (ca, cb) in a.chunks(DOT_CHUNK).zip(b.chunks(DOT_CHUNK)) {
+        let d = ca.iter().zip(cb).fold(0u32, |acc, (&x, &y)| {
+            acc.wrapping_add(u32::from(u16::from(x) * u16::from(y)))
+        });
+        s += u64::from(d);
+    }
+    s
+}
+
+/// `Σ |a - b|` of two pixel rows.
+#[inline(always)]
+pub(super) fn sad_row(a: &[u8], b: &[u8]) -> u64 {
+    let mut s = 0u64;
+    for (ca, cb) in a.chunks(DOT_CHUNK).zip(b.chunks(DOT_CHUNK)) {
+        let d = ca.iter().zip(cb).fold(0u32, |acc, (&x, &y)| {
+            acc.wrapping_add(u32::from(x.abs_diff(y)))
+        });
+        s += u64::from(d);
+    }
+    s
+}
+
+/// Capacity of the lane-padded template copy used by the fast dot product.
+const TPL_PAD_CAP: usize = 4096;
+
+/// The template rearranged for [`dot_placement`]: each row is its first
+/// `body = tw - tw % lanes` pixels followed, if `tw` is not a multiple of `lanes`, by a
+/// `lanes`-pixel "tail" chunk holding the last `tw % lanes` pixels right-aligned after
+/// zeros. The tail chunk is multiplied with the window's last `lanes` pixels under the
+/// template, so every row is whole SIMD chunks and no scalar remainder loop is needed
+/// (the zeros cancel the overlap). `lanes` is 16 for templates at least 16 wide, else 8.
+pub(super) struct PaddedTemplate {
+    buf: [u8; TPL_PAD_CAP],
+    row_len: usize,
+    body: usize,
+    pub(super) lanes: usize,
+}
+
+impl PaddedTemplate {
+    /// `None` when the template is narrower than 8 pixels or does not fit the buffer
+    /// (the generic row-by-row dot product is used then).
+    pub(super) fn new(tpl: &WindowView<'_>) -> Option<Self> {
+        let tw = tpl.width();
+        let lanes = if tw >= 16 { 16 } else { 8 };
+        if tw < lanes {
+            return None;
+        }
+        let body = tw - tw % lanes;
+        let rem = tw - body;
+        let row_len = body + if rem > 0 { lanes } else { 0 };
+        if row_len.checked_mul(tpl.height())? > TPL_PAD_CAP {
+            return None;
+        }
+        let mut buf = [0u8; TPL_PAD_CAP];
+        for (v, dst) in buf.chunks_exact_mut(row_len).take(tpl.height()).enumerate() {
+            let src = tpl.row(v)?;
+            dst.get_mut(..body)?.copy_from_slice(src.get(..body)?);
+            if rem > 0 {
+                dst.get_mut(row_len - rem..)?.copy_from_slice(src.get(body..)?);
+            }
+        }
+        Some(Self { buf, row_len, body, lanes })
+    }
+}
+
+/// `Σ R·I` of placement `(px, py)` with the padded template: `N`-pixel chunks accumulate
+/// into `N` `u32` lanes (SIMD multiply-adds), reduced once per placement. Lanes cannot
+/// overflow: each gains at most 255² per chunk and a template holds at most
+/// `TPL_PAD_CAP / 8 = 512` chunks.
+#[inline(always)]
+pub(super) fn dot_placement<const N: usize>(
+    t: &PaddedTemplate,
+    win: &WindowView<'_>,
+    tw: usize,
+    th: usize,
+    px: usize,
+    py: usize,
+) -> u64 {
+    let mut lanes = [0u32; N];
+    let mut mac = |tc: &[u8], wc: &[u8]| {
+        if let (Ok(tc), Ok(wc)) = (<&[u8; N]>::try_from(tc), <&[u8; N]>::try_from(wc)) {
+            for ((l, &a), &b) in lanes.iter_mut().zip(tc).zip(wc) {
+                *l = l.wrapping_add(u32::from(u16::from(a) * u16::from(b)));
+            }
+        }
+    };
+    let tail = t.row_len > t.body;
+    let Some((data, stride)) = win.raw() else { return 0 };
+    let base = py * stride + px;
+    for (v, trow) in t.buf.chunks_exact(t.row_len).take(th).enumerate() {
+        // Row py+v of the window from offset px, `tw` pixels (inside the view because
+        // the placement is valid).
+        let start = base + v * stride;
+        let Some(wrow) = data.get(start..start + tw) else { continue };
+        let (tbody, ttail) = trow.split_at(t.body.min(trow.len()));
+        if let Some(wbody) = wrow.get(..t.body) {
+            for (tc, wc) in tbody.chunks_exact(N).zip(wbody.chunks_exact(N)) {
+                mac(tc, wc);
+            }
+        }
+        if tail {
+            if let Some(wtail) = wrow.get(tw - N..) {
+                mac(ttail, wtail);
+            }
+        }
+    }
+    lanes.iter().map(|&l| u64::from(l)).sum()
+}
+
+/// Capacity, in pixels, of the column strip of [`strip_dot_products`] (window height x
+/// template width) and of its widened template copy.
+const STRIP_CAP: usize = 4096;
+
+/// Widens `src` (`u8`) into `dst` (`i16`, same length). For runs of at least 8 pixels
+/// this copies fixed 8-pixel chunks (the last one overlapping the previous, if the
+/// length is not a multiple of 8), so each chunk is one load, one unpack and one store
+/// instead of a call to a generic loop.
+#[inline(always)]
+fn widen_into(dst: &mut [i16], src: &[u8]) {
+    let n = dst.len().min(src.len());
+    if n < 8 {
+        for (d, &s) in dst.iter_mut().zip(src) {
+            *d = i16::from(s);
+        }
+        return;
+    }
+    let mut widen8 = |at: usize| {
+        if let (Some(d), Some(s)) = (dst.get_mut(at..at + 8), src.get(at..at + 8)) {
+            if let (Ok(d), Ok(s)) = (<&mut [i16; 8]>::try_from(d), <&[u8; 8]>::try_from(s)) {
+                for (d, &s) in d.iter_mut().zip(s) {
+                    *d = i16::from(s);
+                }
+            }
+        }
+    };
+    let mut at = 0;
+    while at + 8 <= n {
+        widen8(at);
+        at += 8;
+    }
+    if at < n {
+        widen8(n - 8);
+    }
+}
+
+/// Widens columns `px..px+tw` of every row of `view` into consecutive `tw`-pixel rows of
+/// `dst`; `None` if `dst` is too short or the columns are outside the view.
+#[inline(never)]
+fn fill_strip(dst: &mut [i16], view: &WindowView<'_>, px: usize, tw: usize) -> Option<()> {
+    let rows = dst.get_mut(..tw.checked_mul(view.height())?)?;
+    for (y, d) in rows.chunks_exact_mut(tw).enumerate() {
+        widen_into(d, view.row(y)?.get(px..px + tw)?);
+    }
+    Some(())
+}
+
+/// `Σ R·I` of every placement, row-major, computed strip by strip: for each placement
+/// column `px` the window columns `px..px+tw` are widened to `i16` into a contiguous
+/// strip, in which the patch of every placement `(px, py)` is one contiguous run of
+/// `tw·th` pixels laid out exactly like the (also widened) template. Each dot product is
+/// then a single long `i16·i16 -> i32` reduction, which LLVM turns into `pmaddwd`
+/// (16 lanes, two SSE registers) with no unpacking in the inner loop, and four
+/// placements of a column share every template load. The strip costs `tw` pixels per
+/// window row and placement column, far less than the `tw·th` multiply-adds per
+/// placement.
+///
+/// `None` (use the other paths) when the strip or the placement count exceed their
+/// capacities.
+pub(super) fn strip_dot_products(win: &WindowView<'_>, tpl: &WindowView<'_>) -> Option<Vec<u32, SCORE_CACHE>> {
+    // Small windows use small buffers: zeroing two 8 KiB arrays would cost as much as
+    // the whole Foveal match.
+    if tpl.width().checked_mul(win.height())? <= SMALL_STRIP_CAP {
+        strip_dot_products_in::<SMALL_STRIP_CAP>(win, tpl)
+    } else {
+        strip_dot_products_in::<STRIP_CAP>(win, tpl)
+    }
+}
+
+/// Capacity of the strip buffers for small windows (Foveal 20 x 24 = 480 pixels,
+/// Peripheral 16 x 40 = 640).
+const SMALL_STRIP_CAP: usize = 1024;
+
+/// [`strip_dot_products`] with strip buffers of `CAP <= STRIP_CAP` pixels.
+fn strip_dot_products_in<const CAP: usize>(
+    win: &WindowView<'_>,
+    tpl: &WindowView<'_>,
+) -> Option<Vec<u32, SCORE_CACHE>> {
+    let (tw, th, ww, wh) = (tpl.width(), tpl.height(), win.width(), win.height());
+    let nx = ww.checked_sub(tw)? + 1;
+    let ny = wh.checked_sub(th)? + 1;
+    let n = tw.checked_mul(th)?;
+    // n = tw·th <= tw·wh <= STRIP_CAP, so the i32 sums of dot_long cannot overflow
+    // (4096 · 255² < 2³¹).
+    if nx * ny > SCORE_CACHE || tw.checked_mul(wh)? > CAP.min(STRIP_CAP) || tw == 0 {
+        return None;
+    }
+    let mut tbuf = [0i16; CAP];
+    fill_strip(&mut tbuf, tpl, 0, tw)?;
+    let t = tbuf.get(..n)?;
+    let body = n - n % 16;
+    let mut dots: Vec<u32, SCORE_CACHE> = Vec::new();
+    dots.resize(nx * ny, 0).ok()?;
+    let mut strip = [0i16; CAP];
+    for px in 0..nx {
+        fill_strip(&mut strip, win, px, tw)?;
+        let mut py = 0;
+        while py + 4 <= ny {
+            let s = strip.get(py * tw..)?;
+            let d = dot_long4(t.get(..body)?, s, tw);
+            for (k, &v) in d.iter().enumerate() {
+                let at = (py + k) * tw;
+                let tail = dot_tail(t.get(body..)?, strip.get(at + body..at + n)?);
+                *dots.get_mut((py + k) * nx + px)? = v.wrapping_add(tail) as u32;
+            }
+            py += 4;
+        }
+        while py < ny {
+            let patch = strip.get(py * tw..py * tw + n)?;
+            *dots.get_mut(py * nx + px)? = dot_long(t, patch) as u32;
+            py += 1;
+        }
+    }
+    Some(dots)
+}
+
+/// Scalar `Σ a·b` of two short runs (the last `n % 16` pixels of [`dot_long4`]).
+#[inline(never)]
+fn dot_tail(a: &[i16], b: &[i16]) -> i32 {
+    a.iter().zip(b).fold(0i32, |s, (&p, &q)| s.wrapping_add(i32::from(p) * i32::from(q)))
+}
+
+/// `Σ a·b` of two equally long `i16` runs of non-negative pixels (`len <= STRIP_CAP`,
+/// so `i32` cannot overflow). 16 lanes: LLVM folds the pairs into `pmaddwd`.
+#[inline(never)]
+fn dot_long(a: &[i16], b: &[i16]) -> i32 {
+    let mut lanes = [0i32; 16];
+    let (ca, cb) = (a.chunks_exact(16), b.chunks_exact(16));
+    let (ra, rb) = (ca.remainder(), cb.remainder());
+    for (x, y) in ca.zip(cb) {
+        if let (Ok(x), Ok(y)) = (<&[i16; 16]>::try_from(x), <&[i16; 16]>::try_from(y)) {
+            for ((l, &p), &q) in lanes.iter_mut().zip(x).zip(y) {
+                *l = l.wrapping_add(i32::from(p) * i32::from(q));
+            }
+        }
+    }
+    let tail = ra.iter().zip(rb).fold(0i32, |s, (&p, &q)| s.wrapping_add(i32::from(p) * i32::from(q)));
+    lanes.iter().fold(tail, |s, &l| s.wrapping_add(l))
+}
+
+/// `l[k] += t[k]·a[k]` over 16 lanes.
+#[cfg(not(target_arch = "arm"))]
+#[inline(always)]
+fn mac16(l: &mut [i32; 16], t: &[i16; 16], a: &[i16; 16]) {
+    for ((l, &p), &q) in l.iter_mut().zip(t).zip(a) {
+        *l = l.wrapping_add(i32::from(p) * i32::from(q));
+    }
+}
+
+/// The four runs of `n` values of `s` starting at `0`, `step`, `2·step` and `3·step`.
+#[inline(always)]
+fn four_runs(s: &[i16], step: usize, n: usize) -> Option<[&[i16]; 4]> {
+    Some([s.get(..n)?, s.get(step..step + n)?, s.get(2 * step..2 * step + n)?, s.get(3 * step..3 * step + n)?])
+}
+
+/// The dot products of `t` (length `n`, a multiple of 16; see [`dot_tail`]) with the
+/// four runs of `s` starting at `0`, `step`, `2·step` and `3·step`: four placements of
+/// one strip column, sharing each template chunk. (A remainder loop in the same
+/// function stops the SLP vectoriser, so the tail is summed by the caller.)
+#[cfg(not(target_arch = "arm"))]
+#[inline(never)]
+pub(super) fn dot_long4(t: &[i16], s: &[i16], step: usize) -> [i32; 4] {
+    let Some([s0, s1, s2, s3]) = four_runs(s, step, t.len()) else { return [0; 4] };
+    let (mut l0, mut l1, mut l2, mut l3) = ([0i32; 16], [0i32; 16], [0i32; 16], [0i32; 16]);
+    let ct = t.chunks_exact(16);
+    let it = ct
+        .zip(s0.chunks_exact(16))
+        .zip(s1.chunks_exact(16))
+        .zip(s2.chunks_exact(16))
+        .zip(s3.chunks_exact(16));
+    for ((((tc, a), b), c), d) in it {
+        let (Ok(tc), Ok(a), Ok(b), Ok(c), Ok(d)) = (
+            <&[i16; 16]>::try_from(tc),
+            <&[i16; 16]>::try_from(a),
+            <&[i16; 16]>::try_from(b),
+            <&[i16; 16]>::try_from(c),
+            <&[i16; 16]>::try_from(d),
+        ) else {
+            continue;
+        };
+        // Four separate 16-lane accumulators (one array each): this is the shape the
+        // SLP vectoriser turns into eight `pmaddwd` per chunk.
+        mac16(&mut l0, tc, a);
+        mac16(&mut l1, tc, b);
+        mac16(&mut l2, tc, c);
+        mac16(&mut l3, tc, d);
+    }
+    let f = |l: &[i32; 16]| l.iter().fold(0i32, |s, &v| s.wrapping_add(v));
+    [f(&l0), f(&l1), f(&l2), f(&l3)]
+}
+
+/// [`dot_long4`] for 32-bit Arm (Cortex-M4, thesis 2.6's processors on a microcontroller):
+/// 64 lanes of accumulators spill on its 13 registers, so here four scalar sums, one per
+/// placement, take the template two pixels at a time, the shape LLVM's parallel-DSP pass
+/// turns into `SMLAD` (two 16-bit products a cycle). Exact integers either way, so the
+/// results are the same bits (checked against x86 by `scripts/board.sh`, and against
+/// [`dot_long4`] by a unit test).
+#[cfg(any(test, target_arch = "arm"))]
+#[inline(never)]
+pub(super) fn dot_long4_pairs(t: &[i16], s: &[i16], step: usize) -> [i32; 4] {
+    let Some([s0, s1, s2, s3]) = four_runs(s, step, t.len()) else { return [0; 4] };
+    let (mut a0, mut a1, mut a2, mut a3) = (0i32, 0i32, 0i32, 0i32);
+    let it = t
+        .chunks_exact(2)
+        .zip(s0.chunks_exact(2))
+        .zip(s1.chunks_exact(2))
+        .zip(s2.chunks_exact(2))
+        .zip(s3.chunks_exact(2));
+    let dot2 = |t: &[i16], x: &[i16]| match (t, x) {
+        (&[t0, t1], &[x0, x1]) => (i32::from(t0) * i32::from(x0)).wrapping_add(i32::from(t1) * i32::from(x1)),
+        _ => 0,
+    };
+    for ((((tc, a), b), c), d) in it {
+        a0 = a0.wrapping_add(dot2(tc, a));
+        a1 = a1.wrapping_add(dot2(tc, b));
+        a2 = a2.wrapping_add(dot2(tc, c));
+        a3 = a3.wrapping_add(dot2(tc, d));
+    }
+    [a0, a1, a2, a3]
+}
+
+#[cfg(target_arch = "arm")]
+use dot_long4_pairs as dot_long4;
+

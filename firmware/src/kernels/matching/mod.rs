@@ -1,0 +1,244 @@
+//! Template matching (thesis 2.4): SSD, SAD, NCC and, beyond the thesis, zero-mean NCC.
+//!
+//! For a template `R` of `ulen x vlen` pixels and a search window `I`, each placement
+//! `(x, y)` of the template's top-left pixel with the template fully inside the window
+//! is scored (sums over `0 <= u < ulen`, `0 <= v < vlen`):
+//!
+//! * `SSD(x,y) = Σ (R(u,v) - I(x+u,y+v))²` (difference, best = minimum; Peripheral);
+//! * `SAD(x,y) = Σ |R(u,v) - I(x+u,y+v)|` (difference, best = minimum);
+//! * `NCC(x,y) = P/Q`, `P = Σ R(u,v)·I(x+u,y+v)`, `Q = sqrt(Σ R² · Σ I²(x+u,y+v))`
+//!   (similarity, best = maximum; Foveal). This is OpenCV's `TM_CCORR_NORMED`.
+//! * `ZNCC(x,y)` = NCC of the mean-free template and window patch,
+//!   `(nΣRI - ΣRΣI) / sqrt((nΣR² - (ΣR)²)(nΣI² - (ΣI)²))`, `n = ulen·vlen`
+//!   (option beyond the thesis: invariant to gain and offset of the illumination).
+//!
+//! ## Zero energy
+//! An NCC template with `Σ R² = 0` (or a ZNCC template with no variance) is rejected with
+//! [`MatchError::ZeroEnergy`]. A placement whose window patch has zero energy (variance
+//! for ZNCC) scores 0, as in OpenCV, and if no placement has energy the result is
+//! [`MatchError::NoMatch`]. No score is ever NaN.
+//!
+//! [`best_match`] refines the best placement to sub-pixel accuracy with a parabola through its
+//! neighbours' scores (`subpixel.rs`). The dot products that dominate the cost are in `dot.rs`
+//! (how they are fast), the scores from running sums in `scores.rs`.
+
+mod dot;
+mod scores;
+mod subpixel;
+#[cfg(test)]
+mod tests;
+
+use crate::kernels::view::WindowView;
+use heapless::Vec;
+use scores::{for_each_score, placements, score_at};
+pub(crate) use subpixel::parabola;
+
+/// Maximum number of placements along x (window width - template width + 1) and of
+/// window columns: the running-sum buffers have this fixed capacity.
+pub const MAX_SEARCH_WIDTH: usize = 256;
+
+/// Capacity, in pixels, of the buffers that pack a decimated (or otherwise strided)
+/// view before matching: a 128x128 Peripheral window at 25 % is 64x64 = 4096 pixels.
+pub const MAX_PACKED_PIXELS: usize = 4096;
+
+/// Placements whose scores [`best_match`] keeps for the sub-pixel fit (a 40x40 window
+/// with a 16x16 template has 625).
+const SCORE_CACHE: usize = 1024;
+
+/// A matching measure of thesis 2.4 (or ZNCC beyond it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// Sum of squared differences (minimise).
+    Ssd,
+    /// Sum of absolute differences (minimise).
+    Sad,
+    /// Normalised cross-correlation (maximise), thesis form (not mean-free).
+    Ncc,
+    /// Zero-mean normalised cross-correlation (maximise).
+    Zncc,
+}
+
+impl Method {
+    /// True for similarity measures (best = maximum).
+    pub fn maximises(self) -> bool {
+        matches!(self, Method::Ncc | Method::Zncc)
+    }
+}
+
+/// Why no match could be computed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MatchError {
+    /// Window or template has no pixel.
+    Empty,
+    /// The template is wider or taller than the window: there is no placement.
+    TemplateLarger,
+    /// The window is wider than [`MAX_SEARCH_WIDTH`], or a strided view does not fit
+    /// [`MAX_PACKED_PIXELS`].
+    TooLarge,
+    /// NCC template with zero energy, or ZNCC template with zero variance.
+    ZeroEnergy,
+    /// Every placement has a zero-energy (NCC) or zero-variance (ZNCC) window patch.
+    NoMatch,
+    /// The output map slice is shorter than the number of placements.
+    MapTooSmall,
+}
+
+error_messages!(MatchError {
+    Empty => "the window or the template has no pixel",
+    TemplateLarger => "the template is wider or taller than the window",
+    TooLarge => "the window is too large for the matcher's buffers",
+    ZeroEnergy => "the template is flat (no energy for NCC, no variance for ZNCC)",
+    NoMatch => "every placement's window patch is flat",
+    MapTooSmall => "the score map is shorter than the number of placements",
+});
+
+/// The best placement of a template in a window.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Match {
+    /// Column of the template's top-left pixel, in full-resolution window pixels
+    /// (decimated matches are scaled by the view's step).
+    pub x: usize,
+    /// Row of the template's top-left pixel, in full-resolution window pixels.
+    pub y: usize,
+    /// Score at the best placement (never NaN).
+    pub score: f64,
+    /// Sub-pixel refined column of the top-left pixel (parabola fit), window pixels.
+    pub sub_x: f32,
+    /// Sub-pixel refined row of the top-left pixel, window pixels.
+    pub sub_y: f32,
+    /// `sub_x` in frame coordinates (window origin added).
+    pub frame_x: f32,
+    /// `sub_y` in frame coordinates.
+    pub frame_y: f32,
+}
+
+/// Writes the score of every placement, row-major with `placements_x` columns, into
+/// `out` (placements without energy score 0, like OpenCV) and returns
+/// `(placements_x, placements_y)`.
+///
+/// Both views must be full resolution; a strided view is packed first (see
+/// [`MAX_PACKED_PIXELS`]) and the map is then in decimated pixels.
+pub fn score_map(
+    method: Method,
+    win: &WindowView<'_>,
+    tpl: &WindowView<'_>,
+    out: &mut [f64],
+) -> Result<(usize, usize), MatchError> {
+    with_packed(win, tpl, |win, tpl| {
+        let (nx, ny) = placements(win, tpl)?;
+        let out = out.get_mut(..nx * ny).ok_or(MatchError::MapTooSmall)?;
+        for_each_score(method, win, tpl, |px, py, s| {
+            if let Some(o) = out.get_mut(py * nx + px) {
+                *o = s.unwrap_or(0.0);
+            }
+        })?;
+        Ok((nx, ny))
+    })
+}
+
+/// Runs `f` on step-1 versions of both views, packing strided views into fixed buffers.
+fn with_packed<R>(
+    win: &WindowView<'_>,
+    tpl: &WindowView<'_>,
+    f: impl FnOnce(&WindowView<'_>, &WindowView<'_>) -> Result<R, MatchError>,
+) -> Result<R, MatchError> {
+    if win.step() == 1 && tpl.step() == 1 {
+        return f(win, tpl);
+    }
+    let mut wbuf = [0u8; MAX_PACKED_PIXELS];
+    let mut tbuf = [0u8; MAX_PACKED_PIXELS];
+    let pw = win.pack_into(&mut wbuf).ok_or(MatchError::TooLarge)?;
+    let pt = tpl.pack_into(&mut tbuf).ok_or(MatchError::TooLarge)?;
+    f(&pw, &pt)
+}
+
+/// The best placement of `tpl` in `win` under `method` (minimum SSD/SAD, maximum
+/// NCC/ZNCC; ties go to the first placement in raster order, as `cv::minMaxLoc`), with
+/// its score and a parabola-fit sub-pixel position (see the module docs).
+///
+/// Decimated views are matched at their resolution and the position is scaled back by
+/// the window's step, so `best_match(m, &w.decimated(), &t.decimated())` is the 25 %
+/// variant of the Peripheral window (also available as [`best_match_decimated`]).
+pub fn best_match(
+    method: Method,
+    win: &WindowView<'_>,
+    tpl: &WindowView<'_>,
+) -> Result<Match, MatchError> {
+    let step = win.step();
+    let (origin_x, origin_y) = win.origin();
+    with_packed(win, tpl, |win, tpl| {
+        let maximise = method.maximises();
+        let mut best: Option<(usize, usize, f64)> = None;
+        // Scores kept for the sub-pixel fit (no-energy placements as -inf); maps larger
+        // than the cache recompute the four neighbours instead.
+        let nx = win.width().saturating_sub(tpl.width()) + 1;
+        let mut cache: Vec<f64, SCORE_CACHE> = Vec::new();
+        let mut cached = true;
+        for_each_score(method, win, tpl, |px, py, s| {
+            if cached {
+                cached = cache.push(s.unwrap_or(f64::NEG_INFINITY)).is_ok();
+            }
+            if let Some(s) = s {
+                let better = match best {
+                    None => true,
+                    Some((_, _, b)) => {
+                        if maximise {
+                            s > b
+                        } else {
+                            s < b
+                        }
+                    }
+                };
+                if better {
+                    best = Some((px, py, s));
+                }
+            }
+        })?;
+        let (bx, by, bs) = best.ok_or(MatchError::NoMatch)?;
+        let at = |x: Option<usize>, y: Option<usize>| {
+            let (x, y) = (x?, y?);
+            if !cached {
+                return score_at(method, win, tpl, x, y);
+            }
+            if x >= nx {
+                return None;
+            }
+            cache.get(y * nx + x).copied().filter(|v| v.is_finite())
+        };
+        let dx = parabola(
+            at(bx.checked_sub(1), Some(by)),
+            bs,
+            at(Some(bx + 1), Some(by)),
+            maximise,
+        );
+        let dy = parabola(
+            at(Some(bx), by.checked_sub(1)),
+            bs,
+            at(Some(bx), Some(by + 1)),
+            maximise,
+        );
+        let sub_x = ((bx as f64 + dx) * step as f64) as f32;
+        let sub_y = ((by as f64 + dy) * step as f64) as f32;
+        Ok(Match {
+            x: bx * step,
+            y: by * step,
+            score: bs,
+            sub_x,
+            sub_y,
+            frame_x: origin_x as f32 + sub_x,
+            frame_y: origin_y as f32 + sub_y,
+        })
+    })
+}
+
+/// The 25 %-resolution match of the Peripheral window (thesis 2.3): both views are
+/// decimated (every other pixel of every other row) and the result is in full-resolution
+/// window pixels.
+pub fn best_match_decimated(
+    method: Method,
+    win: &WindowView<'_>,
+    tpl: &WindowView<'_>,
+) -> Result<Match, MatchError> {
+    best_match(method, &win.decimated(), &tpl.decimated())
+}
+

@@ -1,0 +1,261 @@
+//! Scores of placements from exact integer sums (thesis 2.4's SSD, SAD and NCC, and ZNCC): the
+//! window energies from running column sums, the dot products from [`super::dot`].
+use super::dot::{dot_placement, dot_row, sad_row, strip_dot_products, PaddedTemplate};
+use super::{MatchError, Method, MAX_SEARCH_WIDTH};
+use crate::kernels::view::WindowView;
+use heapless::Vec;
+
+/// Template statistics that do not depend on the placement.
+struct TemplateStats {
+    energy: u64,
+    sum: u64,
+    n: u64,
+}
+
+fn template_stats(tpl: &WindowView<'_>) -> TemplateStats {
+    let mut energy = 0u64;
+    let mut sum = 0u64;
+    for v in 0..tpl.height() {
+        let r = tpl.row(v).unwrap_or(&[]);
+        energy += dot_row(r, r);
+        sum += r.iter().map(|&p| u64::from(p)).sum::<u64>();
+    }
+    TemplateStats {
+        energy,
+        sum,
+        n: (tpl.width() * tpl.height()) as u64,
+    }
+}
+
+/// Score of one placement from its integer sums (see the module formulas).
+#[inline(always)]
+fn score(method: Method, t: &TemplateStats, dot_or_sad: u64, e: u64, s: u64) -> Option<f64> {
+    match method {
+        Method::Sad => Some(dot_or_sad as f64),
+        // Σ(R-I)² = ΣR² + ΣI² - 2ΣRI >= 0 exactly in integers.
+        Method::Ssd => Some((t.energy + e).saturating_sub(2 * dot_or_sad) as f64),
+        Method::Ncc => {
+            if e == 0 {
+                return None;
+            }
+            let q = libm::sqrt(t.energy as f64 * e as f64);
+            Some((dot_or_sad as f64 / q).min(1.0))
+        }
+        Method::Zncc => {
+            let n = i128::from(t.n);
+            let num = n * i128::from(dot_or_sad) - i128::from(t.sum) * i128::from(s);
+            let vt = n * i128::from(t.energy) - i128::from(t.sum) * i128::from(t.sum);
+            let vw = n * i128::from(e) - i128::from(s) * i128::from(s);
+            if vw <= 0 || vt <= 0 {
+                return None;
+            }
+            let q = libm::sqrt(vt as f64 * vw as f64);
+            Some((num as f64 / q).clamp(-1.0, 1.0))
+        }
+    }
+}
+
+/// Validates sizes and returns `(placements_x, placements_y)`.
+pub(super) fn placements(win: &WindowView<'_>, tpl: &WindowView<'_>) -> Result<(usize, usize), MatchError> {
+    if win.is_empty() || tpl.is_empty() {
+        return Err(MatchError::Empty);
+    }
+    if tpl.width() > win.width() || tpl.height() > win.height() {
+        return Err(MatchError::TemplateLarger);
+    }
+    if win.width() > MAX_SEARCH_WIDTH {
+        return Err(MatchError::TooLarge);
+    }
+    Ok((
+        win.width() - tpl.width() + 1,
+        win.height() - tpl.height() + 1,
+    ))
+}
+
+/// Visits every placement in raster order with its score (`None` = no energy) over two
+/// full-resolution (step 1) views. The visitor sees placement `(px, py)`.
+pub(super) fn for_each_score(
+    method: Method,
+    win: &WindowView<'_>,
+    tpl: &WindowView<'_>,
+    visit: impl FnMut(usize, usize, Option<f64>),
+) -> Result<(), MatchError> {
+    // A column of `th` squared pixels fits `u32` while th·255² < 2³² (th <= 66051); the
+    // narrow columns halve the running-sum work.
+    if tpl.height() <= 66_051 {
+        for_each_score_in::<u32>(method, win, tpl, visit)
+    } else {
+        for_each_score_in::<u64>(method, win, tpl, visit)
+    }
+}
+
+/// An exact column-sum accumulator (`u32` for columns short enough, else `u64`).
+trait ColSum: Copy + Default {
+    /// `self + add - sub`, exact when the true result is representable.
+    fn update(self, add: u32, sub: u32) -> Self;
+    fn wide(self) -> u64;
+}
+
+impl ColSum for u32 {
+    #[inline(always)]
+    fn update(self, add: u32, sub: u32) -> Self {
+        self.wrapping_add(add).wrapping_sub(sub)
+    }
+    #[inline(always)]
+    fn wide(self) -> u64 {
+        u64::from(self)
+    }
+}
+
+impl ColSum for u64 {
+    #[inline(always)]
+    fn update(self, add: u32, sub: u32) -> Self {
+        self.wrapping_add(u64::from(add)).wrapping_sub(u64::from(sub))
+    }
+    #[inline(always)]
+    fn wide(self) -> u64 {
+        self
+    }
+}
+
+/// Adds row `add` and removes row `sub` (if any) from the column sums of `I²` (and of
+/// `I` when `sums` is set): one fused pass per placement row.
+#[inline(never)]
+fn update_cols<C: ColSum>(sq: &mut [C], sum: &mut [C], add: &[u8], sub: Option<&[u8]>, sums: bool) {
+    let sq2 = |p: u8| u32::from(p) * u32::from(p);
+    match sub {
+        Some(sub) => {
+            for ((q, &a), &b) in sq.iter_mut().zip(add).zip(sub) {
+                *q = q.update(sq2(a), sq2(b));
+            }
+            if sums {
+                for ((s, &a), &b) in sum.iter_mut().zip(add).zip(sub) {
+                    *s = s.update(u32::from(a), u32::from(b));
+                }
+            }
+        }
+        None => {
+            for (q, &a) in sq.iter_mut().zip(add) {
+                *q = q.update(sq2(a), 0);
+            }
+            if sums {
+                for (s, &a) in sum.iter_mut().zip(add) {
+                    *s = s.update(u32::from(a), 0);
+                }
+            }
+        }
+    }
+}
+
+fn for_each_score_in<C: ColSum>(
+    method: Method,
+    win: &WindowView<'_>,
+    tpl: &WindowView<'_>,
+    mut visit: impl FnMut(usize, usize, Option<f64>),
+) -> Result<(), MatchError> {
+    let (nx, ny) = placements(win, tpl)?;
+    let (tw, th, ww) = (tpl.width(), tpl.height(), win.width());
+    let t = template_stats(tpl);
+    match method {
+        Method::Ncc if t.energy == 0 => return Err(MatchError::ZeroEnergy),
+        Method::Zncc if (t.n as u128) * (t.energy as u128) == (t.sum as u128).pow(2) => {
+            return Err(MatchError::ZeroEnergy)
+        }
+        _ => {}
+    }
+    let needs_energy = method != Method::Sad;
+    let strip_dots = if needs_energy { strip_dot_products(win, tpl) } else { None };
+    let padded = if needs_energy && strip_dots.is_none() { PaddedTemplate::new(tpl) } else { None };
+    // Column sums of I² and I over the `th` rows of the current placement row.
+    let mut col_sq: Vec<C, MAX_SEARCH_WIDTH> = Vec::new();
+    let mut col_sum: Vec<C, MAX_SEARCH_WIDTH> = Vec::new();
+    let sums = method == Method::Zncc;
+    let mut acc: Vec<u64, MAX_SEARCH_WIDTH> = Vec::new();
+    // Capacity checked in `placements` (ww <= MAX_SEARCH_WIDTH, nx <= ww).
+    let _ = col_sq.resize(ww, C::default());
+    let _ = col_sum.resize(ww, C::default());
+    let _ = acc.resize(nx, 0);
+    if needs_energy {
+        for v in 0..th {
+            update_cols(&mut col_sq, &mut col_sum, win.row(v).unwrap_or(&[]), None, sums);
+        }
+    }
+    for py in 0..ny {
+        if needs_energy && py > 0 {
+            let (add, sub) = (win.row(py + th - 1).unwrap_or(&[]), win.row(py - 1));
+            update_cols(&mut col_sq, &mut col_sum, add, sub, sums);
+        }
+        if let Some(d) = strip_dots.as_ref() {
+            for (a, &v) in acc.iter_mut().zip(d.iter().skip(py * nx)) {
+                *a = u64::from(v);
+            }
+        } else if let Some(pt) = padded.as_ref() {
+            for (px, a) in acc.iter_mut().enumerate() {
+                *a = if pt.lanes == 16 {
+                    dot_placement::<16>(pt, win, tw, th, px, py)
+                } else {
+                    dot_placement::<8>(pt, win, tw, th, px, py)
+                };
+            }
+        } else {
+            acc.iter_mut().for_each(|a| *a = 0);
+        }
+        for v in (0..th).filter(|_| padded.is_none() && strip_dots.is_none()) {
+            let trow = tpl.row(v).unwrap_or(&[]);
+            let wrow = win.row(py + v).unwrap_or(&[]);
+            if method == Method::Sad {
+                for (a, w) in acc.iter_mut().zip(wrow.windows(tw)) {
+                    *a += sad_row(trow, w);
+                }
+            } else {
+                for (a, w) in acc.iter_mut().zip(wrow.windows(tw)) {
+                    *a += dot_row(trow, w);
+                }
+            }
+        }
+        // Running sums along the row of the column sums give each placement's energy.
+        let col = |c: &[C], i: usize| c.get(i).map_or(0, |v| v.wide());
+        let mut e: u64 = col_sq.iter().take(tw).map(|v| v.wide()).sum();
+        let mut s: u64 = col_sum.iter().take(tw).map(|v| v.wide()).sum();
+        for (px, &a) in acc.iter().enumerate() {
+            if px > 0 && needs_energy {
+                e = e + col(&col_sq, px + tw - 1) - col(&col_sq, px - 1);
+                if sums {
+                    s = s + col(&col_sum, px + tw - 1) - col(&col_sum, px - 1);
+                }
+            }
+            visit(px, py, score(method, &t, a, e, s));
+        }
+    }
+    Ok(())
+}
+
+/// Score of the single placement `(px, py)` computed directly (used for the sub-pixel
+/// neighbours of the peak); `None` outside or without energy.
+pub(super) fn score_at(
+    method: Method,
+    win: &WindowView<'_>,
+    tpl: &WindowView<'_>,
+    px: usize,
+    py: usize,
+) -> Option<f64> {
+    let (tw, th) = (tpl.width(), tpl.height());
+    if px + tw > win.width() || py + th > win.height() {
+        return None;
+    }
+    let t = template_stats(tpl);
+    let (mut a, mut e, mut s) = (0u64, 0u64, 0u64);
+    for v in 0..th {
+        let trow = tpl.row(v)?;
+        let w = win.row(py + v)?.get(px..px + tw)?;
+        a += if method == Method::Sad {
+            sad_row(trow, w)
+        } else {
+            dot_row(trow, w)
+        };
+        e += dot_row(w, w);
+        s += w.iter().map(|&p| u64::from(p)).sum::<u64>();
+    }
+    score(method, &t, a, e, s)
+}
+

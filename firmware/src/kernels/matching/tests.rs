@@ -1,0 +1,148 @@
+use super::dot::{dot_long4, dot_long4_pairs};
+use super::subpixel::parabola;
+use super::*;
+
+#[test]
+fn the_arm_pairwise_dot_products_equal_the_lane_ones() {
+    // Pixels from a fixed LCG; template lengths multiples of 16 as the caller passes.
+    let mut x = 12345u32;
+    let mut px = || {
+        x = x.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        (x >> 24) as i16
+    };
+    for (n, step) in [(16, 16), (400, 20), (256, 16), (4096, 64)] {
+        let t: std::vec::Vec<i16> = (0..n).map(|_| px()).collect();
+        let s: std::vec::Vec<i16> = (0..n + 3 * step).map(|_| px()).collect();
+        let want: std::vec::Vec<i32> = (0..4)
+            .map(|k| t.iter().zip(&s[k * step..]).map(|(&a, &b)| i32::from(a) * i32::from(b)).sum())
+            .collect();
+        assert_eq!(dot_long4_pairs(&t, &s, step).to_vec(), want, "n {n}");
+        #[cfg(not(target_arch = "arm"))]
+        assert_eq!(dot_long4(&t, &s, step).to_vec(), want, "n {n}");
+    }
+}
+
+fn v<'a>(d: &'a [u8], w: usize, h: usize) -> WindowView<'a> {
+    WindowView::packed(d, w, h).unwrap()
+}
+
+// Window 3x2 = [1 2 3; 4 5 6], template 2x1 = [1 2]. Placements 2x2.
+const W: [u8; 6] = [1, 2, 3, 4, 5, 6];
+const T: [u8; 2] = [1, 2];
+
+#[test]
+fn hand_computed_maps() {
+    let (w, t) = (v(&W, 3, 2), v(&T, 2, 1));
+    let mut m = [0f64; 4];
+    // SSD: (0,0): 0; (1,0): (1-2)²+(2-3)²=2; (0,1): 9+9=18; (1,1): 16+16=32.
+    assert_eq!(score_map(Method::Ssd, &w, &t, &mut m), Ok((2, 2)));
+    assert_eq!(m, [0.0, 2.0, 18.0, 32.0]);
+    // SAD: 0, 2, 6, 8.
+    score_map(Method::Sad, &w, &t, &mut m).unwrap();
+    assert_eq!(m, [0.0, 2.0, 6.0, 8.0]);
+    // NCC (0,1): P = 4+10 = 14, Q = sqrt(5 * 41).
+    score_map(Method::Ncc, &w, &t, &mut m).unwrap();
+    assert!((m[0] - 1.0).abs() < 1e-12);
+    assert!((m[1] - 8.0 / (5.0f64 * 13.0).sqrt()).abs() < 1e-12);
+    assert!((m[2] - 14.0 / (5.0f64 * 41.0).sqrt()).abs() < 1e-12);
+    // ZNCC of two increasing pairs is exactly 1 everywhere.
+    score_map(Method::Zncc, &w, &t, &mut m).unwrap();
+    assert!(m.iter().all(|s| (s - 1.0).abs() < 1e-12));
+    let b = best_match(Method::Ssd, &w, &t).unwrap();
+    assert_eq!((b.x, b.y, b.score), (0, 0, 0.0));
+}
+
+#[test]
+fn zero_energy_is_typed() {
+    let z = [0u8; 6];
+    let (w, t) = (v(&W, 3, 2), v(&T, 2, 1));
+    assert_eq!(
+        best_match(Method::Ncc, &w, &v(&z, 2, 1)),
+        Err(MatchError::ZeroEnergy)
+    );
+    assert_eq!(
+        best_match(Method::Ncc, &v(&z, 3, 2), &t),
+        Err(MatchError::NoMatch)
+    );
+    let flat = [7u8; 2];
+    assert_eq!(
+        best_match(Method::Zncc, &w, &v(&flat, 2, 1)),
+        Err(MatchError::ZeroEnergy)
+    );
+    // A zero window is still fine for difference measures.
+    assert_eq!(
+        best_match(Method::Ssd, &v(&z, 3, 2), &t).unwrap().score,
+        5.0
+    );
+    assert_eq!(
+        best_match(Method::Ssd, &t, &w),
+        Err(MatchError::TemplateLarger)
+    );
+    assert_eq!(
+        best_match(Method::Ssd, &v(&[], 0, 0), &t),
+        Err(MatchError::Empty)
+    );
+}
+
+#[test]
+fn errors_read_as_sentences() {
+    use std::string::ToString;
+    // Every variant has its own message (a copied line would repeat one).
+    let all = [
+        MatchError::Empty,
+        MatchError::TemplateLarger,
+        MatchError::TooLarge,
+        MatchError::ZeroEnergy,
+        MatchError::NoMatch,
+        MatchError::MapTooSmall,
+    ];
+    let texts: std::vec::Vec<_> = all.iter().map(ToString::to_string).collect();
+    assert!(texts.iter().all(|t| !t.is_empty() && !t.contains("Error")));
+    let distinct: std::collections::BTreeSet<_> = texts.iter().collect();
+    assert_eq!(distinct.len(), all.len());
+    assert_eq!(MatchError::ZeroEnergy.to_string(), "the template is flat (no energy for NCC, no variance for ZNCC)");
+}
+
+#[test]
+fn parabola_vertex() {
+    // Scores 1, 3, 2 along x: vertex at (1-2)/(2(1-6+2)) = 1/6.
+    assert!((parabola(Some(1.0), 3.0, Some(2.0), true) - 1.0 / 6.0).abs() < 1e-12);
+    assert_eq!(parabola(Some(1.0), 3.0, Some(2.0), false), 0.0);
+    assert_eq!(parabola(None, 3.0, Some(2.0), true), 0.0);
+    assert_eq!(parabola(Some(3.0), 3.0, Some(3.0), true), 0.0);
+}
+
+#[test]
+fn subpixel_of_symmetric_peak_is_between_placements() {
+    // A bright bar at columns 2 and 3 and a template that is one column of the bar:
+    // placements 1 and 2 tie (first wins), SSD at 0, 1, 2 is 2c, c, c, so the
+    // parabola vertex is at (2c - c) / (2 (2c - 2c + c)) = +0.5: exactly between.
+    let mut d = [10u8; 6 * 3];
+    for y in 0..3 {
+        d[y * 6 + 2] = 200;
+        d[y * 6 + 3] = 200;
+    }
+    let t = [10u8, 200, 10, 10, 200, 10, 10, 200, 10];
+    let m = best_match(Method::Ssd, &v(&d, 6, 3), &v(&t, 3, 3)).unwrap();
+    assert_eq!((m.x, m.y), (1, 0));
+    assert_eq!(m.sub_x, 1.5);
+}
+
+#[test]
+fn decimated_scales_back() {
+    // 8x8 window with a single bright 2x2 block at (4,4); template 4x4 with the block
+    // at (2,2): at 25 % the match is at decimated (1,1) = full (2,2).
+    let mut w = [0u8; 64];
+    let mut t = [0u8; 16];
+    for (y, x) in [(4, 4), (4, 5), (5, 4), (5, 5)] {
+        w[y * 8 + x] = 255;
+    }
+    for (y, x) in [(2, 2), (2, 3), (3, 2), (3, 3)] {
+        t[y * 4 + x] = 255;
+    }
+    let m = best_match_decimated(Method::Ssd, &v(&w, 8, 8), &v(&t, 4, 4)).unwrap();
+    assert_eq!((m.x, m.y, m.score), (2, 2, 0.0));
+    let full = best_match(Method::Ncc, &v(&w, 8, 8), &v(&t, 4, 4)).unwrap();
+    assert_eq!((full.x, full.y), (2, 2));
+    assert!((full.score - 1.0).abs() < 1e-12);
+}

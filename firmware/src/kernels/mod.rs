@@ -1,0 +1,20 @@
+//! The tracking kernels (thesis 2.4, ch. 3, 3.4.1, 4.3, 5.2): pure functions and small
+//! fixed-capacity state over borrowed pixel views, with typed errors and no panics.
+//!
+//! * [`view`]: window views, including the 25 % (decimated) view;
+//! * [`motion`]: image differencing for the Watch window (2.4);
+//! * [`matching`]: SSD / SAD / NCC (2.4) and zero-mean NCC, with sub-pixel refinement;
+//! * [`refine`]: Lucas-Kanade refinement of a match, beyond the parabola's accuracy;
+//! * [`support`]: the object's part of a corner template, and NCC over it alone;
+//! * [`corner`]: the window-based corner detector (ch. 3);
+//! * [`info`]: information content measures (3.4.1);
+//! * [`confidence`]: the least-squares window confidence measure (4.3) and a Kalman-filter
+//!   policy (5.2).
+pub mod confidence;
+pub mod corner;
+pub mod info;
+pub mod matching;
+pub mod motion;
+pub mod refine;
+pub mod support;
+pub mod view;

@@ -1,0 +1,234 @@
+use super::*;
+
+fn p(x: f32, y: f32) -> Point {
+    Point { x, y }
+}
+
+fn both(n: Point, score: f32, c: Point) -> Measured {
+    Measured { ncc: Some((n, score)), corner: Some(c) }
+}
+
+#[test]
+fn cd_is_not_followed_before_its_offset_is_learnt() {
+    // The template's point sits 10 px right of the corner: a raw corner is 10 px off.
+    let mut g = Guard::new(GuardParams::default());
+    g.decide(0.0, Measured { ncc: Some((p(50.0, 50.0), 0.999)), corner: None });
+    let got = g.decide(0.01, Measured { ncc: None, corner: Some(p(40.0, 50.0)) });
+    assert_eq!(got, None, "no offset yet: CD alone is not the tracked point");
+}
+
+#[test]
+fn offset_is_learnt_then_cd_carries_the_track_through_an_ncc_dropout() {
+    let mut g = Guard::new(GuardParams::default());
+    g.decide(0.0, Measured { ncc: Some((p(50.0, 50.0), 0.999)), corner: None });
+    // Moving 1 px a frame right; the corner is (-10, +2) from the tracked point.
+    for k in 1..=8 {
+        let x = 50.0 + k as f32;
+        let got = g.decide(0.01 * k as f64, both(p(x, 50.0), 0.995, p(x - 10.0, 52.0)));
+        assert_eq!(got, Some((p(x, 50.0), Source::Ncc)));
+    }
+    let o = g.offset().expect("learnt after 8 consistent frames");
+    assert!((o.x - 10.0).abs() < 1e-4 && (o.y + 2.0).abs() < 1e-4, "{o:?}");
+    // NCC drops out (occluder): the CD candidate, corner + offset, is followed.
+    let got = g.decide(0.09, Measured { ncc: None, corner: Some(p(49.0, 52.0)) });
+    assert_eq!(got, Some((p(59.0, 50.0), Source::Cd)));
+}
+
+#[test]
+fn a_corner_far_from_the_prediction_is_refused() {
+    let mut g = Guard::new(GuardParams::default());
+    g.decide(0.0, Measured { ncc: Some((p(50.0, 50.0), 0.999)), corner: None });
+    for k in 1..=8 {
+        g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.995, p(40.0, 50.0)));
+    }
+    // CD jumps to another corner 8 px away while NCC is out: no position rather than a wrong one.
+    assert_eq!(g.decide(0.09, Measured { ncc: None, corner: Some(p(48.0, 50.0)) }), None);
+}
+
+#[test]
+fn untrusted_sources_that_disagree_are_not_believed() {
+    let mut g = Guard::new(GuardParams::default());
+    g.decide(0.0, Measured { ncc: Some((p(50.0, 50.0), 0.999)), corner: None });
+    for k in 1..=8 {
+        g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.995, p(40.0, 50.0)));
+    }
+    // A blob drags NCC 3 px (score 0.975, accepted but not trusted) and the detector
+    // sees a corner of it: neither is followed, and the track coasts on the prediction.
+    let got = g.decide(0.09, both(p(53.0, 50.0), 0.975, p(41.0, 50.0)));
+    assert_eq!(got, None);
+    let q = g.coast(0.09).expect("coasting");
+    assert!(dist(q, p(50.0, 50.0)) < 1e-3, "the target stood still: {q:?}");
+}
+
+#[test]
+fn of_two_untrusted_sources_the_one_the_motion_bears_out_is_followed() {
+    let mut g = Guard::new(GuardParams::default());
+    for k in 0..=8 {
+        g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.995, p(40.0, 50.0)));
+    }
+    // NCC under the lamp (score 0.975) stays 0.5 px from the still target; the corner is
+    // 3 px off. NCC is followed.
+    let got = g.decide(0.09, both(p(50.5, 50.0), 0.975, p(43.0, 50.0)));
+    assert_eq!(got, Some((p(50.5, 50.0), Source::Ncc)));
+}
+
+#[test]
+fn a_corner_that_keeps_disagreeing_is_unlearnt() {
+    let mut g = Guard::new(GuardParams::default());
+    g.decide(0.0, Measured { ncc: Some((p(50.0, 50.0), 0.999)), corner: None });
+    for k in 1..=8 {
+        g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.995, p(40.0, 50.0)));
+    }
+    assert!(g.offset().is_some());
+    // The detector now finds a texture corner 5 px away, three frames running.
+    for k in 9..=11 {
+        let got = g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.995, p(45.0, 50.0)));
+        assert_eq!(got, Some((p(50.0, 50.0), Source::Ncc)), "trusted NCC wins");
+    }
+    assert_eq!(g.offset(), None);
+}
+
+#[test]
+fn a_corner_at_the_start_point_anchors_cd_and_outvotes_a_sliding_ncc() {
+    let mut g = Guard::new(GuardParams::default());
+    g.begin(p(50.0, 50.0), true);
+    // First window: the detector's corner is 0.4 px from the start point.
+    let got = g.decide(0.0, both(p(50.0, 50.0), 1.0, p(50.4, 50.0)));
+    assert_eq!(got, Some((p(50.0, 50.0), Source::Ncc)));
+    assert!(g.anchored());
+    // The object moves 1 px a frame; NCC sticks to the background at (50, 50), its score
+    // under the trust level. They part by more than the gate from frame 2; the third
+    // disagreement in a row (frame 4) hands the track to the anchored corner.
+    let mut got = [None; 4];
+    for (k, slot) in (1..=4).zip(got.iter_mut()) {
+        let x = 50.0 + k as f32;
+        *slot = g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.985, p(x + 0.4, 50.0)));
+    }
+    assert_eq!(got[2], Some((p(50.0, 50.0), Source::Ncc)));
+    assert_eq!(got[3], Some((p(54.0, 50.0), Source::Cd)));
+}
+
+#[test]
+fn a_trusted_ncc_is_not_outvoted() {
+    // As above, but NCC keeps a score over the trust level: it measures the object (the
+    // template's support, crate::support, does not slide), so the parting corner is wrong.
+    let mut g = Guard::new(GuardParams::default());
+    g.begin(p(50.0, 50.0), true);
+    g.decide(0.0, both(p(50.0, 50.0), 1.0, p(50.4, 50.0)));
+    // Frame 1 they still agree (1 px apart) and are fused; from frame 2 they part.
+    g.decide(0.01, both(p(50.0, 50.0), 0.998, p(51.4, 50.0)));
+    for k in 2..=7 {
+        let got = g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.998, p(50.4 + k as f32, 50.0)));
+        assert_eq!(got, Some((p(50.0, 50.0), Source::Ncc)), "frame {k}");
+    }
+}
+
+#[test]
+fn a_coasting_track_keeps_the_velocity_of_its_longer_past() {
+    // 24 positions at 1 px a window along x, then 4 where a source stalled at x = 23 (a
+    // blob held it), then nothing. Hand calculation (least squares, per window): the last
+    // 8 positions give 0.405 px a window, all 28 give 0.932. The coasting window one
+    // interval on (t = 0.29) is the last 8's mean, 22.25 at t = 0.235, moved on at
+    // 0.932 for 5.5 windows: 27.37 (the last 8 alone would say 24.48).
+    let mut g = Guard::new(GuardParams::default());
+    for k in 0..28 {
+        g.decide(0.01 * k as f64, Measured { ncc: Some((p(k.min(23) as f32, 0.0), 0.999)), corner: None });
+    }
+    let q = g.coast(0.28).expect("coasting");
+    assert!(g.coasting());
+    assert!((q.x - 27.374).abs() < 1e-3 && q.y.abs() < 1e-6, "{q:?}");
+}
+
+#[test]
+fn a_corner_that_jumps_onto_clutter_does_not_outvote_ncc() {
+    let mut g = Guard::new(GuardParams::default());
+    g.begin(p(50.0, 50.0), true);
+    for k in 0..6 {
+        g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.999, p(50.0, 50.0)));
+    }
+    // The detector jumps 2.5 px onto a blob's corner and stays there: it disagrees every
+    // frame, but its own track broke, so NCC keeps the track.
+    for k in 6..12 {
+        let got = g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.999, p(52.5, 50.0)));
+        assert_eq!(got, Some((p(50.0, 50.0), Source::Ncc)), "frame {k}");
+    }
+}
+
+#[test]
+fn a_single_detector_outlier_does_not_take_the_track() {
+    let mut g = Guard::new(GuardParams::default());
+    g.begin(p(50.0, 50.0), true);
+    g.decide(0.0, both(p(50.0, 50.0), 1.0, p(50.0, 50.0)));
+    g.decide(0.01, both(p(50.0, 50.0), 0.999, p(50.0, 50.0)));
+    // The corner jumps 2.5 px for one frame: NCC is kept.
+    let got = g.decide(0.02, both(p(50.0, 50.0), 0.999, p(52.5, 50.0)));
+    assert_eq!(got, Some((p(50.0, 50.0), Source::Ncc)));
+}
+
+#[test]
+fn a_corner_away_from_the_start_point_does_not_anchor() {
+    let mut g = Guard::new(GuardParams::default());
+    g.begin(p(50.0, 50.0), true);
+    g.decide(0.0, both(p(50.0, 50.0), 1.0, p(40.0, 50.0)));
+    assert!(!g.anchored());
+    assert_eq!(g.offset(), None, "one frame is not enough to learn an offset");
+}
+
+#[test]
+fn agreeing_sources_are_fused_by_their_steadiness() {
+    let mut g = Guard::new(GuardParams::default());
+    g.decide(0.0, Measured { ncc: Some((p(50.0, 50.0), 0.999)), corner: None });
+    // A static target seen by an anchored CD; NCC jitters by +-0.4 px, CD by +-0.1 px.
+    g.begin(p(50.0, 50.0), true);
+    g.decide(0.0, both(p(50.0, 50.0), 0.999, p(50.0, 50.0)));
+    for k in 1..=40 {
+        let s = if k % 2 == 0 { 1.0 } else { -1.0 };
+        g.decide(0.01 * k as f64, both(p(50.0 + 0.4 * s, 50.0), 0.995, p(50.0 - 0.1 * s, 50.0)));
+    }
+    // Hand calculation: each source's SSE about its own line through 4 alternating points
+    // is 4 a^2 (a = 0.4, 0.1), so the weights are 1/0.64 and 1/0.04 and CD's share
+    // k = 25 / (25 + 1.5625) = 0.94: 50.4 + 0.94 * (49.9 - 50.4) = 49.93.
+    let (q, src) = g.decide(0.41, both(p(50.4, 50.0), 0.995, p(49.9, 50.0))).expect("agreeing");
+    assert_eq!(src, Source::Cd);
+    assert!((q.x - 49.93).abs() < 0.02, "fused {q:?}");
+}
+
+#[test]
+fn prediction_extrapolates_constant_velocity() {
+    let mut g = Guard::new(GuardParams::default());
+    g.decide(0.0, Measured { ncc: Some((p(0.0, 0.0), 0.999)), corner: None });
+    g.decide(1.0, Measured { ncc: Some((p(2.0, 1.0), 0.999)), corner: None });
+    g.decide(2.0, Measured { ncc: Some((p(4.0, 2.0), 0.999)), corner: None });
+    // Hand calculation: the points lie on (2t, t), so at t = 3: (6, 3).
+    let q = g.predict(3.0).expect("three positions");
+    assert!((q.x - 6.0).abs() < 1e-5 && (q.y - 3.0).abs() < 1e-5, "{q:?}");
+}
+
+#[test]
+fn a_track_coasts_through_an_occlusion_and_resumes() {
+    let mut g = Guard::new(GuardParams::default());
+    let at = |k: usize| 0.01 * k as f64;
+    for k in 0..8 {
+        g.decide(at(k), Measured { ncc: Some((p(10.0 + k as f32, 20.0), 0.999)), corner: None });
+    }
+    // Occluded for 10 windows (0.1 s): each coasting step looks one interval ahead.
+    for k in 8..18 {
+        let q = g.coast(at(k)).expect("within the coast limit");
+        assert!((q.x - (11.0 + k as f32)).abs() < 1e-3 && (q.y - 20.0).abs() < 1e-3, "{q:?}");
+        assert_eq!(g.decide(at(k + 1), Measured::default()), None);
+    }
+    // The object shows again 6 px from the prediction: inside the re-acquisition reach.
+    let got = g.decide(at(19), Measured { ncc: Some((p(35.0, 20.0), 0.98)), corner: None });
+    assert_eq!(got, Some((p(35.0, 20.0), Source::Ncc)));
+}
+
+#[test]
+fn coasting_ends_after_its_limit() {
+    let params = GuardParams { coast: 1.5, ..GuardParams::default() };
+    let mut g = Guard::new(params);
+    g.decide(0.0, Measured { ncc: Some((p(0.0, 0.0), 0.999)), corner: None });
+    g.decide(1.0, Measured { ncc: Some((p(1.0, 0.0), 0.999)), corner: None });
+    // Last position at t = 1 s: coasting holds until 1.5 s later.
+    assert!(g.coast(1.0).is_some() && g.coast(2.5).is_some());
+    assert_eq!(g.coast(2.6), None);
+}

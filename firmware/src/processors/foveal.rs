@@ -1,0 +1,306 @@
+//! The Foveal (Tracking) processor (thesis 2.3.2, 4.2): NCC or the corner detector at full
+//! resolution around the tracked point; in COOP a master running NCC and a partner running
+//! the corner detector on the same coordinates, the master's [`Policy`] choosing each frame.
+use super::coop::guard::{Guard, GuardParams};
+use super::coop::Policy;
+use super::messages::{Dest, Msg};
+use super::params::{Params, COAST_MARGIN};
+use super::step::{placements, Mode, Step, Work};
+use super::template::Template;
+use crate::kernels::corner::{CornerDetector, CornerParams};
+use crate::kernels::matching::{best_match, Method};
+use crate::kernels::refine::{refine_translation, refine_translation_on};
+use crate::kernels::support::{best_match_on, Support};
+use crate::kernels::view::WindowView;
+use crate::types::{Decimation, Point, Source};
+
+/// NCC tracking of `tpl` in `win`: the new point (the best placement, refined to sub-pixel
+/// accuracy by [`refine_translation`]) and its score, or `None` if the best score is under
+/// `ncc_min` (the target has left the window, or no longer looks like the template).
+fn ncc_track(win: &WindowView<'_>, tpl: &Template, support: Option<&Support>, p: &Params) -> (Option<(Point, f32)>, Work) {
+    let n = tpl.side();
+    // The cost model counts the whole template: the support is a part of it.
+    let work = Work::Match { method: Method::Ncc, template: (n * n) as u32, placements: placements(win, n, 1) };
+    let Some(tv) = tpl.view() else { return (None, work) };
+    // The object's part of a corner template first; the whole template where that finds no
+    // placement with the object's texture (a lamp's highlight across the support).
+    let on_support = support.and_then(|s| Some((best_match_on(win, &tv, s).ok()?, s)));
+    let (m, support) = match on_support {
+        Some((m, s)) => (m, Some(s)),
+        None => match best_match(Method::Ncc, win, &tv) {
+            Ok(m) => (m, None),
+            Err(_) => return (None, work),
+        },
+    };
+    let score = m.score as f32;
+    if score < p.ncc_min {
+        return (None, work);
+    }
+    // Lucas-Kanade from the parabola's placement; the parabola's own when it is refused.
+    let (ox, oy) = win.origin();
+    let refined = match support {
+        Some(s) => refine_translation_on(win, &tv, s, m.sub_x, m.sub_y),
+        None => refine_translation(win, &tv, m.sub_x, m.sub_y),
+    };
+    let (x, y) = refined.map_or((m.frame_x, m.frame_y), |(x, y)| (x + ox as f32, y + oy as f32));
+    (Some((tpl.point_at(x, y), score)), work)
+}
+
+/// The corner in `win`, or `None` when the detector finds none.
+fn cd_track(win: &WindowView<'_>, det: &mut CornerDetector, p: &Params) -> (Option<Point>, Work) {
+    let work = Work::Corner { pixels: (win.width() * win.height()) as u32 };
+    let c = det.detect(win, &CornerParams::new(p.corner_threshold)).ok();
+    (c.map(|c| Point { x: c.x, y: c.y }), work)
+}
+
+/// Which algorithm a Foveal processor runs, and its role in COOP.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FovealKind {
+    /// NCC alone (TPDF, MPDF; Table 4.1's NCC).
+    Ncc,
+    /// The corner detector alone (Table 4.1's CD).
+    Cd,
+    /// COOP master: NCC here, the corner detector on the partner; the confidence measure
+    /// chooses (4.2-4.3).
+    CoopMaster,
+    /// COOP partner: the corner detector on the master's coordinates.
+    CoopPartner,
+}
+
+/// A Foveal (Tracking) processor.
+pub struct Foveal {
+    kind: FovealKind,
+    template: Option<Template>,
+    /// The object's part of a corner template ([`crate::kernels::support`]), when it is one.
+    support: Option<Support>,
+    detector: CornerDetector,
+    tracking: Option<Point>,
+    params: Params,
+    coop: Policy,
+    /// COOP master: own result of the current window, waiting for the partner's.
+    own: Option<Option<(Point, f32)>>,
+    partner: Option<Option<Point>>,
+}
+
+impl Foveal {
+    /// A Foveal processor; a COOP master decides with guarded cooperation
+    /// ([`Foveal::with_policy`] chooses another policy).
+    pub fn new(kind: FovealKind, params: Params, template: Option<Template>) -> Self {
+        let mut f = Foveal {
+            kind,
+            template: None,
+            support: None,
+            detector: CornerDetector::default(),
+            tracking: None,
+            params,
+            coop: Policy::Guarded(Guard::new(GuardParams::default())),
+            own: None,
+            partner: None,
+        };
+        if let Some(t) = template {
+            f.set_template(t);
+        }
+        f
+    }
+
+    /// Takes `tpl` as the template, with its support when it is centred on a corner.
+    fn set_template(&mut self, tpl: Template) {
+        let a = tpl.anchor();
+        self.support = tpl.view().and_then(|v| {
+            Support::of_template(&v, (a.x, a.y), &mut self.detector, &CornerParams::new(self.params.corner_threshold))
+        });
+        self.template = Some(tpl);
+    }
+
+    /// The same processor with another confidence policy (COOP master).
+    pub fn with_policy(mut self, policy: Policy) -> Self {
+        self.coop = policy;
+        self
+    }
+
+    /// Starts tracking at `p` (the target given at start).
+    pub fn start_at(&mut self, p: Point) -> Step {
+        self.start(p, true)
+    }
+
+    /// Starts tracking at `p`: the tracked point itself when `exact`, otherwise the
+    /// Peripheral's approximate location.
+    fn start(&mut self, p: Point, exact: bool) -> Step {
+        self.tracking = Some(p);
+        self.coop.begin(p, exact);
+        let step = Step::new(Work::None).ask(Some(self.params.foveal_window(p)));
+        if self.kind == FovealKind::CoopMaster {
+            step.send(Dest::FovealCd, Msg::Follow(p))
+        } else {
+            step
+        }
+    }
+
+    /// Whether a COOP master's track is coasting: tracking, but with no current position.
+    pub fn coasting(&self) -> bool {
+        matches!(&self.coop, Policy::Guarded(g) if g.coasting())
+    }
+
+    /// Whether it is tracking.
+    pub fn mode(&self) -> Mode {
+        if self.tracking.is_some() {
+            Mode::Track
+        } else {
+            Mode::Watch
+        }
+    }
+
+    /// A message arrived.
+    pub fn on_message(&mut self, m: &Msg, t: f64) -> Step {
+        match m {
+            Msg::Template(tpl) => {
+                self.set_template(tpl.clone());
+                Step::new(Work::None)
+            }
+            Msg::Approx(p) if self.tracking.is_none() => self.start(*p, false),
+            Msg::Follow(p) => {
+                self.tracking = Some(*p);
+                Step::new(Work::None).ask(Some(self.params.foveal_window(*p)))
+            }
+            Msg::Result(r) if self.kind == FovealKind::CoopMaster => {
+                self.partner = Some(*r);
+                self.decide(t)
+            }
+            Msg::Lost(_) if self.kind == FovealKind::CoopPartner => {
+                self.tracking = None;
+                Step::new(Work::None)
+            }
+            _ => Step::new(Work::None),
+        }
+    }
+
+    /// A Foveal window arrived, at time `t` seconds (for the confidence fits).
+    pub fn on_window(&mut self, win: &WindowView<'_>, t: f64) -> Step {
+        match self.kind {
+            FovealKind::Cd | FovealKind::CoopPartner => {
+                let (found, work) = cd_track(win, &mut self.detector, &self.params);
+                let step = Step::new(work);
+                if self.kind == FovealKind::CoopPartner {
+                    step.send(Dest::Foveal, Msg::Result(found))
+                } else {
+                    self.follow(step, found, Source::Cd)
+                }
+            }
+            FovealKind::Ncc | FovealKind::CoopMaster => {
+                let (found, work) = match &self.template {
+                    Some(tpl) => ncc_track(win, tpl, self.support.as_ref(), &self.params),
+                    None => (None, Work::None),
+                };
+                if self.kind == FovealKind::CoopMaster {
+                    self.own = Some(found);
+                    let mut s = self.decide(t);
+                    s.work = work;
+                    s
+                } else {
+                    self.follow(Step::new(work), found.map(|(p, _)| p), Source::Ncc)
+                }
+            }
+        }
+    }
+
+    /// COOP: once both results of a window are in, feed the confidence measure and follow
+    /// the source it chooses.
+    fn decide(&mut self, t: f64) -> Step {
+        let (Some(own), Some(partner)) = (self.own, self.partner) else { return Step::new(Work::None) };
+        self.own = None;
+        self.partner = None;
+        let chosen = self.coop.decide(t, own, partner);
+        if let Some(q) = chosen.is_none().then(|| self.coop.coast(t)).flatten() {
+            // Nothing measured the point: look where it should be next, report nothing.
+            let side = self.params.foveal + 2 * COAST_MARGIN;
+            return Step::new(Work::Decision)
+                .ask(Some(self.params.window(q, side, Decimation::Full)))
+                .send(Dest::FovealCd, Msg::Follow(q));
+        }
+        let (found, source) = (chosen.map(|c| c.0), chosen.map_or(Source::Ncc, |c| c.1));
+        let step = self.follow(Step::new(Work::Decision), found, source);
+        match (step.request, found, step.lost) {
+            (Some(_), Some(p), _) => step.send(Dest::FovealCd, Msg::Follow(p)),
+            // The partner stops with the master; the Peripheral takes over.
+            (_, _, Some(last)) => step.send(Dest::FovealCd, Msg::Lost(last)),
+            _ => step,
+        }
+    }
+
+    fn follow(&mut self, step: Step, found: Option<Point>, source: Source) -> Step {
+        match (found, self.tracking) {
+            (Some(p), _) => {
+                self.tracking = Some(p);
+                let mut s = step.ask(Some(self.params.foveal_window(p))).send(Dest::Peripheral, Msg::Tracked(p));
+                s.report = Some((p, source));
+                s
+            }
+            (None, Some(last)) => {
+                self.tracking = None;
+                let mut s = step.send(Dest::Peripheral, Msg::Lost(last));
+                s.lost = Some(last);
+                s
+            }
+            (None, None) => step,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::processors::testing::{cut, frame, params, square, template, TARGET};
+
+    fn near(p: Point, q: Point) -> bool {
+        (p.x - q.x).abs() < 0.01 && (p.y - q.y).abs() < 0.01
+    }
+
+    #[test]
+    fn ncc_tracks_the_block_and_loses_it_when_it_goes() {
+        let mut f = Foveal::new(FovealKind::Ncc, params(), Some(template()));
+        let s = f.start_at(TARGET);
+        let win = square(24, 14, 16, Decimation::Full);
+        assert_eq!((s.request, s.sends.len(), f.mode()), (Some(win), 0, Mode::Track));
+        // The template (8x8) placed at its own pixels: NCC 1, the point where it started.
+        let s = f.on_window(&cut(&frame(Some((30, 20))), &win), 0.0);
+        assert_eq!(s.work, Work::Match { method: Method::Ncc, template: 64, placements: 81 });
+        let (p, source) = s.report.unwrap();
+        assert!(near(p, TARGET) && source == Source::Ncc, "{p:?}");
+        assert_eq!(&s.sends[..], &[(Dest::Peripheral, Msg::Tracked(p))][..]);
+        assert_eq!(s.request, Some(win));
+        // The block moves by (2, 1): so does the point, and the window follows
+        // (round(33.5 - 7.5) = 26, round(22.5 - 7.5) = 15).
+        let s = f.on_window(&cut(&frame(Some((32, 21))), &win), 0.04);
+        let (p, _) = s.report.unwrap();
+        assert!(near(p, Point { x: 33.5, y: 22.5 }), "{p:?}");
+        assert_eq!(s.request, Some(square(26, 15, 16, Decimation::Full)));
+        // A flat window: NCC 5600 / sqrt(760000 * 64) = 0.80 < 0.97, lost where it last was.
+        let s = f.on_window(&cut(&frame(None), &win), 0.08);
+        assert_eq!((s.report, s.request, s.lost), (None, None, Some(p)));
+        assert_eq!(&s.sends[..], &[(Dest::Peripheral, Msg::Lost(p))][..]);
+        assert_eq!(f.mode(), Mode::Watch);
+    }
+
+    #[test]
+    fn the_coop_master_decides_once_both_results_of_a_window_are_in() {
+        let mut master = Foveal::new(FovealKind::CoopMaster, params(), Some(template()));
+        let mut partner = Foveal::new(FovealKind::CoopPartner, params(), None);
+        let win = square(24, 14, 16, Decimation::Full);
+        let s = master.start_at(TARGET);
+        assert_eq!(&s.sends[..], &[(Dest::FovealCd, Msg::Follow(TARGET))][..]);
+        assert_eq!(partner.on_message(&Msg::Follow(TARGET), 0.0).request, Some(win));
+        let block = frame(Some((30, 20)));
+        // The partner answers with its corner, whatever it is; it reports nothing itself.
+        let s = partner.on_window(&cut(&block, &win), 0.0);
+        assert!(matches!(&s.sends[..], [(Dest::Foveal, Msg::Result(_))]) && s.report.is_none());
+        // The master's own NCC waits for the partner's result.
+        let s = master.on_window(&cut(&block, &win), 0.0);
+        assert_eq!((s.report, s.request, s.sends.len()), (None, None, 0));
+        // No corner: trusted NCC (score 1 >= 0.99) is followed, and the partner told to follow.
+        let s = master.on_message(&Msg::Result(None), 0.0);
+        let (p, source) = s.report.unwrap();
+        assert!(near(p, TARGET) && source == Source::Ncc, "{p:?}");
+        assert_eq!(s.work, Work::Decision);
+        assert_eq!(&s.sends[..], &[(Dest::Peripheral, Msg::Tracked(p)), (Dest::FovealCd, Msg::Follow(p))][..]);
+    }
+}

@@ -1,0 +1,66 @@
+//! The processors' tuning (thesis Table 2.2's window sizes by default) and the placement of a
+//! square window inside the frame.
+use crate::types::{Decimation, Point, WindowRequest};
+
+/// Extra pixels on each side of a coasting track's Foveal window, beyond the window's own
+/// +-2 px search: the prediction drifts while nothing is measured.
+pub const COAST_MARGIN: u16 = 6;
+
+
+/// Tuning shared by the processors (thesis Table 2.2 sizes by default).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Params {
+    /// Frame width.
+    pub frame_w: u16,
+    /// Frame height.
+    pub frame_h: u16,
+    /// Template side N (20 in 2.6).
+    pub template: u16,
+    /// Foveal window side (24).
+    pub foveal: u16,
+    /// Peripheral window sides in Tracking and the two Detection steps (40, 64).
+    pub peripheral: [u16; 2],
+    /// Image differencing threshold.
+    pub motion_threshold: u8,
+    /// Moving pixels needed to report motion.
+    pub motion_min_pixels: u32,
+    /// Lowest NCC accepted as the target.
+    pub ncc_min: f32,
+    /// Highest mean squared difference per pixel accepted by the Peripheral SSD.
+    pub ssd_max: f32,
+    /// Corner detector edge threshold TH.
+    pub corner_threshold: u16,
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Params {
+            frame_w: 256,
+            frame_h: 256,
+            template: 20,
+            foveal: 24,
+            peripheral: [40, 64],
+            motion_threshold: 25,
+            motion_min_pixels: 12,
+            ncc_min: 0.97,
+            ssd_max: 900.0,
+            corner_threshold: 50,
+        }
+    }
+}
+
+impl Params {
+    /// A `side`x`side` window centred on `p`, moved inside the frame.
+    pub fn window(&self, p: Point, side: u16, decimation: Decimation) -> WindowRequest {
+        let side = side.min(self.frame_w).min(self.frame_h).max(2);
+        let place = |c: f32, len: u16| {
+            let start = libm::roundf(c - (f32::from(side) - 1.0) / 2.0);
+            start.clamp(0.0, f32::from(len - side)) as u16
+        };
+        WindowRequest { x0: place(p.x, self.frame_w), y0: place(p.y, self.frame_h), width: side, height: side, decimation }
+    }
+
+    pub(super) fn foveal_window(&self, p: Point) -> WindowRequest {
+        self.window(p, self.foveal, Decimation::Full)
+    }
+}

@@ -1,0 +1,84 @@
+//! What a processor answers to an event (thesis 2.3): the mode it is in, the kernel work it
+//! did (for the processor cost model of 2.5) and a [`Step`] carrying the next window request,
+//! the messages sent and the position reported.
+use super::messages::{Dest, Msg};
+use crate::kernels::view::WindowView;
+use crate::types::{Point, Source, WindowRequest};
+use crate::kernels::matching::Method;
+
+/// The mode a strategy is in (thesis 2.3.1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// Looking for motion.
+    Watch,
+    /// Locating the target approximately.
+    Detect,
+    /// Tracking with the Foveal window.
+    Track,
+}
+
+/// Kernel work done for one event, for a processor cost model.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Work {
+    /// Nothing beyond bookkeeping.
+    None,
+    /// Image differencing over this many pixels.
+    Motion {
+        /// Pixels differenced.
+        pixels: u32,
+    },
+    /// Template matching.
+    Match {
+        /// The measure.
+        method: Method,
+        /// Template pixels.
+        template: u32,
+        /// Placements tried.
+        placements: u32,
+    },
+    /// The corner detector over a window of this many pixels.
+    Corner {
+        /// Window pixels.
+        pixels: u32,
+    },
+    /// The COOP decision (two least-squares fits).
+    Decision,
+}
+
+/// A processor's answer to an event.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Step {
+    /// Kernel work done.
+    pub work: Work,
+    /// The window to acquire next (applies from the next frame the window logic can arm).
+    pub request: Option<WindowRequest>,
+    /// Messages sent.
+    pub sends: heapless::Vec<(Dest, Msg), 4>,
+    /// A position to report to the robot controller.
+    pub report: Option<(Point, Source)>,
+    /// Tracking was lost on this step; the last position tracked.
+    pub lost: Option<Point>,
+}
+
+impl Step {
+    pub(super) fn new(work: Work) -> Self {
+        Step { work, request: None, sends: heapless::Vec::new(), report: None, lost: None }
+    }
+    pub(super) fn send(mut self, d: Dest, m: Msg) -> Self {
+        // Four slots cover every processor's sends; a fifth is a bug, dropped rather than panic.
+        let _ = self.sends.push((d, m));
+        self
+    }
+    pub(super) fn ask(mut self, r: Option<WindowRequest>) -> Self {
+        self.request = r;
+        self
+    }
+}
+
+/// Placements of an `n`-pixel-square template, subsampled by `step`, in `win`.
+pub(super) fn placements(win: &WindowView<'_>, n: usize, step: usize) -> u32 {
+    let s = step.max(1);
+    let (w, h) = (win.width(), win.height());
+    let t = n.div_ceil(s);
+    (w.saturating_sub(t) + 1) as u32 * (h.saturating_sub(t) + 1) as u32
+}

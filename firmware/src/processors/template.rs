@@ -1,0 +1,81 @@
+//! The target template (thesis 2.3.2, 2.4): the N x N block captured at lock-on, matched by
+//! the Peripheral (SSD at 25 %) and Foveal (NCC) processors and sent between them.
+use crate::kernels::view::WindowView;
+use crate::types::Point;
+
+/// Largest template side.
+pub const MAX_TEMPLATE: usize = 32;
+
+
+/// The target template: an N x N block and the offset of the tracked point from its
+/// top-left pixel (N/2 - 0.5 when the point was the block's centre).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Template {
+    px: [u8; MAX_TEMPLATE * MAX_TEMPLATE],
+    n: usize,
+    anchor: Point,
+}
+
+impl Template {
+    /// The N x N block of `frame` whose centre is nearest `p`, or `None` if it does not fit
+    /// in the view or N is 0 or over [`MAX_TEMPLATE`].
+    pub fn capture(frame: &WindowView<'_>, p: Point, n: usize) -> Option<Template> {
+        if n == 0 || n > MAX_TEMPLATE {
+            return None;
+        }
+        let half = (n as f32 - 1.0) / 2.0;
+        let (ox, oy) = frame.origin();
+        let x0 = libm::roundf(p.x - half - ox as f32);
+        let y0 = libm::roundf(p.y - half - oy as f32);
+        if x0 < 0.0 || y0 < 0.0 {
+            return None;
+        }
+        let sub = frame.sub(x0 as usize, y0 as usize, n, n)?;
+        let mut px = [0u8; MAX_TEMPLATE * MAX_TEMPLATE];
+        for y in 0..n {
+            for (x, v) in sub.row_iter(y).enumerate() {
+                if let Some(slot) = px.get_mut(y * n + x) {
+                    *slot = v;
+                }
+            }
+        }
+        let top_left = Point { x: x0 + ox as f32, y: y0 + oy as f32 };
+        Some(Template { px, n, anchor: Point { x: p.x - top_left.x, y: p.y - top_left.y } })
+    }
+
+    /// The template's pixels as a view.
+    pub fn view(&self) -> Option<WindowView<'_>> {
+        WindowView::packed(self.px.get(..self.n * self.n)?, self.n, self.n).ok()
+    }
+
+    /// Side N.
+    pub fn side(&self) -> usize {
+        self.n
+    }
+
+    /// The N x N pixels, row by row.
+    pub fn pixels(&self) -> &[u8] {
+        self.px.get(..self.n * self.n).unwrap_or(&[])
+    }
+
+    /// Offset of the tracked point from the top-left pixel.
+    pub fn anchor(&self) -> Point {
+        self.anchor
+    }
+
+    /// A template from its side, anchor and N x N pixels (as a link carries it), or `None`
+    /// if N is 0 or over [`MAX_TEMPLATE`] or the pixels are not N x N.
+    pub fn from_parts(n: usize, anchor: Point, pixels: &[u8]) -> Option<Template> {
+        if n == 0 || n > MAX_TEMPLATE || pixels.len() != n * n {
+            return None;
+        }
+        let mut px = [0u8; MAX_TEMPLATE * MAX_TEMPLATE];
+        px[..n * n].copy_from_slice(pixels);
+        Some(Template { px, n, anchor })
+    }
+
+    /// The tracked point for a template placed with its top-left at `(x, y)`.
+    pub(super) fn point_at(&self, x: f32, y: f32) -> Point {
+        Point { x: x + self.anchor.x, y: y + self.anchor.y }
+    }
+}
