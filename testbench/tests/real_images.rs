@@ -4,15 +4,8 @@
 //!
 //! Asserted on every condition: COOP's RMS is within 10% of the better of its own sources and
 //! below every OpenCV tracker's; its loss is within 1 point of its better source and at most
-//! every OpenCV tracker's, except beside clutter (see [`KNOWN_SHORTFALL`]).
+//! every OpenCV tracker's.
 use coopwin_testbench::real_images::{self, conditions, opencv_score, run_ours, Rendered, Score, OPENCV, OURS};
-
-/// The condition where COOP's loss is behind: a blob beside the path sits in the corner's
-/// template for about 50 frames, NCC's score falls under its acceptance level and the corner
-/// detector merges the blob into the corner; COOP coasts and reports nothing (20% lost against
-/// NCC's 19%, CD's 15% and matchTemplate's 15%), while its RMS is below both sources' and
-/// every OpenCV tracker's (0.60 px).
-const KNOWN_SHORTFALL: (&str, f64) = ("corner-clutter", 21.0);
 
 fn ours(c: &real_images::Condition, frames: &mut Rendered, label: &str) -> Score {
     let (_, strategy, policy) = OURS.iter().copied().find(|o| o.0 == label).expect("a tracker of ours");
@@ -43,29 +36,23 @@ fn coop_is_not_behind_its_sources_and_ahead_of_opencv() {
         let cd = ours(&c, &mut frames, "CD (TPDF)");
         let best = rms(&ncc).min(rms(&cd));
         assert!(rms(&coop) <= 1.1 * best, "{}: COOP RMS {:?}, NCC {:?}, CD {:?}", c.name, coop.rms, ncc.rms, cd.rms);
-        let shortfall = (c.name == KNOWN_SHORTFALL.0).then_some(KNOWN_SHORTFALL.1);
-        if let Some(bound) = shortfall {
-            assert!(coop.loss <= bound, "{}: COOP loss {} over its known {bound}", c.name, coop.loss);
-        } else {
-            assert!(coop.loss <= ncc.loss.min(cd.loss) + 1.0, "{}: COOP loss {}, NCC {}, CD {}", c.name, coop.loss, ncc.loss, cd.loss);
-        }
+        assert!(coop.loss <= ncc.loss.min(cd.loss) + 1.0, "{}: COOP loss {}, NCC {}, CD {}", c.name, coop.loss, ncc.loss, cd.loss);
         for (label, file) in OPENCV {
             let theirs = opencv_score(&c, &frames.truth, file).expect("readable").expect("fixture present");
             assert!(rms(&coop) < rms(&theirs), "{}: COOP RMS {:?} vs {label} {:?}", c.name, coop.rms, theirs.rms);
-            if shortfall.is_none() {
-                assert!(coop.loss <= theirs.loss, "{}: COOP loss {} vs {label} {}", c.name, coop.loss, theirs.loss);
-            }
+            assert!(coop.loss <= theirs.loss, "{}: COOP loss {} vs {label} {}", c.name, coop.loss, theirs.loss);
         }
     }
 }
 
 #[test]
 fn coop_beats_both_sources_where_each_fails_in_turn() {
-    // Behind the occluder NCC loses the object and does not find it again (53% lost); the
-    // corner detector alone is coarse on a textured object (0.9-3.8 px). COOP coasts through
-    // the occlusion and resumes, and where both measure it fuses them.
+    // Behind the occluder NCC loses the object and does not find it again (54% lost); the
+    // corner detector alone is coarse on a textured object (0.7-2 px) and loses it under the
+    // lamp and beside clutter. COOP coasts through the occlusion and resumes, and where both
+    // measure the corner it fuses them.
     let by_name = |n: &str| conditions().into_iter().find(|c| c.name == n).expect("condition");
-    for name in ["corner-occluder", "corner-plain"] {
+    for name in ["corner-plain", "corner-lamp", "corner-clutter", "corner-occluder"] {
         let c = by_name(name);
         let mut frames = Rendered::new(&c);
         let coop = ours(&c, &mut frames, "COOP");
