@@ -8,7 +8,7 @@ set -euo pipefail
 out=${1:?usage: scripts/fingerprint.sh OUT_DIR (a new or empty folder)}
 cd "$(dirname "$0")/.."
 cargo build --release -q 2>/dev/null
-bin=$PWD/target/release/coopwin
+bin=${CARGO_TARGET_DIR:-$PWD/target}/release/coopwin
 mkdir -p "$out"/verilog "$out"/results "$out"/report "$out"/scene "$out"/photo
 (cd "$out" && "$bin" > main.txt)                      # the main job writes report/
 "$bin" verilog --out "$out"/verilog > /dev/null
