@@ -10,13 +10,14 @@ cd "$(dirname "$0")/.."
 cargo build --release -q 2>/dev/null
 bin=${CARGO_TARGET_DIR:-$PWD/target}/release/coopwin
 mkdir -p "$out"/verilog "$out"/results "$out"/report "$out"/scene "$out"/photo
-(cd "$out" && "$bin" > main.txt)                      # the main job writes report/
+# The main job writes report/; its summary without the speed lines (they vary run to run).
+(cd "$out" && "$bin" | grep -v "frames/s" > main.txt)
 "$bin" verilog --out "$out"/verilog > /dev/null
 "$bin" waves --out "$out"/waves.vcd > /dev/null
 "$bin" scene --path triangle --speed 100 --frames 120 --lighting ramp --out "$out"/scene --force > /dev/null
 "$bin" scene --photo --path swing --speed 80 --noise 2 --frames 120 --out "$out"/photo --force > /dev/null
 for s in spmf tpdf mpdf coop; do
-  "$bin" track --frames "$out"/scene --strategy "$s" --target 56.32,56.32 --out "$out/track-$s.csv" > "$out/track-$s.txt"
+  "$bin" track --frames "$out"/scene --strategy "$s" --target 56.32,56.32 --out "$out/track-$s.csv" > /dev/null
 done
 for p in sse kalman; do
   "$bin" track --frames "$out"/scene --strategy coop --policy "$p" --target 56.32,56.32 --out "$out/track-coop-$p.csv" > /dev/null
