@@ -405,7 +405,7 @@ pub fn run_with(
             (Proc::Spmf(s), t) => s.start(t),
             (Proc::Peripheral(pp), Some(t)) => pp.start_at(t),
             (Proc::Foveal(f), Some(t)) if Some(i) == routes.foveal => f.start_at(t),
-            _ => Step { work: coopwin_firmware::processors::Work::None, request: None, sends: Default::default(), report: None, lost: None },
+            _ => Step { work: coopwin_firmware::processors::Work::None, request: None, sends: Default::default(), report: None, score: None, lost: None },
         };
         apply(i, step, 0, backend, &mut q, &routes, &mut links, &mut log.requests, &mut link_state)?;
     }

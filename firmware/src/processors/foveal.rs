@@ -53,6 +53,10 @@ fn cd_track(win: &WindowView<'_>, det: &mut CornerDetector, p: &Params) -> (Opti
     (c.map(|c| Point { x: c.x, y: c.y }), work)
 }
 
+/// Farthest, in pixels, a COOP position may be from the window's NCC match for NCC's score
+/// to stand as its confidence (the guard's agreement gate).
+const VOUCH: f32 = 1.5;
+
 /// Which algorithm a Foveal processor runs, and its role in COOP.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FovealKind {
@@ -183,7 +187,7 @@ impl Foveal {
                 if self.kind == FovealKind::CoopPartner {
                     step.send(Dest::Foveal, Msg::Result(found))
                 } else {
-                    self.follow(step, found, Source::Cd)
+                    self.follow(step, found, Source::Cd, None)
                 }
             }
             FovealKind::Ncc | FovealKind::CoopMaster => {
@@ -197,7 +201,7 @@ impl Foveal {
                     s.work = work;
                     s
                 } else {
-                    self.follow(Step::new(work), found.map(|(p, _)| p), Source::Ncc)
+                    self.follow(Step::new(work), found.map(|(p, _)| p), Source::Ncc, found.map(|(_, s)| s))
                 }
             }
         }
@@ -218,7 +222,9 @@ impl Foveal {
                 .send(Dest::FovealCd, Msg::Follow(q));
         }
         let (found, source) = (chosen.map(|c| c.0), chosen.map_or(Source::Ncc, |c| c.1));
-        let step = self.follow(Step::new(Work::Decision), found, source);
+        // NCC vouches for the point it measured, or one fused with it.
+        let score = own.zip(found).filter(|((n, _), p)| libm::hypotf(n.x - p.x, n.y - p.y) <= VOUCH).map(|((_, s), _)| s);
+        let step = self.follow(Step::new(Work::Decision), found, source, score);
         match (step.request, found, step.lost) {
             (Some(_), Some(p), _) => step.send(Dest::FovealCd, Msg::Follow(p)),
             // The partner stops with the master; the Peripheral takes over.
@@ -227,12 +233,13 @@ impl Foveal {
         }
     }
 
-    fn follow(&mut self, step: Step, found: Option<Point>, source: Source) -> Step {
+    fn follow(&mut self, step: Step, found: Option<Point>, source: Source, score: Option<f32>) -> Step {
         match (found, self.tracking) {
             (Some(p), _) => {
                 self.tracking = Some(p);
                 let mut s = step.ask(Some(self.params.foveal_window(p))).send(Dest::Peripheral, Msg::Tracked(p));
                 s.report = Some((p, source));
+                s.score = score;
                 s
             }
             (None, Some(last)) => {
@@ -266,6 +273,7 @@ mod tests {
         assert_eq!(s.work, Work::Match { method: Method::Ncc, template: 64, placements: 81 });
         let (p, source) = s.report.unwrap();
         assert!(near(p, TARGET) && source == Source::Ncc, "{p:?}");
+        assert!(s.score.is_some_and(|v| v > 0.999_99), "the report carries NCC's score: {:?}", s.score);
         assert_eq!(&s.sends[..], &[(Dest::Peripheral, Msg::Tracked(p))][..]);
         assert_eq!(s.request, Some(win));
         // The block moves by (2, 1): so does the point, and the window follows
@@ -300,6 +308,7 @@ mod tests {
         let s = master.on_message(&Msg::Result(None), 0.0);
         let (p, source) = s.report.unwrap();
         assert!(near(p, TARGET) && source == Source::Ncc, "{p:?}");
+        assert!(s.score.is_some_and(|v| v > 0.999_99), "NCC vouches for its own point: {:?}", s.score);
         assert_eq!(s.work, Work::Decision);
         assert_eq!(&s.sends[..], &[(Dest::Peripheral, Msg::Tracked(p)), (Dest::FovealCd, Msg::Follow(p))][..]);
     }

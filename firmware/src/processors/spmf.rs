@@ -59,6 +59,7 @@ impl<'b> Spmf<'b> {
         };
         let mut out = Step::new(step.work);
         out.report = step.report;
+        out.score = step.score;
         out.request = step.request;
         out.lost = step.lost;
         let mut mode = self.mode;

@@ -56,13 +56,16 @@ pub struct Step {
     pub sends: heapless::Vec<(Dest, Msg), 4>,
     /// A position to report to the robot controller.
     pub report: Option<(Point, Source)>,
+    /// The NCC score of the window behind `report` when NCC measured the reported point (a
+    /// confidence; `None` when the corner detector alone did).
+    pub score: Option<f32>,
     /// Tracking was lost on this step; the last position tracked.
     pub lost: Option<Point>,
 }
 
 impl Step {
     pub(super) fn new(work: Work) -> Self {
-        Step { work, request: None, sends: heapless::Vec::new(), report: None, lost: None }
+        Step { work, request: None, sends: heapless::Vec::new(), report: None, score: None, lost: None }
     }
     pub(super) fn send(mut self, d: Dest, m: Msg) -> Self {
         // Four slots cover every processor's sends; a fifth is a bug, dropped rather than panic.
