@@ -10,6 +10,7 @@ pub mod coord_port;
 pub mod driver;
 pub mod reg;
 pub mod run;
+pub mod sim { pub mod verilator; }
 pub mod verilog;
 pub mod window_unit;
 
