@@ -1,4 +1,4 @@
-//! The real-image evaluation (issue: cooperative tracking on real imagery) against its
+//! The real-image evaluation (cooperative tracking on real imagery) against its
 //! independent references: the renderer's exact ground truth, and OpenCV's trackers run by
 //! `scripts/opencv_real.py` on the same sequences, stored in `fixtures/opencv/real/`.
 //!
