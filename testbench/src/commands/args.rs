@@ -9,6 +9,7 @@ use std::fmt::Display;
 
 /// `--strategy`.
 #[derive(Clone, Copy, clap::ValueEnum)]
+// No doc comments on the variants: clap would list them as help beside each value.
 #[allow(missing_docs)]
 pub enum StrategyArg {
     Spmf,
@@ -51,6 +52,7 @@ impl From<PolicyArg> for CoopPolicy {
 
 /// `--hdl`.
 #[derive(Clone, Copy, PartialEq, clap::ValueEnum)]
+// No doc comments on the variants: clap would list them as help beside each value.
 #[allow(missing_docs)]
 pub enum HdlArg {
     Model,
@@ -70,6 +72,7 @@ impl From<HdlArg> for UnitBackend {
 
 /// `--profile`.
 #[derive(Clone, Copy, clap::ValueEnum)]
+// No doc comments on the variants: clap would list them as help beside each value.
 #[allow(missing_docs)]
 pub enum ProfileArg {
     C40,

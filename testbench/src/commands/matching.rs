@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 
 /// `--method`.
 #[derive(Clone, Copy, clap::ValueEnum)]
+// No doc comments on the variants: clap would list them as help beside each value.
 #[allow(missing_docs)]
 pub enum MethodArg {
     Ncc,

@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 
 /// `--path`.
 #[derive(Clone, Copy, clap::ValueEnum)]
+// No doc comments on the variants: clap would list them as help beside each value.
 #[allow(missing_docs)]
 pub enum PathArg {
     Pendulum,
@@ -17,6 +18,7 @@ pub enum PathArg {
 
 /// `--lighting`.
 #[derive(Clone, Copy, PartialEq, clap::ValueEnum)]
+// No doc comments on the variants: clap would list them as help beside each value.
 #[allow(missing_docs)]
 pub enum LightingArg {
     Constant,

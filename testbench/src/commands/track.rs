@@ -108,7 +108,7 @@ pub fn track_folder(args: TrackArgs) -> Result<(), CliError> {
     let say = |line: String| if to_stdout { eprintln!("{line}") } else { println!("{line}") };
     let cfg = args.config();
     let started = std::time::Instant::now();
-    let (log, summary, names) = track(&args.frames, &cfg, vcd.as_ref().map(|(v, _)| (v, args.vcd_frames.clone())))?;
+    let (log, summary, names) = track_frames(&args.frames, &cfg, vcd.as_ref().map(|(v, _)| (v, args.vcd_frames.clone())))?;
     let secs = started.elapsed().as_secs_f64();
     if let Some(o) = &out {
         o.write(csv::track_csv(&log.frames, Some(&names)).as_bytes())?;
@@ -176,7 +176,7 @@ pub fn progress_bar(total: usize, label: &'static str) -> impl FnMut(usize) {
 /// With `vcd`, every window unit is traced into it, for the frames in its range (all without).
 /// The target, the traced range and the write phase are checked against the frames before
 /// the run (bad ones are argument errors).
-pub fn track(dir: &Path, cfg: &SystemConfig, vcd: Option<(&OutFile, Option<Range<usize>>)>) -> Result<(RunLog, Option<Summary>, Vec<String>), CliError> {
+pub fn track_frames(dir: &Path, cfg: &SystemConfig, vcd: Option<(&OutFile, Option<Range<usize>>)>) -> Result<(RunLog, Option<Summary>, Vec<String>), CliError> {
     let mut frames = FolderFrames::open(dir)?;
     let (w, h) = frames.size();
     if let Some((x, y)) = cfg.target {
