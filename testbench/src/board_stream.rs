@@ -64,7 +64,7 @@ pub fn record(cfg: &SceneConfig) -> Result<Vec<u8>, RecordError> {
     let view = WindowView::packed(&frame0, w, h).map_err(|error| RecordError::View { frame: 0, error })?;
     let tpl = Template::capture(&view, start, 20).ok_or(RecordError::TemplateDoesNotFit)?;
     let mut pair = CoopPair::new(tpl.clone(), start);
-    let mut windows: Vec<(f64, [u16; 4], Vec<u8>)> = Vec::new();
+    let mut windows: Vec<(f64, WindowRequest, Vec<u8>)> = Vec::new();
     for k in 0..cfg.frames {
         let Some(r) = pair.want() else { break };
         let (img, _) = if k == 0 { (frame0.clone(), truth) } else { scene.render(k) };
@@ -76,10 +76,10 @@ pub fn record(cfg: &SceneConfig) -> Result<Vec<u8>, RecordError> {
         let t = k as f64 / cfg.fps;
         let v = WindowView::new(&px, ww, wh, ww, r.x0.into(), r.y0.into()).map_err(|error| RecordError::View { frame: k, error })?;
         pair.frame(&mut NoMeter, &v, t).ok_or(RecordError::NoResult(k))?;
-        windows.push((t, [r.x0, r.y0, r.width, r.height], px));
+        windows.push((t, r, px));
     }
     let frames: Vec<Frame<'_>> =
-        windows.iter().map(|(t, [x0, y0, w, h], px)| Frame { t: *t, x0: *x0, y0: *y0, w: *w, h: *h, pixels: px }).collect();
+        windows.iter().map(|(t, r, px)| Frame { t: *t, x0: r.x0, y0: r.y0, w: r.width, h: r.height, pixels: px }).collect();
     let side = u8::try_from(tpl.side()).map_err(|_| RecordError::TemplateTooLarge)?;
     let mut bytes = Vec::new();
     let a = tpl.anchor();

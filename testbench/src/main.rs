@@ -64,7 +64,7 @@ fn dispatch(command: Option<Command>) -> Result<(), CliError> {
         Some(Command::Corner(args)) => corner::print_corner(args),
         Some(Command::Motion(args)) => motion::print_motion(args),
         Some(Command::Audit(args)) => audit::audit_vcd(args),
-        Some(Command::Experiment(args)) => experiment::reproduce(args),
+        Some(Command::Experiment(args)) => experiment::write_results(args),
     }
 }
 

@@ -28,7 +28,7 @@ pub struct ExperimentArgs {
 }
 
 /// Runs the experiments named, printing each section, and writes `results.md`.
-pub fn reproduce(args: ExperimentArgs) -> Result<(), CliError> {
+pub fn write_results(args: ExperimentArgs) -> Result<(), CliError> {
     if let Some(root) = &args.sequences {
         create_folder(root, "--sequences")?;
         write_sequences(root)?;
@@ -43,7 +43,7 @@ pub fn reproduce(args: ExperimentArgs) -> Result<(), CliError> {
     let mut all = String::from("# Experiments\n\n");
     for e in chosen {
         eprintln!("experiment {}", e.name());
-        let md = e.run(&mut ctx)?;
+        let md = e.reproduce(&mut ctx)?;
         println!("{md}");
         all.push_str(&md);
     }

@@ -9,6 +9,8 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// `coopwin waves`'s options.
+// The field docs are the command's help text, where `<stem>` is no HTML tag.
+#[allow(rustdoc::invalid_html_tags)]
 #[derive(clap::Args)]
 pub struct WavesArgs {
     /// The VCD to write; the SVGs go beside it as <stem>-b1_<k>.svg

@@ -11,7 +11,7 @@ fn tracked_rms(m: &Summary) -> Option<f64> {
 
 /// Runs the figure; returns its markdown.
 pub fn reproduce(ctx: &mut Context) -> Result<String, ExperimentError> {
-    let sweep = SpeedSweep::run(ctx)?;
+    let sweep = SpeedSweep::sweep(ctx)?;
     let mut md = sweep.table("RMS error (px); empty where RLT >= 50%", |m| match tracked_rms(m) {
         Some(y) => format!("{y:.2} (RLT {:.0}%)", 100.0 * m.rlt),
         None => format!("lost (RLT {:.0}%)", 100.0 * m.rlt),

@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 
 /// Runs the figure; returns its markdown.
 pub fn reproduce(ctx: &mut Context) -> Result<String, ExperimentError> {
-    let rows = threshold_sweep::run(ctx, false)?;
+    let rows = threshold_sweep::sweep(ctx, false)?;
     let mut md = String::from("Edge-pixel information I = -log2 P (Fig. 3.8) and the proposed I_cd = 1/CLERR (Fig. 3.10) against TH.\n\n| TH | edge pixels | I bits | I_cd |\n|---|---|---|---|\n");
     for r in &rows {
         let _ = writeln!(md, "| {} | {} | {:.0} | {:.2} |", r.th, r.edges, r.i_edge, r.i_cd);

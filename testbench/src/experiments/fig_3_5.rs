@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 
 /// Runs the figure; returns its markdown.
 pub fn reproduce(ctx: &mut Context) -> Result<String, ExperimentError> {
-    let rows = threshold_sweep::run(ctx, false)?;
+    let rows = threshold_sweep::sweep(ctx, false)?;
     let mut md = String::from("Corner detector in a 20x20 Foveal window, triangle path at 40 px/s, noise 2 (no clutter).\n\n| TH | mean x | mean y | RMS | thesis |\n|---|---|---|---|---|\n");
     for r in &rows {
         let thesis = if (30..=70).contains(&r.th) { "mean ~0.3, RMS ~0.5-1" } else { "worse" };

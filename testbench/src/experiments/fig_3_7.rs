@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 
 /// Runs the figure; returns its markdown.
 pub fn reproduce(ctx: &mut Context) -> Result<String, ExperimentError> {
-    let rows = threshold_sweep::run(ctx, true)?;
+    let rows = threshold_sweep::sweep(ctx, true)?;
     let mut md = String::from("Triangle path at 40 px/s with clutter and noise 2. Rate of loss of tracking (RLT) of the corner detector: with the Watch and Peripheral windows to recover (multi-window) and the Foveal window alone (single).\n\n| TH | RLT multi % | RLT single % |\n|---|---|---|\n");
     for r in &rows {
         let _ = writeln!(md, "| {} | {:.1} | {:.1} |", r.th, 100.0 * r.multi.rlt, 100.0 * r.single.rlt);

@@ -4,7 +4,7 @@
 //! evaluation compares coopwin with OpenCV's trackers.
 //!
 //! A new experiment is a file here, an [`Experiment`] variant and its arm in
-//! [`Experiment::run`].
+//! [`Experiment::reproduce`].
 pub mod fig_2_10;
 pub mod fig_2_9;
 pub mod fig_3_10;
@@ -75,7 +75,7 @@ impl Experiment {
 
     /// Runs the experiment with `ctx`'s settings, writing into its folder; returns its
     /// markdown section.
-    pub fn run(self, ctx: &mut Context) -> Result<String, ExperimentError> {
+    pub fn reproduce(self, ctx: &mut Context) -> Result<String, ExperimentError> {
         let body = match self {
             Experiment::Table2_3 => table_2_3::reproduce,
             Experiment::Fig2_9 => fig_2_9::reproduce,

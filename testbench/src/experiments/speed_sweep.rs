@@ -18,7 +18,7 @@ pub struct SpeedSweep {
 
 impl SpeedSweep {
     /// Runs the sweep and writes its CSV.
-    pub fn run(ctx: &mut Context) -> Result<SpeedSweep, ExperimentError> {
+    pub fn sweep(ctx: &mut Context) -> Result<SpeedSweep, ExperimentError> {
         let speeds = ctx.speeds();
         let mut csv = String::from("speed,strategy,rms_px,rlt,lock_on_ms\n");
         let mut runs = Vec::new();

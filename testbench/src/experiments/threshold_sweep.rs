@@ -33,7 +33,7 @@ impl ThresholdRow {
 }
 
 /// Runs the sweep (with clutter on the background when `clutter`) and writes its CSV.
-pub fn run(ctx: &mut Context, clutter: bool) -> Result<Vec<ThresholdRow>, ExperimentError> {
+pub fn sweep(ctx: &mut Context, clutter: bool) -> Result<Vec<ThresholdRow>, ExperimentError> {
     let mut csv = String::from("threshold,mean_x,mean_y,rms,rlt_multi,rlt_single,edge_pixels,i_edge,i_cd\n");
     let mut rows = Vec::new();
     for th in (1..=10).map(|k| k * 10) {

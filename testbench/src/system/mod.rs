@@ -6,7 +6,7 @@
 //!
 //! - [`config`]: what a run is asked to do; [`cost`]: how long the processors take;
 //! - [`roster`]: the processors of each strategy and their roles;
-//! - [`event_loop`]: the loop itself, over [`events`], [`links`] and [`writes`] (coordinate
+//! - [`event_loop`]: the loop itself, over `events`, `links` and `writes` (coordinate
 //!   writes, the watchdog and the injected faults);
 //! - [`log`]: what a run records.
 pub mod config;
