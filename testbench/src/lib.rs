@@ -18,6 +18,19 @@
 //! - [`commands`]: the `coopwin` subcommands;
 //! - [`board_stream`]: the window stream the Cortex-M4 board replays.
 #![warn(missing_docs)]
+
+/// `From` impls that wrap each inner error as a variant of an error enum:
+/// `wrap_errors!(Outer { Variant(Inner), ... })`.
+macro_rules! wrap_errors {
+    ($outer:ident { $($variant:ident($inner:ty)),* $(,)? }) => {
+        $(impl From<$inner> for $outer {
+            fn from(e: $inner) -> Self {
+                $outer::$variant(e)
+            }
+        })*
+    };
+}
+
 pub mod analysis;
 pub mod board_stream;
 pub mod commands;

@@ -202,14 +202,4 @@ impl std::fmt::Display for ExperimentError {
 
 impl std::error::Error for ExperimentError {}
 
-impl From<SimError> for ExperimentError {
-    fn from(e: SimError) -> Self {
-        ExperimentError::Run(e)
-    }
-}
-
-impl From<PlotError> for ExperimentError {
-    fn from(e: PlotError) -> Self {
-        ExperimentError::Plot(e)
-    }
-}
+wrap_errors!(ExperimentError { Run(SimError), Plot(PlotError) });

@@ -147,14 +147,4 @@ impl std::fmt::Display for SimError {
 
 impl std::error::Error for SimError {}
 
-impl From<UnitError> for SimError {
-    fn from(e: UnitError) -> Self {
-        SimError::Units(e)
-    }
-}
-
-impl From<FrameError> for SimError {
-    fn from(e: FrameError) -> Self {
-        SimError::Frame(e)
-    }
-}
+wrap_errors!(SimError { Units(UnitError), Frame(FrameError) });

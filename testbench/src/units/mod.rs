@@ -213,14 +213,4 @@ impl std::fmt::Display for UnitError {
 
 impl std::error::Error for UnitError {}
 
-impl From<FrameError> for UnitError {
-    fn from(e: FrameError) -> Self {
-        UnitError::Frame(e)
-    }
-}
-
-impl From<VerilatorError> for UnitError {
-    fn from(e: VerilatorError) -> Self {
-        UnitError::Verilator(e)
-    }
-}
+wrap_errors!(UnitError { Frame(FrameError), Verilator(VerilatorError) });
