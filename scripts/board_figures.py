@@ -14,7 +14,7 @@ HZ = 168e6          # the STM32F4's Cortex-M4F clock the issue names
 FRAME = 8.8e-3      # the CA-D1's frame period at 114 frames/s (thesis 2.6)
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
-# The testbench's C40 cost model (testbench/src/cost.rs), calibrated to the thesis's 18 ms
+# The testbench's C40 cost model (testbench/src/system/cost.rs), calibrated to the thesis's 18 ms
 # Foveal update (2.6): NCC 1.14 us per template pixel per placement, SSD/SAD half, the
 # corner detector 5 us per window pixel, differencing 0.75 us per pixel, the decision 0.1
 # ms, 20 us per event.
@@ -106,7 +106,7 @@ def main():
     p("* **Time at 168 MHz** is instructions / 168 MHz, i.e. one cycle per instruction. QEMU is")
     p("  not cycle-accurate: on a real M4 loads, taken branches, divisions and flash wait states")
     p("  add cycles, so the margin is also given at 2 cycles per instruction.")
-    p("* **C40** times are the testbench's C40 cost model (`testbench/src/cost.rs`), calibrated")
+    p("* **C40** times are the testbench's C40 cost model (`testbench/src/system/cost.rs`), calibrated")
     p("  to the thesis's measured 18 ms Foveal update with a 20x20 template (2.6); the thesis")
     p("  gives no per-kernel table.")
     p("* **Stack**: measured, not a static bound. The board paints the free RAM at reset and")

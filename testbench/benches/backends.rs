@@ -5,7 +5,7 @@
 //! Run: cargo bench -p coopwin-testbench --bench backends
 use coopwin_hdl::sim::camera::RasterTiming;
 use coopwin_hdl::sim::driver::{CoordBus, UnitDriver, UnitOutputs};
-use coopwin_testbench::verilator::VerilatorNetwork;
+use coopwin_hdl::sim::verilator::VerilatorNetwork;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use std::hint::black_box;
 

@@ -2,13 +2,12 @@
 //! `vcd` crate) and checked against the coordinate sets its processor wrote. A clean run passes;
 //! a tampered request list and a tampered waveform are caught (the audit can fail).
 use coopwin_firmware::types::Decimation;
-use coopwin_testbench::audit::{audit, read_requests, read_vcd, Sample, Set};
-use coopwin_testbench::backend::Trace;
-use coopwin_testbench::commands::track::requests_csv;
-use coopwin_testbench::cost::CostModel;
-use coopwin_testbench::experiments::{system, SceneFrames};
-use coopwin_testbench::scene::{PathKind, Scene, SceneConfig};
-use coopwin_testbench::system::{run_traced, HdlChoice, Strategy};
+use coopwin_testbench::analysis::audit::{audit, read_vcd, requests, Sample, Set};
+use coopwin_testbench::frames::scene::{PathKind, Scene, SceneConfig, SceneFrames};
+use coopwin_testbench::system::cost::CostModel;
+use coopwin_testbench::system::{simulate_traced, Strategy, SystemConfig};
+use coopwin_testbench::units::clocked::Trace;
+use coopwin_testbench::units::UnitBackend;
 
 /// TPDF's three units on a 64x64 camera (a small trace): the Watch's full frames, the
 /// Peripheral's 25% windows and the Foveal's 24x24 windows, all in one VCD of `frames`.
@@ -19,15 +18,15 @@ type UnitTrace = (Vec<Sample>, Vec<(usize, Set)>);
 fn traced_tpdf(name: &str, frames: std::ops::Range<usize>) -> Vec<UnitTrace> {
     let scene = SceneConfig { path: PathKind::Triangle, width: 64, height: 64, frames: 10, speed: 60.0, seed: 3, ..SceneConfig::default() };
     let target = Scene::new(scene.clone()).truth(0).corner;
-    let mut cfg = system(Strategy::Tpdf, CostModel::NATIVE, Some(target));
-    cfg.hdl = HdlChoice::RustHdl;
+    let mut cfg = SystemConfig::thesis(Strategy::Tpdf, CostModel::NATIVE, Some(target));
+    cfg.backend = UnitBackend::RustHdl;
     let path = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
     let out = Box::new(std::io::BufWriter::new(std::fs::File::create(&path).unwrap()));
-    let log = run_traced(&cfg, &mut SceneFrames::new(scene), &mut |_| {}, Some(Trace { out, frames })).unwrap();
+    let log = simulate_traced(&cfg, &mut SceneFrames::new(scene), &mut |_| {}, Some(Trace { out, frames })).unwrap();
     assert!(log.requests.iter().any(|r| r.2.decimation == Decimation::Quarter));
-    let csv = requests_csv(&log);
+    let csv = requests::to_csv(&log);
     let read = |unit| read_vcd(std::io::BufReader::new(std::fs::File::open(&path).unwrap()), unit).unwrap();
-    (0..3).map(|unit| (read(unit), read_requests(&csv, unit).unwrap())).collect()
+    (0..3).map(|unit| (read(unit), requests::read(&csv, unit).unwrap())).collect()
 }
 
 #[test]
@@ -43,7 +42,7 @@ fn a_traced_run_passes_the_audit_and_tampering_is_caught() {
 
     // A set the processor never wrote.
     let mut wrong = sets.clone();
-    wrong[1].1 .0 += 1;
+    wrong[1].1.window.xmin += 1;
     assert!(audit(&samples, &wrong).violations.iter().any(|v| v.contains("the processor wrote")));
     // A strobe the unit never made.
     let mut forged = samples.clone();

@@ -3,7 +3,7 @@
 use coopwin_parity::stream::Stream;
 use coopwin_parity::suite::{self, NoMeter};
 use coopwin_testbench::board_stream::{record, scene};
-use coopwin_testbench::scene::Scene;
+use coopwin_testbench::frames::scene::Scene;
 
 #[test]
 fn the_committed_stream_is_current() {

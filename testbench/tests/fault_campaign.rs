@@ -7,14 +7,15 @@
 //! dropout), and tracking recovered after the last fault. The references are the scene's
 //! ground truth and, for the link, the reports the run sent. The figures printed at the end
 //! are the ones in docs/system.md ("Reliability").
-use coopwin_firmware::ports::{frame::FrameDecoder, position::PositionUpdate};
+use coopwin_firmware::ports::frame::FrameDecoder;
+use coopwin_firmware::ports::position::PositionUpdate;
 use coopwin_firmware::processors::Mode;
 use coopwin_hdl::sim::camera::Jitter;
-use coopwin_testbench::cost::CostModel;
-use coopwin_testbench::experiments::{system, triangle, SceneFrames};
-use coopwin_testbench::metrics::summarise;
-use coopwin_testbench::scene::{Scene, SceneConfig};
-use coopwin_testbench::system::{run, Strategy};
+use coopwin_testbench::analysis::metrics::summarise;
+use coopwin_testbench::experiments::setup::triangle;
+use coopwin_testbench::frames::scene::{Scene, SceneConfig, SceneFrames};
+use coopwin_testbench::system::cost::CostModel;
+use coopwin_testbench::system::{simulate, Strategy, SystemConfig};
 
 const RUNS: u64 = 36;
 const FRAMES: usize = 100;
@@ -71,7 +72,7 @@ fn the_loop_survives_every_fault_logs_it_and_recovers() {
         let all = kind >= 4;
         let scene = SceneConfig { frames: FRAMES, ..triangle(40.0 + rng.below(40) as f64, 100 + k) };
         let truth: Vec<_> = (0..FRAMES).map(|f| Scene::new(scene.clone()).truth(f)).collect();
-        let mut cfg = system(Strategy::Coop, CostModel::C40, Some(truth[0].corner));
+        let mut cfg = SystemConfig::thesis(Strategy::Coop, CostModel::C40, Some(truth[0].corner));
         if kind == 0 || all {
             cfg.jitter = Some(Jitter { seed: rng.next(), line_max: 1 + rng.below(64) as u32, frame_max: 1 + rng.below(20_000) as u32 });
             fig.blanking_runs += 1;
@@ -91,7 +92,7 @@ fn the_loop_survives_every_fault_logs_it_and_recovers() {
         };
         let what = format!("run {k} (kind {kind}): jitter {:?}, drop {:?}, corrupt {:?}, dark {dark:?}", cfg.jitter, cfg.drop_window, cfg.corrupt_request);
         let mut src = Dropout { inner: SceneFrames::new(scene), dark: dark.clone(), zeros: vec![0; 65536] };
-        let log = run(&cfg, &mut src, &mut |_| {}).unwrap_or_else(|e| panic!("{what}: {e}"));
+        let log = simulate(&cfg, &mut src, &mut |_| {}).unwrap_or_else(|e| panic!("{what}: {e}"));
         let period = log.frame_period;
 
         // No NaN: every position in the record and every report is finite.

@@ -1,12 +1,13 @@
 //! Faults on the loop: nothing panics, the loss is logged, tracking recovers. Run with the
 //! behavioural window units and with the rust-hdl units.
-use coopwin_testbench::cost::CostModel;
-use coopwin_testbench::experiments::{run_scene, system, triangle, watch_system, SceneFrames};
-use coopwin_testbench::scene::{PathKind, Scene, SceneConfig};
-use coopwin_hdl::sim::camera::Jitter;
-use coopwin_testbench::metrics::summarise;
 use coopwin_firmware::processors::Mode;
-use coopwin_testbench::system::{run, HdlChoice, Strategy};
+use coopwin_hdl::sim::camera::Jitter;
+use coopwin_testbench::analysis::metrics::summarise;
+use coopwin_testbench::experiments::setup::{run_scene, triangle, watch_config};
+use coopwin_testbench::frames::scene::{PathKind, Scene, SceneConfig, SceneFrames};
+use coopwin_testbench::system::cost::CostModel;
+use coopwin_testbench::system::{simulate, Strategy, SystemConfig};
+use coopwin_testbench::units::UnitBackend;
 
 mod common;
 use common::Dropout;
@@ -14,14 +15,14 @@ use common::Dropout;
 #[test]
 fn all_zero_frames_lose_the_target_then_tracking_recovers() {
     for strategy in [Strategy::Spmf, Strategy::Tpdf, Strategy::Coop] {
-        for hdl in [HdlChoice::Model, HdlChoice::RustHdl] {
+        for hdl in [UnitBackend::BehaviouralModel, UnitBackend::RustHdl] {
             // 48 frames: a coasting COOP resumes from a 36x36 window, about 15 C40 frames.
             let scene = SceneConfig { frames: 48, ..triangle(40.0, 8) };
             let target = Scene::new(scene.clone()).truth(0).corner;
-            let mut cfg = system(strategy, CostModel::C40, Some(target));
-            cfg.hdl = hdl;
+            let mut cfg = SystemConfig::thesis(strategy, CostModel::C40, Some(target));
+            cfg.backend = hdl;
             let mut src = Dropout { inner: SceneFrames::new(scene), dark: 8..10, zeros: vec![0; 65536] };
-            let log = run(&cfg, &mut src, &mut |_| {}).unwrap();
+            let log = simulate(&cfg, &mut src, &mut |_| {}).unwrap();
             let period = log.frame_period;
             let what = format!("{strategy:?} on {hdl:?}");
             // COOP coasts through a short dropout on its prediction (no loss, no position);
@@ -60,9 +61,9 @@ fn a_long_dropout_falls_back_to_watch_then_relocks() {
     for strategy in [Strategy::Spmf, Strategy::Tpdf, Strategy::Coop] {
         let scene = SceneConfig { frames: 150, ..triangle(40.0, 8) };
         let target = Scene::new(scene.clone()).truth(0).corner;
-        let cfg = system(strategy, CostModel::C40, Some(target));
+        let cfg = SystemConfig::thesis(strategy, CostModel::C40, Some(target));
         let mut src = Dropout { inner: SceneFrames::new(scene), dark: 8..68, zeros: vec![0; 65536] };
-        let log = run(&cfg, &mut src, &mut |_| {}).unwrap();
+        let log = simulate(&cfg, &mut src, &mut |_| {}).unwrap();
         assert_eq!(log.losses.len(), 1, "{strategy:?}");
         let modes: Vec<Mode> = log.frames.iter().map(|f| f.mode).collect();
         let detect = modes[8..].iter().position(|&m| m == Mode::Detect).map(|i| i + 8);
@@ -76,7 +77,7 @@ fn a_long_dropout_falls_back_to_watch_then_relocks() {
 #[test]
 fn leaving_and_reentering_the_field_of_view_relocks() {
     let scene = SceneConfig { path: PathKind::Pendulum, frames: 900, speed: 150.0, noise: 1.0, seed: 9, ..SceneConfig::default() };
-    let (log, m) = run_scene(&watch_system(Strategy::Tpdf, CostModel::C40, &scene), scene.clone()).unwrap();
+    let (log, m) = run_scene(&watch_config(Strategy::Tpdf, CostModel::C40, &scene), scene.clone()).unwrap();
     let truth: Vec<_> = (0..scene.frames).map(|k| Scene::new(scene.clone()).truth(k)).collect();
     let entries = (1..truth.len()).filter(|&k| truth[k].visible && !truth[k - 1].visible).count();
     assert!(entries >= 2, "the scene re-enters: {entries}");
@@ -95,11 +96,11 @@ fn a_set_corrupted_on_the_link_is_refused_and_the_watchdog_recovers() {
     let scene = SceneConfig { frames: 24, ..triangle(40.0, 12) };
     let target = Scene::new(scene.clone()).truth(0).corner;
     let mut logs = Vec::new();
-    for hdl in [HdlChoice::Model, HdlChoice::RustHdl] {
-        let mut cfg = system(Strategy::Spmf, CostModel::C40, Some(target));
+    for hdl in [UnitBackend::BehaviouralModel, UnitBackend::RustHdl] {
+        let mut cfg = SystemConfig::thesis(Strategy::Spmf, CostModel::C40, Some(target));
         cfg.corrupt_request = Some(3);
-        cfg.hdl = hdl;
-        let log = run(&cfg, &mut SceneFrames::new(scene.clone()), &mut |_| {}).unwrap();
+        cfg.backend = hdl;
+        let log = simulate(&cfg, &mut SceneFrames::new(scene.clone()), &mut |_| {}).unwrap();
         assert_eq!(log.requests[3].2.width, 1, "{hdl:?}: the fault was injected");
         assert_eq!(log.watchdog.len(), 1, "{hdl:?}: {:?}", log.watchdog);
         let (_, at) = log.watchdog[0];
@@ -116,13 +117,13 @@ fn a_set_corrupted_on_the_link_is_refused_and_the_watchdog_recovers() {
 fn a_processor_that_misses_a_window_is_woken_by_the_watchdog() {
     // The Foveal processor does not read one window (say it was busy elsewhere): no result,
     // no new request; three frames on, the watchdog asks again and tracking carries on.
-    for hdl in [HdlChoice::Model, HdlChoice::RustHdl] {
+    for hdl in [UnitBackend::BehaviouralModel, UnitBackend::RustHdl] {
         let scene = SceneConfig { frames: 24, ..triangle(40.0, 13) };
         let target = Scene::new(scene.clone()).truth(0).corner;
-        let mut cfg = system(Strategy::Spmf, CostModel::C40, Some(target));
+        let mut cfg = SystemConfig::thesis(Strategy::Spmf, CostModel::C40, Some(target));
         cfg.drop_window = Some(2);
-        cfg.hdl = hdl;
-        let log = run(&cfg, &mut SceneFrames::new(scene), &mut |_| {}).unwrap();
+        cfg.backend = hdl;
+        let log = simulate(&cfg, &mut SceneFrames::new(scene), &mut |_| {}).unwrap();
         assert_eq!(log.dropped.len(), 1, "{hdl:?}");
         assert_eq!(log.watchdog.len(), 1, "{hdl:?}: {:?}", log.watchdog);
         let (p, frame) = log.dropped[0];
@@ -133,10 +134,10 @@ fn a_processor_that_misses_a_window_is_woken_by_the_watchdog() {
 }
 
 /// COOP (all four units) on a target the triangle scene keeps in view, the windows from `hdl`.
-fn coop(hdl: HdlChoice, scene: &SceneConfig) -> coopwin_testbench::system::SystemConfig {
+fn coop(hdl: UnitBackend, scene: &SceneConfig) -> coopwin_testbench::system::SystemConfig {
     let target = Scene::new(scene.clone()).truth(0).corner;
-    let mut cfg = system(Strategy::Coop, CostModel::C40, Some(target));
-    cfg.hdl = hdl;
+    let mut cfg = SystemConfig::thesis(Strategy::Coop, CostModel::C40, Some(target));
+    cfg.backend = hdl;
     cfg
 }
 
@@ -149,12 +150,12 @@ fn random_camera_blanking_changes_no_window_and_tracking_holds() {
     // find them by counting LVAL pulses), and tracking is as good as on the fixed raster.
     let scene = SceneConfig { frames: 20, ..triangle(40.0, 3) };
     let truth = SceneFrames::new(scene.clone()).truth();
-    let steady = run(&coop(HdlChoice::Model, &scene), &mut SceneFrames::new(scene.clone()), &mut |_| {}).unwrap();
+    let steady = simulate(&coop(UnitBackend::BehaviouralModel, &scene), &mut SceneFrames::new(scene.clone()), &mut |_| {}).unwrap();
     let mut logs = Vec::new();
-    for hdl in [HdlChoice::Model, HdlChoice::RustHdl] {
+    for hdl in [UnitBackend::BehaviouralModel, UnitBackend::RustHdl] {
         let mut cfg = coop(hdl, &scene);
         cfg.jitter = Some(Jitter { seed: 11, line_max: 40, frame_max: 6_000 });
-        let log = run(&cfg, &mut SceneFrames::new(scene.clone()), &mut |_| {}).unwrap();
+        let log = simulate(&cfg, &mut SceneFrames::new(scene.clone()), &mut |_| {}).unwrap();
         let m = summarise(&log, &truth);
         assert!(log.windows.iter().all(|&n| n > 0), "{hdl:?}: every unit delivers: {:?}", log.windows);
         assert!(log.losses.is_empty(), "{hdl:?}: lost at {:?}", log.losses);
@@ -181,10 +182,10 @@ fn coordinate_writes_at_every_raster_phase_agree_with_the_model() {
     let mut first_frames = Vec::new();
     for phase in [0, 30_000, 69_648, 69_900, 70_177, 70_178] {
         let mut logs = Vec::new();
-        for hdl in [HdlChoice::Model, HdlChoice::RustHdl] {
+        for hdl in [UnitBackend::BehaviouralModel, UnitBackend::RustHdl] {
             let mut cfg = coop(hdl, &scene);
             cfg.write_phase = Some(phase);
-            let log = run(&cfg, &mut SceneFrames::new(scene.clone()), &mut |_| {}).unwrap();
+            let log = simulate(&cfg, &mut SceneFrames::new(scene.clone()), &mut |_| {}).unwrap();
             let period = 70_192;
             assert!(log.requests.iter().all(|r| (r.1 - 544) % period == phase), "{hdl:?} at {phase}: a write off its phase: {:?}", log.requests.iter().map(|r| r.1).collect::<Vec<_>>());
             assert!(log.reports.len() >= 3, "{hdl:?} at {phase}: {} reports", log.reports.len());
@@ -206,19 +207,22 @@ fn a_window_the_port_cannot_carry_is_refused_and_nothing_is_written() {
     // refused with a reason before anything reaches the port, and no window comes of them.
     use coopwin_firmware::types::{Decimation, WindowRequest};
     use coopwin_hdl::sim::camera::RasterTiming;
-    use coopwin_testbench::backend::{Clocks, HdlBackend, ModelBackend, WindowBackend};
+    use coopwin_testbench::units::clocked::ClockedUnits;
+    use coopwin_testbench::units::clocks::Clocks;
+    use coopwin_testbench::units::model::BehaviouralUnits;
+    use coopwin_testbench::units::WindowUnits;
     let scene = SceneConfig { frames: 3, ..triangle(40.0, 1) };
     let clocks = Clocks::new(RasterTiming { width: 256, height: 256, h_blank: 16, v_blank_lines: 2 }, 3, None);
     let empty = WindowRequest { x0: 0, y0: 0, width: 0, height: 8, decimation: Decimation::Full };
     let wide = WindowRequest { x0: 250, y0: 0, width: 10, height: 8, decimation: Decimation::Full };
-    let mut model = ModelBackend::new(clocks.clone(), 1);
-    let mut hdl = HdlBackend::rust_hdl(clocks.clone(), 1, None).unwrap();
-    for backend in [&mut model as &mut dyn WindowBackend, &mut hdl] {
-        let why = backend.request(0, empty, 0).unwrap_err();
+    let mut model = BehaviouralUnits::new(clocks.clone(), 1);
+    let mut hdl = ClockedUnits::rust_hdl(clocks.clone(), 1, None).unwrap();
+    for backend in [&mut model as &mut dyn WindowUnits, &mut hdl] {
+        let why = backend.request(0, empty, 0).unwrap_err().to_string();
         assert!(why.contains("window"), "{why}");
         assert!(backend.next_window(clocks.frame_start(3), &mut SceneFrames::new(scene.clone())).unwrap().is_none());
     }
-    assert!(hdl.request(0, wide, 0).unwrap_err().contains("reaches past column or row 255"));
+    assert!(hdl.request(0, wide, 0).unwrap_err().to_string().contains("reaches past column or row 255"));
     assert!(hdl.next_window(clocks.frame_start(3), &mut SceneFrames::new(scene)).unwrap().is_none());
-    assert_eq!(hdl.clocks_stepped, clocks.frame_start(3) + 1, "the units ran the run through");
+    assert_eq!(hdl.finish().unwrap().clocks, clocks.frame_start(3) + 1, "the units ran the run through");
 }

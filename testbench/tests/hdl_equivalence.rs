@@ -2,10 +2,11 @@
 //! `WindowUnit`s stepped clock by clock, and with the exported Verilog in Verilator deliver the
 //! same windows, on the same clocks, with the same pixels, and give the same tracking record.
 //! The units (two independent simulations of one design) are the reference for the model.
-use coopwin_testbench::cost::CostModel;
-use coopwin_testbench::experiments::{run_scene, system, triangle, watch_system};
-use coopwin_testbench::scene::{PathKind, Scene, SceneConfig};
-use coopwin_testbench::system::{HdlChoice, Strategy, SystemConfig};
+use coopwin_testbench::experiments::setup::{run_scene, triangle, watch_config};
+use coopwin_testbench::frames::scene::{PathKind, Scene, SceneConfig};
+use coopwin_testbench::system::cost::CostModel;
+use coopwin_testbench::system::{Strategy, SystemConfig};
+use coopwin_testbench::units::UnitBackend;
 
 /// Verilator present, or required (COOPWIN_REQUIRE_EDA=1, which makes its absence a failure).
 fn verilator() -> bool {
@@ -18,10 +19,10 @@ fn verilator() -> bool {
 }
 
 fn both(cfg: &SystemConfig, scene: &SceneConfig) {
-    let backends = if verilator() { vec![HdlChoice::RustHdl, HdlChoice::Verilator] } else { vec![HdlChoice::RustHdl] };
+    let backends = if verilator() { vec![UnitBackend::RustHdl, UnitBackend::Verilator] } else { vec![UnitBackend::RustHdl] };
     for backend in backends {
         let mut hdl = cfg.clone();
-        hdl.hdl = backend;
+        hdl.backend = backend;
         same(cfg, &hdl, scene);
     }
 }
@@ -32,7 +33,7 @@ fn same(cfg: &SystemConfig, hdl: &SystemConfig, scene: &SceneConfig) {
     assert!(!a.deliveries.is_empty());
     assert_eq!(a.deliveries.len(), b.deliveries.len(), "{:?}", cfg.strategy);
     for (x, y) in a.deliveries.iter().zip(&b.deliveries) {
-        assert_eq!(x, y, "{:?}: (processor, frame, clock, pixel hash) model vs {:?}", cfg.strategy, hdl.hdl);
+        assert_eq!(x, y, "{:?}: (processor, frame, clock, pixel hash) model vs {:?}", cfg.strategy, hdl.backend);
     }
     assert_eq!(a.frames, b.frames, "{:?}: tracking records differ", cfg.strategy);
     assert_eq!(a.reports, b.reports);
@@ -46,7 +47,7 @@ fn same(cfg: &SystemConfig, hdl: &SystemConfig, scene: &SceneConfig) {
 fn coop_all_four_units_busy_model_equals_rust_hdl() {
     let scene = SceneConfig { frames: 12, ..triangle(60.0, 21) };
     let target = Scene::new(scene.clone()).truth(0).corner;
-    both(&system(Strategy::Coop, CostModel::C40, Some(target)), &scene);
+    both(&SystemConfig::thesis(Strategy::Coop, CostModel::C40, Some(target)), &scene);
 }
 
 #[test]
@@ -55,7 +56,7 @@ fn watch_lock_on_with_full_frames_strips_and_quarter_windows_model_equals_rust_h
     // the Foveal windows all run; native timing makes every unit busy every frame.
     let scene = SceneConfig { path: PathKind::Pendulum, frames: 24, speed: 400.0, noise: 1.0, seed: 5, ..SceneConfig::default() };
     // The template (the stored model of the part) comes from later in the swing.
-    let cfg = watch_system(Strategy::Mpdf, CostModel::NATIVE, &SceneConfig { frames: 200, ..scene.clone() });
+    let cfg = watch_config(Strategy::Mpdf, CostModel::NATIVE, &SceneConfig { frames: 200, ..scene.clone() });
     both(&cfg, &scene);
 }
 
@@ -66,7 +67,7 @@ fn coop_on_a_jittered_raster_model_equals_rust_hdl_and_verilator() {
     // every window on it from `FrameRaster::pixel_clock`.
     let scene = SceneConfig { frames: 12, ..triangle(60.0, 22) };
     let target = Scene::new(scene.clone()).truth(0).corner;
-    let mut cfg = system(Strategy::Coop, CostModel::C40, Some(target));
+    let mut cfg = SystemConfig::thesis(Strategy::Coop, CostModel::C40, Some(target));
     cfg.jitter = Some(coopwin_hdl::sim::camera::Jitter { seed: 4, line_max: 24, frame_max: 4_000 });
     both(&cfg, &scene);
 }

@@ -1,13 +1,14 @@
-//! The real-image evaluation (issue: cooperative tracking on real imagery) against its
+//! The real-image evaluation (cooperative tracking on real imagery) against its
 //! independent references: the renderer's exact ground truth, and OpenCV's trackers run by
 //! `scripts/opencv_real.py` on the same sequences, stored in `fixtures/opencv/real/`.
 //!
 //! Asserted on every condition: COOP's RMS is within 10% of the better of its own sources and
 //! below every OpenCV tracker's; its loss is within 1 point of its better source and at most
 //! every OpenCV tracker's.
-use coopwin_testbench::real_images::{self, conditions, opencv_score, run_ours, Rendered, Score, OPENCV, OURS};
+use coopwin_testbench::experiments::real_images::{self, conditions, opencv_score, run_ours, Score, OPENCV, OURS};
+use coopwin_testbench::frames::prerendered::Prerendered;
 
-fn ours(c: &real_images::Condition, frames: &mut Rendered, label: &str) -> Score {
+fn ours(c: &real_images::Condition, frames: &mut Prerendered, label: &str) -> Score {
     let (_, strategy, policy) = OURS.iter().copied().find(|o| o.0 == label).expect("a tracker of ours");
     run_ours(c, frames, strategy, policy).expect("runs")
 }
@@ -23,14 +24,14 @@ fn opencv_fixtures_are_from_the_current_sequences() {
     for c in conditions() {
         let stored = std::fs::read_to_string(real_images::fixtures_dir().join(format!("{}.fingerprint", c.name)))
             .unwrap_or_else(|e| panic!("{}: no stored fingerprint ({e})", c.name));
-        assert_eq!(stored.trim(), Rendered::new(&c).fingerprint(), "{}: OpenCV fixtures are stale", c.name);
+        assert_eq!(stored.trim(), c.render().fingerprint(), "{}: OpenCV fixtures are stale", c.name);
     }
 }
 
 #[test]
 fn coop_is_not_behind_its_sources_and_ahead_of_opencv() {
     for c in conditions() {
-        let mut frames = Rendered::new(&c);
+        let mut frames = c.render();
         let coop = ours(&c, &mut frames, "COOP");
         let ncc = ours(&c, &mut frames, "NCC (TPDF)");
         let cd = ours(&c, &mut frames, "CD (TPDF)");
@@ -54,7 +55,7 @@ fn coop_beats_both_sources_where_each_fails_in_turn() {
     let by_name = |n: &str| conditions().into_iter().find(|c| c.name == n).expect("condition");
     for name in ["corner-plain", "corner-lamp", "corner-clutter", "corner-occluder"] {
         let c = by_name(name);
-        let mut frames = Rendered::new(&c);
+        let mut frames = c.render();
         let coop = ours(&c, &mut frames, "COOP");
         let ncc = ours(&c, &mut frames, "NCC (TPDF)");
         let cd = ours(&c, &mut frames, "CD (TPDF)");
@@ -67,7 +68,7 @@ fn coop_beats_both_sources_where_each_fails_in_turn() {
 fn scoring_matches_a_hand_calculation() {
     // Three visible frames: one exact, one 3-4-5 off (5 px: tracked, not lost), one with no
     // position. RMS = sqrt((0 + 25) / 2); loss = 1 of 3.
-    use coopwin_testbench::scene::Truth;
+    use coopwin_testbench::frames::groundtruth::Truth;
     let t = |k: usize| Truth { frame: k, centre: (10.0, 10.0), corner: (0.0, 0.0), visible: true };
     let truth = [t(0), t(1), t(2)];
     let pos = [Some((0, (10.0, 10.0))), Some((1, (13.0, 14.0))), None];

@@ -1,9 +1,9 @@
 //! The tracking system end to end on short synthetic scenes, against their ground truth
 //! (an independent reference: the scene generator's analytic corner position).
-use coopwin_testbench::cost::CostModel;
-use coopwin_testbench::experiments::{run_scene, system, triangle, watch_system};
-use coopwin_testbench::scene::{Scene, SceneConfig};
-use coopwin_testbench::system::Strategy;
+use coopwin_testbench::experiments::setup::{run_scene, triangle, watch_config};
+use coopwin_testbench::frames::scene::{Scene, SceneConfig};
+use coopwin_testbench::system::cost::CostModel;
+use coopwin_testbench::system::{Strategy, SystemConfig};
 
 fn short_triangle(speed: f64) -> SceneConfig {
     SceneConfig { frames: 120, ..triangle(speed, 11) }
@@ -19,7 +19,7 @@ fn every_strategy_tracks_a_given_target() {
     // this part, see the next test), so within a pixel.
     let scene = short_triangle(60.0);
     for (strategy, bound) in [(Strategy::Spmf, 0.5), (Strategy::Tpdf, 0.5), (Strategy::Mpdf, 0.5), (Strategy::Coop, 1.0)] {
-        let cfg = system(strategy, CostModel::C40, Some(corner0(&scene)));
+        let cfg = SystemConfig::thesis(strategy, CostModel::C40, Some(corner0(&scene)));
         let (log, m) = run_scene(&cfg, scene.clone()).unwrap();
         assert!(m.rms < bound, "{strategy:?}: RMS {}", m.rms);
         assert!(m.rlt < 0.05, "{strategy:?}: RLT {}", m.rlt);
@@ -30,7 +30,7 @@ fn every_strategy_tracks_a_given_target() {
 #[test]
 fn corner_detector_tracks_the_corner_within_a_pixel_and_a_half() {
     let scene = short_triangle(40.0);
-    let (_, m) = run_scene(&system(Strategy::TpdfCd, CostModel::C40, Some(corner0(&scene))), scene).unwrap();
+    let (_, m) = run_scene(&SystemConfig::thesis(Strategy::TpdfCd, CostModel::C40, Some(corner0(&scene))), scene).unwrap();
     assert!(m.rms < 1.5 && m.rlt < 0.05, "RMS {} RLT {}", m.rms, m.rlt);
 }
 
@@ -39,8 +39,8 @@ fn c40_foveal_ncc_updates_every_two_frames_native_every_frame() {
     // Thesis 2.6: a 20x20 template updates every 18 ms on the C40 (two frames of 8.77 ms).
     let scene = short_triangle(40.0);
     let t = corner0(&scene);
-    let (_, c40) = run_scene(&system(Strategy::Tpdf, CostModel::C40, Some(t)), scene.clone()).unwrap();
-    let (_, native) = run_scene(&system(Strategy::Tpdf, CostModel::NATIVE, Some(t)), scene).unwrap();
+    let (_, c40) = run_scene(&SystemConfig::thesis(Strategy::Tpdf, CostModel::C40, Some(t)), scene.clone()).unwrap();
+    let (_, native) = run_scene(&SystemConfig::thesis(Strategy::Tpdf, CostModel::NATIVE, Some(t)), scene).unwrap();
     let period = 70_192.0 / 8e6;
     assert!((c40.tracking.unwrap() - 2.0 * period).abs() < 0.5e-3, "{:?}", c40.tracking);
     assert!((native.tracking.unwrap() - period).abs() < 0.5e-3, "{:?}", native.tracking);
@@ -48,9 +48,9 @@ fn c40_foveal_ncc_updates_every_two_frames_native_every_frame() {
 
 #[test]
 fn watch_mode_finds_the_part_and_locks_on() {
-    let scene = SceneConfig { frames: 400, ..coopwin_testbench::experiments::pendulum(100.0, 5) };
+    let scene = SceneConfig { frames: 400, ..coopwin_testbench::experiments::setup::pendulum(100.0, 5) };
     for strategy in [Strategy::Spmf, Strategy::Tpdf, Strategy::Mpdf] {
-        let (log, m) = run_scene(&watch_system(strategy, CostModel::C40, &scene), scene.clone()).unwrap();
+        let (log, m) = run_scene(&watch_config(strategy, CostModel::C40, &scene), scene.clone()).unwrap();
         let lock = m.lock_on.unwrap_or_else(|| panic!("{strategy:?} never locked on"));
         assert!(lock < 0.5, "{strategy:?}: lock-on {lock} s");
         assert!(log.reports.len() > 20, "{strategy:?}");
@@ -63,7 +63,7 @@ fn a_window_request_applies_to_the_next_frame_only() {
     // Foveal window is written after processing, so consecutive reports are frames apart and
     // never two from one frame.
     let scene = short_triangle(40.0);
-    let (log, _) = run_scene(&system(Strategy::Tpdf, CostModel::C40, Some(corner0(&scene))), scene).unwrap();
+    let (log, _) = run_scene(&SystemConfig::thesis(Strategy::Tpdf, CostModel::C40, Some(corner0(&scene))), scene).unwrap();
     for w in log.reports.windows(2) {
         assert!(w[1].frame > w[0].frame, "{:?}", w);
     }
@@ -74,7 +74,7 @@ fn coop_with_the_kalman_policy_tracks_within_a_pixel() {
     // Thesis 5.2's proposed policy behind the same interface (its choices are unit-tested in
     // the firmware): the cooperative pair must still track within COOP's bound.
     let scene = SceneConfig { lighting_ramp: true, ..short_triangle(40.0) };
-    let mut cfg = system(Strategy::Coop, CostModel::C40, Some(corner0(&scene)));
+    let mut cfg = SystemConfig::thesis(Strategy::Coop, CostModel::C40, Some(corner0(&scene)));
     cfg.policy = coopwin_testbench::system::CoopPolicy::Kalman;
     let (log, m) = run_scene(&cfg, scene).unwrap();
     assert!(m.rms < 1.0 && m.rlt < 0.05, "RMS {} RLT {}", m.rms, m.rlt);
@@ -88,7 +88,7 @@ fn position_updates_reach_the_robot_link_framed_by_the_firmware() {
     use coopwin_firmware::types::Source;
     use coopwin_firmware::ports::{frame::FrameDecoder, position::PositionUpdate};
     let scene = short_triangle(40.0);
-    let (log, _) = run_scene(&system(Strategy::Coop, CostModel::C40, Some(corner0(&scene))), scene).unwrap();
+    let (log, _) = run_scene(&SystemConfig::thesis(Strategy::Coop, CostModel::C40, Some(corner0(&scene))), scene).unwrap();
     let mut dec = FrameDecoder::new();
     let updates: Vec<PositionUpdate> = log
         .robot_link

@@ -13,3 +13,4 @@ pub mod camera;
 pub mod driver;
 pub mod run;
 pub mod vcd;
+pub mod verilator;

@@ -1,12 +1,13 @@
 //! The main job (`coopwin` with no arguments): COOP on the built-in default scene, the
 //! thesis's cooperative-windowing experiment (4.4), next to NCC and CD alone.
 use super::{output::OutFile, CliError};
-use crate::cost::CostModel;
-use crate::experiments::{run_scene, system, triangle};
-use crate::plot::{self, Chart, Series};
-use crate::report::summary_table;
-use crate::scene::{Scene, SceneConfig};
-use crate::system::Strategy;
+use crate::experiments::setup::{run_scene, triangle};
+use crate::frames::scene::{Scene, SceneConfig};
+use crate::report::csv::track_csv;
+use crate::report::plot::{self, Chart, Series};
+use crate::report::{summary_table, verdict};
+use crate::system::cost::CostModel;
+use crate::system::{RunLog, Strategy, SystemConfig};
 use std::path::Path;
 
 /// The built-in scene: the triangular path at 40 px/s under the lamp change of Fig. 4.2.
@@ -16,7 +17,7 @@ pub fn default_scene() -> SceneConfig {
 
 /// Runs COOP (and NCC, CD for comparison) on the default scene, prints the summary and
 /// writes `out/` with the per-frame CSV, the summary and the error plot.
-pub fn run(out: &Path) -> Result<(), CliError> {
+pub fn write_report(out: &Path) -> Result<(), CliError> {
     let scene = default_scene();
     let target = Scene::new(scene.clone()).truth(0).corner;
     println!(
@@ -29,21 +30,21 @@ pub fn run(out: &Path) -> Result<(), CliError> {
     let mut logs = Vec::new();
     for (label, strategy) in [("COOP", Strategy::Coop), ("NCC (TPDF)", Strategy::Tpdf), ("CD (TPDF)", Strategy::TpdfCd)] {
         let started = std::time::Instant::now();
-        let (log, m) = run_scene(&system(strategy, CostModel::C40, Some(target)), scene.clone()).map_err(CliError::new)?;
+        let (log, m) = run_scene(&SystemConfig::thesis(strategy, CostModel::C40, Some(target)), scene.clone())?;
         let fps = log.frames.len() as f64 / started.elapsed().as_secs_f64().max(1e-9);
         rows.push((label, m, fps));
         logs.push((label, log));
     }
     let table = summary_table(&rows.iter().map(|(l, m, _)| (*l, *m)).collect::<Vec<_>>());
     for (label, m, _) in &rows {
-        println!("{label}: {}", crate::report::verdict(m));
+        println!("{label}: {}", verdict(m));
     }
     println!("{table}");
     for (label, _, fps) in &rows {
         println!("{label}: {fps:.0} frames/s of simulation");
     }
-    let truth: Vec<_> = (0..scene.frames).map(|k| Scene::new(scene.clone()).truth(k)).collect();
-    let err_series = |label: &str, log: &crate::system::RunLog| Series {
+    let truth = Scene::new(scene.clone()).all_truth();
+    let err_series = |label: &str, log: &RunLog| Series {
         label: label.to_string(),
         points: log
             .reports
@@ -61,8 +62,8 @@ pub fn run(out: &Path) -> Result<(), CliError> {
         series: logs.iter().map(|(l, log)| err_series(l, log)).collect(),
         y_range: None,
     };
-    plot::write(&chart, out, "error").map_err(CliError::new)?;
-    coop_csv.write(super::track::csv(&logs[0].1.frames, None).as_bytes())?;
+    plot::write(&chart, out, "error")?;
+    coop_csv.write(track_csv(&logs[0].1.frames, None).as_bytes())?;
     summary_md.write(table.as_bytes())?;
     println!("wrote {0}/coop.csv, {0}/summary.md, {0}/error.svg, {0}/error.png", out.display());
     Ok(())

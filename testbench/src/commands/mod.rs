@@ -1,10 +1,18 @@
-//! One module per `coopwin` subcommand family; each returns a typed error the binary prints.
-pub mod hardware;
-pub mod kernels;
+//! The `coopwin` subcommands, one file each, with their options (clap) and their work; each
+//! returns a [`CliError`] the binary prints. [`output`] holds the one rule for writing output
+//! files, [`args`] the values the command line takes.
+pub mod args;
+pub mod audit;
+pub mod corner;
+pub mod experiment;
 pub mod main_job;
+pub mod matching;
+pub mod motion;
 pub mod output;
 pub mod scene;
 pub mod track;
+pub mod verilog;
+pub mod waves;
 
 /// A failure a person can act on, printed as one line. A bad argument (a value on the command
 /// line that cannot be used, found while parsing or after) exits with code 2, anything else
@@ -50,3 +58,23 @@ impl std::error::Error for CliError {}
 pub fn io_error(what: &str, path: &std::path::Path, e: std::io::Error) -> CliError {
     CliError::new(format!("cannot {what} {}: {e}", path.display()))
 }
+
+/// Failures of the library's work (exit code 1), with their messages.
+macro_rules! run_errors {
+    ($($t:ty),*) => {
+        $(impl From<$t> for CliError {
+            fn from(e: $t) -> Self {
+                CliError::new(e.to_string())
+            }
+        })*
+    };
+}
+
+run_errors!(
+    crate::frames::folder::FolderError,
+    crate::frames::gray::ImageError,
+    crate::frames::groundtruth::GroundTruthError,
+    crate::system::SimError,
+    crate::experiments::ExperimentError,
+    crate::report::plot::PlotError
+);

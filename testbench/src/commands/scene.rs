@@ -1,14 +1,95 @@
-//! `coopwin scene`: writes a synthetic scene's frames as 8-bit PNG and its ground truth.
+//! `coopwin scene`: writes a synthetic scene's frames as 8-bit PNG and its ground truth
+//! (`groundtruth.csv`), the input of `coopwin track`.
+use super::output::{check_folder, create_folder, OutFile};
 use super::{io_error, CliError};
-use crate::scene::{Scene, SceneConfig};
-use std::fmt::Write as _;
-use std::path::Path;
+use crate::frames::groundtruth;
+use crate::frames::scene::{PathKind, Scene, SceneConfig};
+use std::path::{Path, PathBuf};
+
+/// `--path`.
+#[derive(Clone, Copy, clap::ValueEnum)]
+// No doc comments on the variants: clap would list them as help beside each value.
+#[allow(missing_docs)]
+pub enum PathArg {
+    Pendulum,
+    Triangle,
+    Swing,
+}
+
+/// `--lighting`.
+#[derive(Clone, Copy, PartialEq, clap::ValueEnum)]
+// No doc comments on the variants: clap would list them as help beside each value.
+#[allow(missing_docs)]
+pub enum LightingArg {
+    Constant,
+    Ramp,
+}
+
+/// `coopwin scene`'s options.
+#[derive(clap::Args)]
+pub struct SceneArgs {
+    /// The target's path: pendulum (Fig. 2.8), triangle (Fig. 3.4), or a swing inside the view
+    #[arg(long, value_enum, default_value_t = PathArg::Triangle)]
+    pub path: PathArg,
+    /// Target speed in pixels per second
+    #[arg(long, default_value_t = 100.0)]
+    pub speed: f64,
+    /// Number of frames (at 114 frames/s)
+    #[arg(long, default_value_t = 300)]
+    pub frames: usize,
+    /// Lighting: constant, or a ~25% brightening over the middle third (Fig. 4.2)
+    #[arg(long, value_enum, default_value_t = LightingArg::Constant)]
+    pub lighting: LightingArg,
+    /// Static clutter on the background
+    #[arg(long)]
+    pub clutter: bool,
+    /// A bar occluding the path for a tenth of the run
+    #[arg(long)]
+    pub occlusion: bool,
+    /// Gaussian noise standard deviation in gray levels
+    #[arg(long, default_value_t = 0.0)]
+    pub noise: f64,
+    /// Random seed (texture, clutter, noise)
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Real photographs (fixtures/real/) for the part's surface and the background
+    #[arg(long)]
+    pub photo: bool,
+    /// Output folder
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Write into a folder that is not empty (the scene's own files are replaced)
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// Writes the scene the options describe and says so.
+pub fn write_scene_files(args: SceneArgs) -> Result<(), CliError> {
+    let cfg = SceneConfig {
+        path: match args.path {
+            PathArg::Pendulum => PathKind::Pendulum,
+            PathArg::Triangle => PathKind::Triangle,
+            PathArg::Swing => PathKind::Swing,
+        },
+        speed: args.speed,
+        frames: args.frames,
+        lighting_ramp: args.lighting == LightingArg::Ramp,
+        clutter: args.clutter,
+        occlusion: args.occlusion,
+        noise: args.noise,
+        seed: args.seed,
+        photo: args.photo,
+        ..SceneConfig::default()
+    };
+    let n = write_scene(cfg, &args.out, args.force)?;
+    println!("wrote {n} frames and groundtruth.csv to {}", args.out.display());
+    Ok(())
+}
 
 /// Most frames `scene` writes: 20 000 frames is about three minutes at 114 frames/s.
 pub const MAX_FRAMES: usize = 20_000;
 
-/// Renders every frame of `cfg` into `out` as `frame_00000.png`..., and `groundtruth.csv`
-/// with the columns frame,centre_x,centre_y,corner_x,corner_y,visible.
+/// Renders every frame of `cfg` into `out` as `frame_00000.png`..., and `groundtruth.csv`.
 /// `out` must be a new or empty folder (its parent must exist), or, with `force`, a folder
 /// whose files are kept apart from the scene's own; `force` never mixes two scenes: it refuses
 /// a folder holding frames numbered past this scene's last.
@@ -28,7 +109,7 @@ pub fn write_scene(cfg: SceneConfig, out: &Path, force: bool) -> Result<usize, C
     };
     number("speed", cfg.speed, 10_000.0)?;
     number("noise", cfg.noise, 255.0)?;
-    if super::output::check_folder(out, "--out")? {
+    if check_folder(out, "--out")? {
         let entries: Vec<String> = std::fs::read_dir(out)
             .map_err(|e| io_error("read", out, e))?
             .filter_map(|e| e.ok().map(|e| e.file_name().to_string_lossy().into_owned()))
@@ -49,23 +130,18 @@ pub fn write_scene(cfg: SceneConfig, out: &Path, force: bool) -> Result<usize, C
             )));
         }
     }
-    super::output::create_folder(out, "--out")?;
+    create_folder(out, "--out")?;
     let (w, h, n) = (cfg.width as u32, cfg.height as u32, cfg.frames);
     let scene = Scene::new(cfg);
-    let mut csv = String::from("frame,centre_x,centre_y,corner_x,corner_y,visible\n");
+    let mut truth = Vec::with_capacity(n);
     for k in 0..n {
         let (pixels, t) = scene.render(k);
         let path = out.join(format!("frame_{k:05}.png"));
-        let img = image::GrayImage::from_raw(w, h, pixels)
-            .ok_or_else(|| CliError::new("internal: frame buffer size mismatch"))?;
+        let img = image::GrayImage::from_raw(w, h, pixels).ok_or_else(|| CliError::new("internal: frame buffer size mismatch"))?;
         img.save(&path).map_err(|e| CliError::new(format!("cannot write {}: {e}", path.display())))?;
-        let _ = writeln!(
-            csv,
-            "{},{:.4},{:.4},{:.4},{:.4},{}",
-            t.frame, t.centre.0, t.centre.1, t.corner.0, t.corner.1, t.visible as u8
-        );
+        truth.push(t);
     }
-    super::output::OutFile::check(&out.join("groundtruth.csv"), "--out")?.write(csv.as_bytes())?;
+    OutFile::check(&out.join("groundtruth.csv"), "--out")?.write(groundtruth::to_csv(truth).as_bytes())?;
     Ok(n)
 }
 

@@ -1,6 +1,6 @@
 //! Helpers shared by the fault tests.
-use coopwin_testbench::experiments::SceneFrames;
-use coopwin_testbench::system::FrameSource;
+use coopwin_testbench::frames::scene::SceneFrames;
+use coopwin_testbench::frames::{FrameError, FrameSource};
 
 /// The scene with frames `dark` replaced by all zeros (a camera dropout).
 pub struct Dropout {
@@ -19,7 +19,7 @@ impl FrameSource for Dropout {
     fn len(&self) -> usize {
         self.inner.len()
     }
-    fn frame(&mut self, k: usize) -> Result<&[u8], String> {
+    fn frame(&mut self, k: usize) -> Result<&[u8], FrameError> {
         if self.dark.contains(&k) {
             return Ok(&self.zeros);
         }

@@ -39,9 +39,8 @@
 //!    NCC under its acceptance score, the CD candidate carries the track alone only within
 //!    `gate / 2` px of it: a step of `jump` at a time would let a corner creep onto clutter.
 //! 5. **Coasting.** When neither source measures the point (an occluder passes over it), the
-//!    track coasts for up to `coast` seconds: the next window is placed at the prediction
-//!    (its velocity from the last [`MOTION_HISTORY`] positions, so that a source dragged by
-//!    clutter just before the loss does not set it) and nothing is reported; an NCC match within `reacquire` px of the prediction (a corner
+//!    track coasts for up to `coast` seconds: the next window is placed at the prediction and
+//!    nothing is reported; an NCC match within `reacquire` px of the prediction (a corner
 //!    alone: within `gate / 2` px) resumes the track. After `coast` seconds the target is lost.
 //!
 //! Everything is `f32`/`f64` arithmetic on a few values: no allocation, no panic.
@@ -86,9 +85,6 @@ impl Default for GuardParams {
 /// Positions in the prediction's least-squares fit.
 pub const HISTORY: usize = 8;
 
-/// Positions whose fit gives a coasting track's velocity (0.28 s at 114 frames/s).
-pub const MOTION_HISTORY: usize = 32;
-
 /// Weight of the newest squared innovation in each source's running mean.
 const NOISE_WEIGHT: f32 = 0.1;
 
@@ -114,7 +110,7 @@ pub struct Guard {
     learnt: u8,
     disagreements: u8,
     /// The last positions followed, with their times, newest first, for the prediction.
-    history: [Option<(f64, Point)>; MOTION_HISTORY],
+    history: [Option<(f64, Point)>; HISTORY],
     /// Windows coasted through since the last measurement.
     coasted: u8,
     /// Each source's last positions while they agree, for the thesis's SSE (4.3).
@@ -138,7 +134,7 @@ impl Guard {
             learning: Point::default(),
             learnt: 0,
             disagreements: 0,
-            history: [None; MOTION_HISTORY],
+            history: [None; HISTORY],
             coasted: 0,
             lines: SseCoop::thesis(),
             jitter: [None; 2],
@@ -166,7 +162,7 @@ impl Guard {
     /// itself (`exact`) may anchor CD; one started from an approximate location keeps the
     /// offset (the template, and so the tracked point's place on the object, has not changed).
     pub fn begin(&mut self, p: Point, exact: bool) {
-        self.history = [None; MOTION_HISTORY];
+        self.history = [None; HISTORY];
         self.coasted = 0;
         self.parted = 0;
         self.start = (exact && self.offset.is_none()).then_some(p);
@@ -301,62 +297,43 @@ impl Guard {
         }
     }
 
-    /// Where the tracked point is at `t`: the least-squares line through the last [`HISTORY`]
-    /// positions followed. While coasting, its velocity comes from the last
-    /// [`MOTION_HISTORY`] instead: the positions just before a loss are the least reliable (a
-    /// source dragged by clutter stalls), and the object's motion is better told by the longer
-    /// past.
+    /// The least-squares line through the positions followed, evaluated at `t`.
     fn predict(&self, t: f64) -> Option<Point> {
-        let recent = Line::fit(&self.history[..HISTORY])?;
-        let long = Line::fit(&self.history).filter(|_| self.coasted > 0);
-        recent.at(t, long.unwrap_or(recent).velocity)
+        line_at(&self.history, t)
     }
 }
 
-/// A least-squares line through timed positions (per axis, against time).
-#[derive(Clone, Copy, Debug)]
-struct Line {
-    /// The mean time of the positions.
-    t: f64,
-    /// The line's point at that time (the mean position).
-    at: (f64, f64),
-    /// The slope, in pixels per second (zero through a single position).
-    velocity: (f64, f64),
-}
-
-impl Line {
-    /// The line through `history` (newest first), `None` when it is empty.
-    fn fit(history: &[Option<(f64, Point)>]) -> Option<Line> {
+/// The least-squares line through timed positions (per axis, against time), newest first,
+/// evaluated at `t`; the one position when there is only one.
+fn line_at(history: &[Option<(f64, Point)>; HISTORY], t: f64) -> Option<Point> {
+    {
         let pts = history.iter().flatten();
         let n = pts.clone().count() as f64;
-        let (t_new, _) = history.first().copied().flatten()?;
+        let (t_new, p_new) = history[0]?;
+        if n < 2.0 {
+            return Some(p_new);
+        }
         // Times relative to the newest keep the sums well conditioned.
         let mean = |f: &dyn Fn(&(f64, Point)) -> f64| pts.clone().map(f).sum::<f64>() / n;
         let mt = mean(&|q| q.0 - t_new);
         let mx = mean(&|q| f64::from(q.1.x));
         let my = mean(&|q| f64::from(q.1.y));
         let stt = pts.clone().map(|q| (q.0 - t_new - mt) * (q.0 - t_new - mt)).sum::<f64>();
+        if stt <= 0.0 {
+            return Some(p_new);
+        }
         let slope = |v: &dyn Fn(&(f64, Point)) -> f64, m: f64| {
-            if stt > 0.0 {
-                pts.clone().map(|q| (q.0 - t_new - mt) * (v(q) - m)).sum::<f64>() / stt
-            } else {
-                0.0
-            }
+            pts.clone().map(|q| (q.0 - t_new - mt) * (v(q) - m)).sum::<f64>() / stt
         };
-        let velocity = (slope(&|q| f64::from(q.1.x), mx), slope(&|q| f64::from(q.1.y), my));
-        Some(Line { t: t_new + mt, at: (mx, my), velocity })
-    }
-
-    /// The point at `t` of the line through this one's mean with `velocity`.
-    fn at(&self, t: f64, velocity: (f64, f64)) -> Option<Point> {
-        let dt = t - self.t;
-        let p = Point { x: (self.at.0 + velocity.0 * dt) as f32, y: (self.at.1 + velocity.1 * dt) as f32 };
+        let (vx, vy) = (slope(&|q| f64::from(q.1.x), mx), slope(&|q| f64::from(q.1.y), my));
+        let dt = t - t_new - mt;
+        let p = Point { x: (mx + vx * dt) as f32, y: (my + vy * dt) as f32 };
         (p.x.is_finite() && p.y.is_finite()).then_some(p)
     }
 }
 
 /// Records `p` at `t` as the newest entry of `history`.
-fn remember(history: &mut [Option<(f64, Point)>; MOTION_HISTORY], t: f64, p: Point) {
+fn remember(history: &mut [Option<(f64, Point)>; HISTORY], t: f64, p: Point) {
     history.rotate_right(1);
     history[0] = Some((t, p));
 }

@@ -124,22 +124,6 @@ fn a_trusted_ncc_is_not_outvoted() {
 }
 
 #[test]
-fn a_coasting_track_keeps_the_velocity_of_its_longer_past() {
-    // 24 positions at 1 px a window along x, then 4 where a source stalled at x = 23 (a
-    // blob held it), then nothing. Hand calculation (least squares, per window): the last
-    // 8 positions give 0.405 px a window, all 28 give 0.932. The coasting window one
-    // interval on (t = 0.29) is the last 8's mean, 22.25 at t = 0.235, moved on at
-    // 0.932 for 5.5 windows: 27.37 (the last 8 alone would say 24.48).
-    let mut g = Guard::new(GuardParams::default());
-    for k in 0..28 {
-        g.decide(0.01 * k as f64, Measured { ncc: Some((p(k.min(23) as f32, 0.0), 0.999)), corner: None });
-    }
-    let q = g.coast(0.28).expect("coasting");
-    assert!(g.coasting());
-    assert!((q.x - 27.374).abs() < 1e-3 && q.y.abs() < 1e-6, "{q:?}");
-}
-
-#[test]
 fn a_corner_that_jumps_onto_clutter_does_not_outvote_ncc() {
     let mut g = Guard::new(GuardParams::default());
     g.begin(p(50.0, 50.0), true);

@@ -1,18 +1,20 @@
 //! The real-image evaluation: semi-synthetic sequences made from real photographs (a textured
 //! object from one photo moving over another in exact sub-pixel translation, see
-//! [`crate::scene`]), tracked by coopwin's strategies and compared with OpenCV's trackers,
-//! whose results are stored as fixtures by `scripts/opencv_real.py`.
+//! [`crate::frames::scene`]), tracked by coopwin's strategies and compared with OpenCV's
+//! trackers, whose results are stored as fixtures by `scripts/opencv_real.py`.
 //!
 //! Every tracker is scored the same way over the frames where the target is visible: the
 //! error is the distance from the reported point to the true point of the frame the report
 //! measured; RMS is over the frames with a position; loss counts the frames with no position
 //! or an error above [`LOSS_PX`]. A report older than [`MAX_AGE`] frames (a track coasting
 //! or waiting to recover) is no position: a stale point is not a measurement of this frame.
-use crate::cost::CostModel;
-use crate::experiments::system;
-use crate::plot::{self, Chart, Series};
-use crate::scene::{PathKind, Scene, SceneConfig, Truth};
-use crate::system::{self, CoopPolicy, FrameSource, Strategy};
+use super::ExperimentError;
+use crate::frames::groundtruth::Truth;
+use crate::frames::prerendered::Prerendered;
+use crate::frames::scene::{PathKind, SceneConfig};
+use crate::report::plot::{self, Chart, Series};
+use crate::system::cost::CostModel;
+use crate::system::{self, CoopPolicy, SimError, Strategy, SystemConfig};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -50,6 +52,13 @@ pub struct Condition {
     pub scene: SceneConfig,
     /// The point tracked.
     pub tracked: Tracked,
+}
+
+impl Condition {
+    /// The condition's frames, rendered once and tracked by every tracker.
+    pub fn render(&self) -> Prerendered {
+        Prerendered::new(&self.scene)
+    }
 }
 
 /// The conditions: the object's centre on a swing at mean speeds 20-120 px/s, and its corner on
@@ -130,48 +139,12 @@ pub fn score(positions: &[Option<(usize, (f64, f64))>], truth: &[Truth], tracked
     Score { rms: (with > 0).then(|| (sq / with as f64).sqrt()), loss: 100.0 * lost as f64 / visible.max(1) as f64 }
 }
 
-/// A condition's frames, rendered once and tracked by every tracker.
-pub struct Rendered {
-    frames: Vec<Vec<u8>>,
-    size: (usize, usize),
-    /// Ground truth of every frame.
-    pub truth: Vec<Truth>,
-}
-
-impl Rendered {
-    /// Renders every frame of `c`.
-    pub fn new(c: &Condition) -> Self {
-        let scene = Scene::new(c.scene.clone());
-        let (frames, truth) = (0..c.scene.frames).map(|k| scene.render(k)).unzip();
-        Rendered { frames, size: (c.scene.width, c.scene.height), truth }
-    }
-
-    /// A fingerprint of every frame's pixels, as hex: the same frames give the same text.
-    pub fn fingerprint(&self) -> String {
-        let per_frame: Vec<u8> = self.frames.iter().flat_map(|f| system::fingerprint(f).to_le_bytes()).collect();
-        format!("{:016x}", system::fingerprint(&per_frame))
-    }
-}
-
-impl FrameSource for Rendered {
-    fn size(&self) -> (usize, usize) {
-        self.size
-    }
-    fn len(&self) -> usize {
-        self.frames.len()
-    }
-    fn frame(&mut self, k: usize) -> Result<&[u8], String> {
-        self.frames.get(k).map(Vec::as_slice).ok_or_else(|| format!("no frame {k}"))
-    }
-}
-
 /// Runs one of coopwin's trackers on a condition's frames, at the firmware's native speed, the
 /// target given as the true point of frame 0.
-pub fn run_ours(c: &Condition, frames: &mut Rendered, strategy: Strategy, policy: CoopPolicy) -> Result<Score, String> {
+pub fn run_ours(c: &Condition, frames: &mut Prerendered, strategy: Strategy, policy: CoopPolicy) -> Result<Score, SimError> {
     let target = frames.truth.first().map(|t| c.tracked.of(t));
-    let mut cfg = system(strategy, CostModel::NATIVE, target);
-    cfg.policy = policy;
-    let log = system::run(&cfg, frames, &mut |_| {})?;
+    let cfg = SystemConfig { policy, ..SystemConfig::thesis(strategy, CostModel::NATIVE, target) };
+    let log = system::simulate(&cfg, frames, &mut |_| {})?;
     let positions: Vec<_> =
         log.frames.iter().map(|r| r.point.zip(r.measured_frame).map(|(p, m)| (m, p))).collect();
     Ok(score(&positions, &frames.truth, c.tracked))
@@ -179,13 +152,13 @@ pub fn run_ours(c: &Condition, frames: &mut Rendered, strategy: Strategy, policy
 
 /// Reads an OpenCV fixture (`frame,x,y`, empty x,y for no position) and scores it, or `None`
 /// when the fixture is missing.
-pub fn opencv_score(c: &Condition, truth: &[Truth], tracker: &str) -> Result<Option<Score>, String> {
+pub fn opencv_score(c: &Condition, truth: &[Truth], tracker: &str) -> Result<Option<Score>, ExperimentError> {
     let path = fixtures_dir().join(format!("{}.{tracker}.csv", c.name));
     let Ok(text) = std::fs::read_to_string(&path) else { return Ok(None) };
     let mut positions = vec![None; truth.len()];
     for (i, line) in text.lines().enumerate().skip(1) {
         let f: Vec<&str> = line.split(',').map(str::trim).collect();
-        let bad = || format!("{}: line {}: expected frame,x,y", path.display(), i + 1);
+        let bad = || ExperimentError::Fixture { path: path.clone(), line: i + 1 };
         let k: usize = f.first().and_then(|s| s.parse().ok()).ok_or_else(bad)?;
         let xy = match (f.get(1), f.get(2)) {
             (Some(x), Some(y)) if !x.is_empty() && !y.is_empty() => {
@@ -200,28 +173,15 @@ pub fn opencv_score(c: &Condition, truth: &[Truth], tracker: &str) -> Result<Opt
     Ok(Some(score(&positions, truth, c.tracked)))
 }
 
-/// Writes every condition's frames, `groundtruth.csv` and `fingerprint.txt` (see
-/// [`Rendered::fingerprint`]) under `root/<name>/`, for the OpenCV script.
-pub fn write_sequences(root: &Path, progress: &mut dyn FnMut(&str)) -> Result<(), String> {
-    for c in conditions() {
-        progress(&c.name);
-        let dir = root.join(&c.name);
-        crate::commands::scene::write_scene(c.scene.clone(), &dir, false).map_err(|e| e.message)?;
-        let fp = dir.join("fingerprint.txt");
-        std::fs::write(&fp, Rendered::new(&c).fingerprint() + "\n").map_err(|e| format!("cannot write {}: {e}", fp.display()))?;
-    }
-    Ok(())
-}
-
 /// The evaluation: every tracker on every condition; writes `real-images.csv`, `.md` and a chart
 /// into `dir` and returns the markdown.
-pub fn run(dir: &Path, progress: &mut dyn FnMut(&str)) -> Result<String, String> {
+pub fn evaluate(dir: &Path, progress: &mut dyn FnMut(&str)) -> Result<String, ExperimentError> {
     let conds = conditions();
     let labels: Vec<&str> = OURS.iter().map(|o| o.0).chain(OPENCV.iter().map(|o| o.0)).collect();
     let mut table: Vec<Vec<Option<Score>>> = Vec::new();
     for c in &conds {
         progress(&c.name);
-        let mut frames = Rendered::new(c);
+        let mut frames = c.render();
         let mut row = Vec::new();
         for (_, strategy, policy) in OURS {
             row.push(Some(run_ours(c, &mut frames, strategy, policy)?));
@@ -251,8 +211,8 @@ pub fn run(dir: &Path, progress: &mut dyn FnMut(&str)) -> Result<String, String>
             }
         }
     }
-    let p = dir.join("real-images.csv");
-    std::fs::write(&p, csv).map_err(|e| format!("cannot write {}: {e}", p.display()))?;
+    let path = dir.join("real-images.csv");
+    std::fs::write(&path, csv).map_err(|source| ExperimentError::Io { action: "write", path, source })?;
     let chart = Chart {
         title: "Real-image sequences: RMS error per condition (log10 px)".into(),
         x_label: format!("condition (1-{}: {})", conds.len(), conds.iter().map(|c| c.name.as_str()).collect::<Vec<_>>().join(", ")),

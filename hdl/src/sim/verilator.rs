@@ -1,15 +1,18 @@
-//! `--hdl verilator`: the exported `window_network` (4 units) compiled with Verilator on demand
-//! into a shared library beside the C interface of `hdl/verilog/tb/verilator_harness.cpp`, and
-//! stepped one pixel clock per call.
-use coopwin_hdl::sim::driver::{CoordBus, UnitOutputs};
+//! The exported `window_network` (4 units) compiled with Verilator on demand into a shared
+//! library beside the C interface of `hdl/verilog/tb/verilator_harness.cpp`, and stepped one
+//! pixel clock per call with the same interface as [`super::driver::NetworkDriver`]. The
+//! testbench's `--hdl verilator` window units run on it.
+use super::camera::CameraBus;
+use super::driver::{CoordBus, UnitOutputs};
 use std::ffi::c_void;
+use std::hash::{Hash, Hasher};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// Units in the exported network.
-pub const UNITS: usize = coopwin_hdl::verilog::DEFAULT_UNITS;
+pub const UNITS: usize = crate::verilog::DEFAULT_UNITS;
 
-const HARNESS: &str = include_str!("../../hdl/verilog/tb/verilator_harness.cpp");
+const HARNESS: &str = include_str!("../../verilog/tb/verilator_harness.cpp");
 
 /// Verilator's flags. The model's C++ is built at -O3 (Verilator's own default, -Os, runs
 /// about 20% slower here: 6.8 M against 8.8 M clocks/s for the 4-unit network).
@@ -21,6 +24,71 @@ type NewFn = unsafe extern "C" fn() -> *mut c_void;
 type StepFn = unsafe extern "C" fn(*mut c_void, u32, *const u32, *mut u32);
 type FreeFn = unsafe extern "C" fn(*mut c_void);
 
+/// Why the Verilator model cannot be built or loaded.
+#[derive(Debug)]
+pub enum VerilatorError {
+    /// The Verilog export failed.
+    Export(String),
+    /// A tool could not be started.
+    Start {
+        /// The tool, as named in messages.
+        what: &'static str,
+        /// The reason.
+        source: std::io::Error,
+        /// What to install.
+        install: &'static str,
+    },
+    /// A tool ran and failed.
+    Failed {
+        /// The tool, as named in messages.
+        what: &'static str,
+        /// Its standard output and error.
+        output: String,
+    },
+    /// A file or folder could not be made.
+    Io {
+        /// What was being done (`create`, `write`, ...).
+        action: &'static str,
+        /// The file or folder.
+        path: String,
+        /// The reason.
+        source: std::io::Error,
+    },
+    /// The finished library could not be put in place.
+    Install {
+        /// The library built.
+        from: PathBuf,
+        /// Where it was to go.
+        to: PathBuf,
+        /// The reason.
+        source: std::io::Error,
+    },
+    /// Verilator's include folder is missing.
+    NoInclude(PathBuf),
+    /// The library could not be loaded, or lacks a symbol.
+    Load(String),
+    /// The model's constructor returned nothing.
+    NoModel,
+}
+
+impl std::fmt::Display for VerilatorError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            VerilatorError::Export(e) | VerilatorError::Load(e) => f.write_str(e),
+            VerilatorError::Start { what, source, install } => write!(f, "cannot run {what}: {source} ({install})"),
+            VerilatorError::Failed { what, output } => write!(f, "{what} failed:\n{output}"),
+            VerilatorError::Io { action, path, source } => write!(f, "cannot {action} {path}: {source}"),
+            VerilatorError::Install { from, to, source } => {
+                write!(f, "cannot move {} to {}: {source}", from.display(), to.display())
+            }
+            VerilatorError::NoInclude(root) => write!(f, "Verilator's include folder not found under {}", root.display()),
+            VerilatorError::NoModel => f.write_str("the Verilator model could not be created"),
+        }
+    }
+}
+
+impl std::error::Error for VerilatorError {}
+
 /// The Verilator model of `window_network`.
 pub struct VerilatorNetwork {
     handle: *mut c_void,
@@ -30,12 +98,16 @@ pub struct VerilatorNetwork {
     _lib: libloading::Library,
 }
 
-fn run(cmd: &mut Command, what: &str) -> Result<(), String> {
-    let out = cmd.output().map_err(|e| format!("cannot run {what}: {e} (apt-get install -y verilator g++)"))?;
+/// Runs a build tool; its output becomes the error when it fails.
+fn run_tool(cmd: &mut Command, what: &'static str) -> Result<(), VerilatorError> {
+    let out = cmd
+        .output()
+        .map_err(|source| VerilatorError::Start { what, source, install: "apt-get install -y verilator g++" })?;
     if out.status.success() {
         Ok(())
     } else {
-        Err(format!("{what} failed:\n{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr)))
+        let output = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+        Err(VerilatorError::Failed { what, output })
     }
 }
 
@@ -46,18 +118,17 @@ fn run(cmd: &mut Command, what: &str) -> Result<(), String> {
 /// key's folder (named by process id and a counter), and the finished library is linked into
 /// place without replacing one that is already there; so concurrent threads and processes
 /// never see a half-built library, and the first one installed is the one every run loads.
-pub fn build() -> Result<PathBuf, String> {
+pub fn build() -> Result<PathBuf, VerilatorError> {
     // One build at a time within a process; other processes are kept apart by the private folders.
     static BUILDING: std::sync::Mutex<()> = std::sync::Mutex::new(());
     let _guard = BUILDING.lock().unwrap_or_else(|e| e.into_inner());
-    let files = coopwin_hdl::verilog::exported(UNITS)?;
-    let key = crate::system::fingerprint(format!("{}{}{HARNESS}{VERILATOR_FLAGS:?}", files[0].1, files[1].1).as_bytes());
-    let dir = std::env::temp_dir().join(format!("coopwin-verilator-{key:016x}"));
+    let files = crate::verilog::exported(UNITS).map_err(VerilatorError::Export)?;
+    let dir = std::env::temp_dir().join(format!("coopwin-verilator-{:016x}", key(&files)));
     let lib = dir.join("libwindow_network.so");
     if lib.exists() {
         return Ok(lib);
     }
-    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    std::fs::create_dir_all(&dir).map_err(|source| VerilatorError::Io { action: "create", path: dir.display().to_string(), source })?;
     let work = private_folder(&dir)?;
     let built = compile(&work, &files);
     let installed = built.and_then(|so| install(&so, &lib));
@@ -66,10 +137,18 @@ pub fn build() -> Result<PathBuf, String> {
     installed.map(|()| lib)
 }
 
+/// The library's key: a hash of the Verilog, the harness and the flags (the same in every
+/// process of one build of this crate).
+fn key(files: &[(&'static str, String); 2]) -> u64 {
+    let mut h = std::hash::DefaultHasher::new();
+    (&files[0].1, &files[1].1, HARNESS, VERILATOR_FLAGS).hash(&mut h);
+    h.finish()
+}
+
 /// A new folder under `dir` that no other build uses: `build-<pid>-<n>`, created with
 /// `create_dir` (which fails when the name exists), so a name left by an earlier process is
 /// skipped, never reused or deleted.
-fn private_folder(dir: &Path) -> Result<PathBuf, String> {
+fn private_folder(dir: &Path) -> Result<PathBuf, VerilatorError> {
     static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
     loop {
         let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
@@ -77,18 +156,21 @@ fn private_folder(dir: &Path) -> Result<PathBuf, String> {
         match std::fs::create_dir(&work) {
             Ok(()) => return Ok(work),
             Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists && n < 1000 => continue,
-            Err(e) => return Err(format!("cannot create {}: {e}", work.display())),
+            Err(source) => return Err(VerilatorError::Io { action: "create", path: work.display().to_string(), source }),
         }
     }
 }
 
 /// Verilates and links the model in `work`; returns the library's path there.
-fn compile(work: &Path, files: &[(&'static str, String)]) -> Result<PathBuf, String> {
+fn compile(work: &Path, files: &[(&'static str, String)]) -> Result<PathBuf, VerilatorError> {
+    let write = |name: &str, text: &str| {
+        std::fs::write(work.join(name), text).map_err(|source| VerilatorError::Io { action: "write", path: name.into(), source })
+    };
     for (name, text) in files {
-        std::fs::write(work.join(name), text).map_err(|e| format!("cannot write {name}: {e}"))?;
+        write(name, text)?;
     }
-    std::fs::write(work.join("harness.cpp"), HARNESS).map_err(|e| format!("cannot write harness.cpp: {e}"))?;
-    run(
+    write("harness.cpp", HARNESS)?;
+    run_tool(
         Command::new("verilator")
             .current_dir(work)
             .args(VERILATOR_FLAGS)
@@ -97,7 +179,7 @@ fn compile(work: &Path, files: &[(&'static str, String)]) -> Result<PathBuf, Str
     )?;
     let include = verilator_include()?;
     let so = work.join("libwindow_network.so");
-    run(
+    run_tool(
         Command::new("g++")
             .current_dir(work)
             .args(["-shared", "-fPIC", "-O3", "-std=c++17", "-Iobj"])
@@ -115,48 +197,50 @@ fn compile(work: &Path, files: &[(&'static str, String)]) -> Result<PathBuf, Str
 
 /// Puts the finished library at `lib` in one step. A hard link never replaces an existing
 /// file: when another build got there first, its library (built from the same key) stays.
-fn install(so: &Path, lib: &Path) -> Result<(), String> {
+fn install(so: &Path, lib: &Path) -> Result<(), VerilatorError> {
     match std::fs::hard_link(so, lib) {
         Ok(()) => Ok(()),
         Err(_) if lib.exists() => Ok(()),
         // A file system without hard links: a rename is atomic too (it may replace an
         // identical library another build installed meanwhile; loaded copies stay valid).
-        Err(_) => std::fs::rename(so, lib).map_err(|e| format!("cannot move {} to {}: {e}", so.display(), lib.display())),
+        Err(_) => std::fs::rename(so, lib).map_err(|source| VerilatorError::Install { from: so.into(), to: lib.into(), source }),
     }
 }
 
-fn verilator_include() -> Result<PathBuf, String> {
+fn verilator_include() -> Result<PathBuf, VerilatorError> {
     let out = Command::new("verilator")
         .arg("--getenv")
         .arg("VERILATOR_ROOT")
         .output()
-        .map_err(|e| format!("cannot run verilator: {e} (apt-get install -y verilator)"))?;
+        .map_err(|source| VerilatorError::Start { what: "verilator", source, install: "apt-get install -y verilator" })?;
     let root = PathBuf::from(String::from_utf8_lossy(&out.stdout).trim());
     let inc = root.join("include");
     if inc.join("verilated.cpp").exists() {
         Ok(inc)
     } else {
-        Err(format!("Verilator's include folder not found under {}", root.display()))
+        Err(VerilatorError::NoInclude(root))
     }
 }
 
 impl VerilatorNetwork {
     /// Builds if needed and loads the model, at power-on.
-    pub fn new() -> Result<Self, String> {
+    pub fn new() -> Result<Self, VerilatorError> {
         Self::load(&build()?)
     }
 
-    fn load(path: &Path) -> Result<Self, String> {
+    fn load(path: &Path) -> Result<Self, VerilatorError> {
         // SAFETY: the library is the one built above from our harness; its three symbols have
         // exactly the signatures declared here (see verilator_harness.cpp).
         unsafe {
-            let lib = libloading::Library::new(path).map_err(|e| format!("cannot load {}: {e}", path.display()))?;
-            let new: NewFn = *lib.get::<NewFn>(b"wn_new\0").map_err(|e| e.to_string())?;
-            let step: StepFn = *lib.get::<StepFn>(b"wn_step\0").map_err(|e| e.to_string())?;
-            let free: FreeFn = *lib.get::<FreeFn>(b"wn_free\0").map_err(|e| e.to_string())?;
+            let lib = libloading::Library::new(path)
+                .map_err(|e| VerilatorError::Load(format!("cannot load {}: {e}", path.display())))?;
+            let symbol = |e: libloading::Error| VerilatorError::Load(e.to_string());
+            let new: NewFn = *lib.get::<NewFn>(b"wn_new\0").map_err(symbol)?;
+            let step: StepFn = *lib.get::<StepFn>(b"wn_step\0").map_err(symbol)?;
+            let free: FreeFn = *lib.get::<FreeFn>(b"wn_free\0").map_err(symbol)?;
             let handle = new();
             if handle.is_null() {
-                return Err("the Verilator model could not be created".into());
+                return Err(VerilatorError::NoModel);
             }
             Ok(VerilatorNetwork { handle, step, free, _lib: lib })
         }
@@ -164,7 +248,7 @@ impl VerilatorNetwork {
 
     /// One pixel clock: the camera bus, each unit's port (missing units idle), the outputs after
     /// the rising edge into `out` (as many as given).
-    pub fn step(&mut self, cam: coopwin_hdl::sim::camera::CameraBus, ports: &[CoordBus], out: &mut [UnitOutputs]) {
+    pub fn step(&mut self, cam: CameraBus, ports: &[CoordBus], out: &mut [UnitOutputs]) {
         let c = u32::from(cam.fval) | u32::from(cam.lval) << 1 | u32::from(cam.pixel) << 2;
         let mut p = [0u32; UNITS];
         for (slot, port) in p.iter_mut().zip(ports) {

@@ -1,10 +1,8 @@
-//! Text, CSV and SVG renderings of tracking results.
-use crate::metrics::Summary;
+//! A run's summary as text: the verdict first (tracked or lost), then the figures of
+//! eqs. 2.1-2.3 and RMS/RLT as a markdown table.
+use super::ms;
+use crate::analysis::metrics::Summary;
 use std::fmt::Write as _;
-
-fn ms(v: Option<f64>) -> String {
-    v.map(|s| format!("{:.1}", s * 1e3)).unwrap_or_else(|| "-".into())
-}
 
 /// Runs that lose more than this share of the visible frames read as lost.
 pub const LOST_SHARE: f64 = 0.5;
@@ -40,9 +38,9 @@ pub fn summary_table(rows: &[(&str, Summary)]) -> String {
             if m.reports == 0 { "-".into() } else { format!("{:.3}", m.rms) },
             if m.reports == 0 { "-".into() } else { format!("{:+.2}, {:+.2}", m.mean_x, m.mean_y) },
             100.0 * m.rlt,
-            ms(m.lock_on),
-            ms(m.tracking),
-            ms(m.recovery),
+            ms(m.lock_on, 1),
+            ms(m.tracking, 1),
+            ms(m.recovery, 1),
             m.reports
         );
     }

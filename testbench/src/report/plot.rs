@@ -1,5 +1,6 @@
-//! Line and bar charts as SVG, and their PNG rendering (resvg), for the reports.
+//! Line charts as SVG, and their PNG rendering (resvg), for the reports and experiments.
 use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
 
 /// One named series of (x, y) points; `None` y values break the line.
 pub struct Series {
@@ -117,24 +118,57 @@ fn esc(t: &str) -> String {
     t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
 }
 
+/// Why a chart could not be rendered or written.
+#[derive(Debug)]
+pub enum PlotError {
+    /// The SVG does not parse.
+    Svg(resvg::usvg::Error),
+    /// The SVG has no area to draw on.
+    Empty,
+    /// The PNG cannot be encoded.
+    Png(String),
+    /// A file cannot be written.
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The reason.
+        source: std::io::Error,
+    },
+}
+
+impl std::fmt::Display for PlotError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            PlotError::Svg(e) => write!(f, "SVG: {e}"),
+            PlotError::Empty => f.write_str("empty SVG"),
+            PlotError::Png(e) => write!(f, "PNG: {e}"),
+            PlotError::Io { path, source } => write!(f, "cannot write {}: {source}", path.display()),
+        }
+    }
+}
+
+impl std::error::Error for PlotError {}
+
 /// Renders an SVG document to PNG bytes (system fonts for the text).
-pub fn png(svg: &str) -> Result<Vec<u8>, String> {
+pub fn png(svg: &str) -> Result<Vec<u8>, PlotError> {
     let mut opt = resvg::usvg::Options::default();
     opt.fontdb_mut().load_system_fonts();
-    let tree = resvg::usvg::Tree::from_str(svg, &opt).map_err(|e| format!("SVG: {e}"))?;
+    let tree = resvg::usvg::Tree::from_str(svg, &opt).map_err(PlotError::Svg)?;
     let size = tree.size().to_int_size();
-    let mut pixmap = resvg::tiny_skia::Pixmap::new(size.width(), size.height()).ok_or("empty SVG")?;
+    let mut pixmap = resvg::tiny_skia::Pixmap::new(size.width(), size.height()).ok_or(PlotError::Empty)?;
     resvg::render(&tree, resvg::tiny_skia::Transform::default(), &mut pixmap.as_mut());
-    pixmap.encode_png().map_err(|e| format!("PNG: {e}"))
+    pixmap.encode_png().map_err(|e| PlotError::Png(e.to_string()))
 }
 
 /// Writes `name.svg` and `name.png` into `dir`.
-pub fn write(chart: &Chart, dir: &std::path::Path, name: &str) -> Result<(), String> {
+pub fn write(chart: &Chart, dir: &Path, name: &str) -> Result<(), PlotError> {
     let svg = chart.svg();
-    let p = dir.join(format!("{name}.svg"));
-    std::fs::write(&p, &svg).map_err(|e| format!("cannot write {}: {e}", p.display()))?;
-    let p = dir.join(format!("{name}.png"));
-    std::fs::write(&p, png(&svg)?).map_err(|e| format!("cannot write {}: {e}", p.display()))
+    let file = |ext: &str, bytes: &[u8]| {
+        let path = dir.join(format!("{name}.{ext}"));
+        std::fs::write(&path, bytes).map_err(|source| PlotError::Io { path, source })
+    };
+    file("svg", svg.as_bytes())?;
+    file("png", &png(&svg)?)
 }
 
 #[cfg(test)]

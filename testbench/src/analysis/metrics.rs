@@ -1,8 +1,7 @@
 //! Tracking figures against ground truth, as the thesis defines them: RMS position error
 //! (Figs. 2.9, 4.4-4.6), rate of loss-of-tracking (RLT, 3.4), and the lock-on, tracking and
 //! recovery times of equations 2.1-2.3 (Table 2.3).
-use crate::commands::CliError;
-use crate::scene::Truth;
+use crate::frames::groundtruth::Truth;
 use crate::system::RunLog;
 
 /// Errors beyond this many pixels count as lost (for RLT).
@@ -32,27 +31,6 @@ pub struct Summary {
     pub tracking: Option<f64>,
     /// Eq. 2.3: mean time from a loss (with the part in view) to the next report, seconds.
     pub recovery: Option<f64>,
-}
-
-/// Reads a `groundtruth.csv` written by `coopwin scene`.
-pub fn read_truth(path: &std::path::Path) -> Result<Vec<Truth>, CliError> {
-    let text = std::fs::read_to_string(path).map_err(|e| crate::commands::io_error("read", path, e))?;
-    let mut out = Vec::new();
-    for (i, line) in text.lines().enumerate().skip(1) {
-        let f: Vec<&str> = line.split(',').collect();
-        let num = |k: usize| -> Result<f64, CliError> {
-            f.get(k)
-                .and_then(|s| s.trim().parse::<f64>().ok())
-                .ok_or_else(|| CliError::new(format!("{}: line {}: bad field {}", path.display(), i + 1, k + 1)))
-        };
-        out.push(Truth {
-            frame: num(0)? as usize,
-            centre: (num(1)?, num(2)?),
-            corner: (num(3)?, num(4)?),
-            visible: num(5)? != 0.0,
-        });
-    }
-    Ok(out)
 }
 
 /// Compares a run with the truth. The tracked point is a fixed point of the rigid part: when

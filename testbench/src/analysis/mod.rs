@@ -1,0 +1,4 @@
+//! What a run's results mean: tracking figures against ground truth ([`metrics`], thesis 2.4,
+//! 3.4, 4.4) and the waveform audit of a traced run ([`audit`], Appendix B).
+pub mod audit;
+pub mod metrics;

@@ -1,0 +1,78 @@
+//! A run's configuration: the strategy, the processors' speeds, the window units, COOP's
+//! decision policy and the faults to inject (thesis 2.3-2.6, 4.2-4.3, 5.2).
+use super::cost::CostModel;
+use super::roster::Strategy;
+use crate::units::UnitBackend;
+use coopwin_firmware::processors::Params;
+use coopwin_hdl::sim::camera::Jitter;
+
+/// How the COOP master chooses between NCC and the corner detector.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CoopPolicy {
+    /// Guarded cooperation: CD only where it measures the tracked point (the default).
+    Guarded,
+    /// The thesis's least-squares SSE over the last `coop_n` positions (4.3).
+    Sse,
+    /// A constant-velocity Kalman filter's innovation (the thesis's 5.2 proposal).
+    Kalman,
+}
+
+/// A run's configuration.
+#[derive(Clone, Debug)]
+pub struct SystemConfig {
+    /// The strategy.
+    pub strategy: Strategy,
+    /// Processor speeds.
+    pub cost: CostModel,
+    /// Window sizes and thresholds.
+    pub params: Params,
+    /// COOP's data set size n.
+    pub coop_n: usize,
+    /// The point to track, given (its template is cut from frame 0); otherwise the Watch
+    /// mode finds the moving object.
+    pub target: Option<(f64, f64)>,
+    /// Without a target: the template as a stored model of the part, cut from this frame at
+    /// this point; the Watch mode still has to find where the part is. Without either, the
+    /// Watch processor cuts the template where it first sees motion.
+    pub model: Option<(usize, (f64, f64))>,
+    /// Pixel clock in Hz.
+    pub pixel_clock_hz: f64,
+    /// Window units: the behavioural model, the rust-hdl blocks or the Verilog in Verilator.
+    pub backend: UnitBackend,
+    /// COOP's decision policy.
+    pub policy: CoopPolicy,
+    /// Fault injection: the request with this index (counting from 0 over the run) is
+    /// corrupted on its way to the unit into an invalid set (a one-column window).
+    pub corrupt_request: Option<usize>,
+    /// Fault injection: the processor does not read the delivered window with this index
+    /// (counting from 0 over the run): its pixels are lost.
+    pub drop_window: Option<usize>,
+    /// Fault injection: the camera's blanking varies from line to line and frame to frame.
+    pub jitter: Option<Jitter>,
+    /// Fault injection: every coordinate set is held until the raster reaches this clock of a
+    /// frame (counting from FVAL rising), so all writes land at one phase of the raster.
+    pub write_phase: Option<u64>,
+}
+
+impl SystemConfig {
+    /// `strategy` with the thesis's defaults: its window sizes and thresholds, COOP's n = 4
+    /// with guarded cooperation, the CA-D1's pixel clock, the behavioural window units and
+    /// no faults.
+    pub fn thesis(strategy: Strategy, cost: CostModel, target: Option<(f64, f64)>) -> SystemConfig {
+        SystemConfig {
+            strategy,
+            cost,
+            params: Params::default(),
+            coop_n: 4,
+            target,
+            model: None,
+            pixel_clock_hz: coopwin_hdl::sim::camera::CA_D1_PIXEL_CLOCK_HZ,
+            backend: UnitBackend::BehaviouralModel,
+            policy: CoopPolicy::Guarded,
+            corrupt_request: None,
+            drop_window: None,
+            jitter: None,
+            write_phase: None,
+        }
+    }
+}

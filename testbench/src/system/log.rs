@@ -1,0 +1,144 @@
+//! What a run records: a record per frame, the position reports (also framed onto the robot
+//! controller's link, thesis 2.6), losses, windows, writes, faults and the units' timings.
+use super::roster::Roster;
+use super::SimError;
+use crate::units::RequestRefused;
+use coopwin_firmware::ports::position::{FramedPositionSink, PositionSink, PositionUpdate};
+use coopwin_firmware::types::WindowRequest;
+use coopwin_firmware::types::{Point, Source};
+use coopwin_firmware::processors::{Mode, Msg, Step};
+use std::collections::VecDeque;
+
+/// What the system knew at the end of a frame period.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameRecord {
+    /// Frame index.
+    pub frame: usize,
+    /// The last tracked point reported, while tracking.
+    pub point: Option<(f64, f64)>,
+    /// The frame whose window produced `point`.
+    pub measured_frame: Option<usize>,
+    /// Mode at the end of the frame period.
+    pub mode: Mode,
+    /// The algorithm behind `point`.
+    pub source: Option<Source>,
+}
+
+/// A position report: when it was made, for which frame's window, where, and by what.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Report {
+    /// Time in seconds.
+    pub t: f64,
+    /// The frame the window was acquired from.
+    pub frame: usize,
+    /// The point.
+    pub point: Point,
+    /// The algorithm.
+    pub algo: Source,
+}
+
+/// A finished run.
+#[derive(Clone, Debug, Default)]
+pub struct RunLog {
+    /// One record a frame.
+    pub frames: Vec<FrameRecord>,
+    /// Every position report, in time order.
+    pub reports: Vec<Report>,
+    /// Times the Foveal window lost the target.
+    pub losses: Vec<f64>,
+    /// Windows acquired, per processor.
+    pub windows: Vec<usize>,
+    /// Frame period in seconds.
+    pub frame_period: f64,
+    /// Every request written: (processor, clock, request as the unit received it).
+    pub requests: Vec<(usize, u64, WindowRequest)>,
+    /// The robot controller's link: every position report as the firmware's
+    /// `FramedPositionSink` sends it (thesis 2.6: position updates to the robot controller).
+    pub robot_link: Vec<u8>,
+    /// With clock-by-clock window units: pixel clocks simulated, for the speed report.
+    pub hdl_clocks: u64,
+    /// Seconds inside the HDL simulator (rust-hdl or Verilator).
+    pub hdl_seconds: f64,
+    /// Windows delivered but not read (fault injection): (processor, frame).
+    pub dropped: Vec<(usize, usize)>,
+    /// Watchdog re-requests: (processor, clock), when a request brought no window for three
+    /// frame periods (a set refused by the unit, or lost).
+    pub watchdog: Vec<(usize, u64)>,
+    /// Every window delivered: (processor, frame, clock, fingerprint of its pixels), so
+    /// backends can be compared window for window.
+    pub deliveries: Vec<(usize, usize, u64, u64)>,
+    /// The frame and point the template was cut at, if known before the run: the tracked
+    /// point is that point of the part.
+    pub reference: Option<(usize, (f64, f64))>,
+    /// Without a target: the frame and point at which a Watch processor cut the template, the
+    /// centre of the first motion it saw; the point tracked from then on.
+    pub locked_on: Option<(usize, (f64, f64))>,
+    /// Requests the coordinate port refused: (processor, clock, why).
+    pub refused: Vec<(usize, u64, RequestRefused)>,
+    /// With a VCD of chosen frames: per unit, the sets taken before the trace began.
+    pub sets_before_trace: Vec<usize>,
+}
+
+/// The run's log as it is written, with the robot link and the last report.
+pub(super) struct Recorder {
+    pub(super) log: RunLog,
+    robot: FramedPositionSink<VecDeque<u8>>,
+    last: Option<Report>,
+}
+
+impl Recorder {
+    /// An empty log.
+    pub(super) fn new(log: RunLog) -> Self {
+        Recorder { log, robot: FramedPositionSink::new(VecDeque::new()), last: None }
+    }
+
+    /// What a step finished at `t` seconds tells the outside: its position report, measured
+    /// in `frame`, goes to the robot controller and the log; a loss of track is logged and
+    /// ends the last report's validity.
+    pub(super) fn publish(&mut self, step: &Step, t: f64, frame: usize) -> Result<(), SimError> {
+        let template_cut = step.sends.iter().any(|(_, m)| matches!(m, Msg::Template(_)));
+        if let Some(Msg::Motion { xmin, xmax, ymin, ymax }) = step.sends.iter().map(|(_, m)| m).find(|m| matches!(m, Msg::Motion { .. })) {
+            if template_cut && self.log.locked_on.is_none() {
+                let centre = |a: u16, b: u16| f64::from(f32::from(a + b) / 2.0);
+                self.log.locked_on = Some((frame, (centre(*xmin, *xmax), centre(*ymin, *ymax))));
+            }
+        }
+        if let Some((point, algo)) = step.report {
+            let r = Report { t, frame, point, algo };
+            self.emit(&r)?;
+            self.log.reports.push(r);
+            self.last = Some(r);
+        }
+        if step.lost.is_some() {
+            self.log.losses.push(t);
+            self.last = None;
+        }
+        Ok(())
+    }
+
+    /// Sends a report to the robot controller through the firmware's position sink.
+    fn emit(&mut self, r: &Report) -> Result<(), SimError> {
+        let source = if r.algo == Source::Cd { Source::Cd } else { Source::Ncc };
+        let update = PositionUpdate { t_us: (r.t.max(0.0) * 1e6) as u32, x: r.point.x, y: r.point.y, source };
+        self.robot.emit(&update).map_err(SimError::RobotLink)
+    }
+
+    /// The record of `frame`, at the end of its period.
+    pub(super) fn end_frame(&mut self, frame: usize, roster: &Roster) {
+        let mode = roster.mode();
+        // A coasting COOP track has no current position: its last one is not this frame's.
+        let tracked = if mode == Mode::Track && !roster.coasting() { self.last } else { None };
+        self.log.frames.push(FrameRecord {
+            frame,
+            point: tracked.map(|r| (f64::from(r.point.x), f64::from(r.point.y))),
+            measured_frame: tracked.map(|r| r.frame),
+            mode,
+            source: tracked.map(|r| r.algo),
+        });
+    }
+
+    /// The finished log, with the robot link's bytes.
+    pub(super) fn finish(self) -> RunLog {
+        RunLog { robot_link: self.robot.into_inner().into(), ..self.log }
+    }
+}
