@@ -50,6 +50,9 @@ const MERGE_DIST: f32 = 3.0;
 /// Points farther than this from their own fitted line are outliers (px).
 const OUTLIER_DIST: f32 = 1.0;
 
+/// Unit directions of the two edges away from the apex.
+pub(super) type Rays = [(f32, f32); 2];
+
 /// Fewest points per side for a line.
 const MIN_SIDE_POINTS: usize = 2;
 
@@ -335,7 +338,7 @@ fn two_sides(pts: &EdgePoints) -> Option<[(f32, f32); 2]> {
 /// [`NoCorner::TooFewPoints`] when a side keeps fewer once the points near the apex
 /// are left out, and [`NoCorner::OutsideWindow`] when the apex is not within
 /// `[0, w-1] x [0, h-1]`.
-pub(super) fn apex_from_points(pts: &EdgePoints, w: usize, h: usize) -> Result<((f32, f32), [(f32, f32); 2]), NoCorner> {
+pub(super) fn apex_from_points(pts: &EdgePoints, w: usize, h: usize) -> Result<((f32, f32), Rays), NoCorner> {
     let c = two_sides(pts).ok_or(NoCorner::TooFewPoints)?;
     // Doubled angles: sides θ apart have centres 2θ apart.
     if c[0].0 * c[1].0 + c[0].1 * c[1].1 > libm::cosf(2.0 * MIN_ANGLE_DEG.to_radians()) {
