@@ -20,6 +20,9 @@ const EXAMPLES: &str = "Examples:
   coopwin waves --out w.vcd --window 10,40,20,50 --frames 2
   coopwin scene --path triangle --speed 100 --frames 300 --lighting ramp --out tri
   coopwin track --frames tri --strategy coop --target 56,56 --out tri.csv
+  coopwin track --frames clip.mp4 --target-box 120,80,32,24 --out t.csv --overlay t.gif
+  coopwin track --frames clip.mp4 --fps 30 --search 6 --overlay t.mp4   lock on to motion, 30 frames/s
+  coopwin scene --path swing --photo --size 640x480 --colour --out mine
   coopwin experiment table-4.1 --out results
   coopwin track --frames tri --strategy coop --target 56,56 --hdl rust-hdl --vcd run.vcd
   coopwin audit run.vcd --requests run.requests.csv
@@ -30,6 +33,20 @@ const EXAMPLES: &str = "Examples:
   coopwin motion --prev a.png --next b.png --threshold 30
   coopwin                                      the main job: COOP on the built-in scene";
 
+const TRACK_EXAMPLES: &str = "Examples:
+  coopwin track --frames tri --target 56.32,56.32 --out tri.csv
+      a folder of PNG frames (scene writes one), the point to track given
+  coopwin track --frames clip.mp4 --target-box 120,80,32,24 --out t.csv --overlay t.gif
+      a video (through FFmpeg) at its own frame rate; the box's centre is tracked and the
+      CSV gives a 32x24 box, a confidence and an ok flag each frame; t.gif shows the windows
+  coopwin track --frames clip.mp4 --fps 30 --search 6 --overlay t.mp4
+      no target: lock on to the first motion; a wider Foveal search for fast motion
+  coopwin track --frames tri --profile c40 --strategy mpdf
+      the thesis's C40 processor timing, as the experiments use it
+CSV columns: frame,x,y,mode,source,measured_frame,file,box_x,box_y,box_w,box_h,confidence,ok
+  (x, y: pixel centres at integers; confidence: NCC's score from 0 at its acceptance level
+  to 1; ok: a position measured at most 2 frames before)";
+
 #[derive(Subcommand)]
 enum Command {
     /// Export the window logic as Verilog (window_unit.v, window_network.v)
@@ -38,7 +55,8 @@ enum Command {
     Waves(waves::WavesArgs),
     /// Write a synthetic scene (PNG frames + groundtruth.csv) with a moving textured part
     Scene(scene::SceneArgs),
-    /// Track a folder of PNG frames with a windowing strategy, in simulated time
+    /// Track a folder of PNG frames or a video with a windowing strategy, in simulated time
+    #[command(after_help = TRACK_EXAMPLES)]
     Track(track::TrackArgs),
     /// Best placement of a template in an image (JSON: x, y, score, subpixel_x, subpixel_y)
     Match(matching::MatchArgs),

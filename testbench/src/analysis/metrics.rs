@@ -7,6 +7,10 @@ use crate::system::RunLog;
 /// Errors beyond this many pixels count as lost (for RLT).
 pub const LOST_PX: f64 = 3.0;
 
+/// Oldest report, in frames, that still counts as a frame's position (the pipeline's
+/// latency: a COOP decision waits for the partner's message).
+pub const MAX_AGE: usize = 2;
+
 /// The figures of one run.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Summary {
@@ -94,6 +98,13 @@ pub fn summarise(log: &RunLog, truth: &[Truth]) -> Summary {
         tracking: mean(&gaps),
         recovery: mean(&recoveries),
     }
+}
+
+/// Where the tracked point truly is in each frame: the part's corner plus the tracked
+/// point's offset from it (see [`summarise`]).
+pub fn true_points(log: &RunLog, truth: &[Truth]) -> Vec<(f64, f64)> {
+    let o = initial_offset(log, truth);
+    truth.iter().map(|t| (t.corner.0 + o.0, t.corner.1 + o.1)).collect()
 }
 
 /// The tracked point's offset from the part's corner (see [`summarise`]).

@@ -148,6 +148,12 @@ pub enum ValueError {
     WindowOffCamera,
     /// A window with no area.
     WindowEmpty,
+    /// A box with other than four values.
+    BoxValues(usize),
+    /// A box side under the smallest template.
+    BoxTooSmall(u32, u32),
+    /// A frame size that is not WxH within the sides accepted.
+    Size(String),
 }
 
 impl Display for ValueError {
@@ -177,6 +183,9 @@ impl Display for ValueError {
             ValueError::WindowValues(n) => write!(f, "expected XMIN,XMAX,YMIN,YMAX, got {n} values"),
             ValueError::WindowOffCamera => f.write_str("coordinates must be 0..255 on the 256x256 camera"),
             ValueError::WindowEmpty => f.write_str("a window needs XMIN < XMAX and YMIN < YMAX"),
+            ValueError::BoxValues(n) => write!(f, "expected X,Y,W,H (e.g. 40,36,24,20), got {n} values"),
+            ValueError::Size(v) => write!(f, "'{v}' is not a frame size WxH with sides {}..{} (e.g. 640x480)", SIDES.start(), SIDES.end()),
+            ValueError::BoxTooSmall(w, h) => write!(f, "a {w}x{h} box is too small: W and H must be at least 4 (the smallest template)"),
         }
     }
 }
@@ -271,4 +280,47 @@ pub fn parse_window(s: &str) -> Result<Window, ValueError> {
         return Err(ValueError::WindowEmpty);
     }
     Ok(w)
+}
+
+/// `--target-box X,Y,W,H`: whole pixels, W and H at least 4, inside the largest frame.
+pub fn parse_box(s: &str) -> Result<(u32, u32, u32, u32), ValueError> {
+    let v: Vec<&str> = s.split(',').map(str::trim).collect();
+    let [x, y, w, h] = v[..] else { return Err(ValueError::BoxValues(v.len())) };
+    let whole = |v: &str| {
+        if v.starts_with('-') {
+            return Err(ValueError::NegativeCoordinate(v.into()));
+        }
+        let n = v.parse::<u32>().map_err(|_| ValueError::NotACoordinate(v.into()))?;
+        if n as usize > *SIDES.end() {
+            return Err(ValueError::BeyondFrames(v.into()));
+        }
+        Ok(n)
+    };
+    let (x, y, w, h) = (whole(x)?, whole(y)?, whole(w)?, whole(h)?);
+    if w < 4 || h < 4 {
+        return Err(ValueError::BoxTooSmall(w, h));
+    }
+    Ok((x, y, w, h))
+}
+
+/// `--fps F`: a frame rate between 0.1 and 100000 frames a second.
+pub fn parse_fps(s: &str) -> Result<f64, ValueError> {
+    let v = s.trim();
+    match v.parse::<f64>() {
+        Ok(f) if f.is_finite() && (0.1..=100_000.0).contains(&f) => Ok(f),
+        Ok(_) => Err(ValueError::OutOfRange { value: v.into(), range: ("0.1".into(), "100000".into()) }),
+        Err(_) => Err(ValueError::NotANumber(v.into())),
+    }
+}
+
+/// `--size WxH`: each side within the frame sides `track` accepts.
+pub fn parse_size(s: &str) -> Result<(usize, usize), ValueError> {
+    let bad = || ValueError::Size(s.trim().into());
+    let (w, h) = s.trim().split_once(['x', 'X']).ok_or_else(bad)?;
+    let (w, h) = (w.parse::<usize>().map_err(|_| bad())?, h.parse::<usize>().map_err(|_| bad())?);
+    if SIDES.contains(&w) && SIDES.contains(&h) {
+        Ok((w, h))
+    } else {
+        Err(bad())
+    }
 }

@@ -59,7 +59,7 @@ fn write_sequences(root: &Path) -> Result<(), CliError> {
         eprintln!("  sequence {}", c.name);
         let dir = root.join(&c.name);
         // A refused folder here is a failure of the run (exit 1), not of an argument.
-        super::scene::write_scene(c.scene.clone(), &dir, false).map_err(|e| CliError::new(e.message))?;
+        super::scene::write_scene(c.scene.clone(), &dir, false, false).map_err(|e| CliError::new(e.message))?;
         let fp = dir.join("fingerprint.txt");
         std::fs::write(&fp, c.render().fingerprint() + "\n").map_err(|e| CliError::new(format!("cannot write {}: {e}", fp.display())))?;
     }

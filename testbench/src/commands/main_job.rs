@@ -3,11 +3,15 @@
 use super::{output::OutFile, CliError};
 use crate::experiments::setup::{run_scene, triangle};
 use crate::frames::scene::{Scene, SceneConfig};
-use crate::report::csv::track_csv;
+use super::track::OverlayKind;
+use crate::analysis::metrics::true_points;
+use crate::frames::scene::SceneFrames;
+use crate::report::csv::{track_csv, CsvBox};
 use crate::report::plot::{self, Chart, Series};
 use crate::report::{summary_table, verdict};
 use crate::system::cost::CostModel;
 use crate::system::{RunLog, Strategy, SystemConfig};
+use coopwin_firmware::processors::Params;
 use std::path::Path;
 
 /// The built-in scene: the triangular path at 40 px/s under the lamp change of Fig. 4.2.
@@ -16,7 +20,7 @@ pub fn default_scene() -> SceneConfig {
 }
 
 /// Runs COOP (and NCC, CD for comparison) on the default scene, prints the summary and
-/// writes `out/` with the per-frame CSV, the summary and the error plot.
+/// writes `out/` with the per-frame CSV, the summary, the error plot and COOP's overlay.
 pub fn write_report(out: &Path) -> Result<(), CliError> {
     let scene = default_scene();
     let target = Scene::new(scene.clone()).truth(0).corner;
@@ -26,6 +30,7 @@ pub fn write_report(out: &Path) -> Result<(), CliError> {
     );
     super::output::create_folder(out, "the report folder")?;
     let (coop_csv, summary_md) = (OutFile::check(&out.join("coop.csv"), "the report")?, OutFile::check(&out.join("summary.md"), "the report")?);
+    let overlay = OutFile::check(&out.join("overlay.gif"), "the report")?;
     let mut rows = Vec::new();
     let mut logs = Vec::new();
     for (label, strategy) in [("COOP", Strategy::Coop), ("NCC (TPDF)", Strategy::Tpdf), ("CD (TPDF)", Strategy::TpdfCd)] {
@@ -63,8 +68,13 @@ pub fn write_report(out: &Path) -> Result<(), CliError> {
         y_range: None,
     };
     plot::write(&chart, out, "error")?;
-    coop_csv.write(track_csv(&logs[0].1.frames, None).as_bytes())?;
+    let shape = CsvBox { size: (20, 20), acceptance: Params::default().ncc_min };
+    coop_csv.write(track_csv(&logs[0].1.frames, None, shape).as_bytes())?;
     summary_md.write(table.as_bytes())?;
-    println!("wrote {0}/coop.csv, {0}/summary.md, {0}/error.svg, {0}/error.png", out.display());
+    let coop = &logs[0].1;
+    let points = true_points(coop, &truth);
+    let gif = OverlayKind::Gif.encode(&mut SceneFrames::new(scene), coop, Some(&points), shape.size, 1.0 / coop.frame_period)?;
+    overlay.write(&gif)?;
+    println!("wrote {0}/coop.csv, {0}/summary.md, {0}/error.svg, {0}/error.png, {0}/overlay.gif", out.display());
     Ok(())
 }

@@ -1,5 +1,6 @@
 //! `coopwin scene`: writes a synthetic scene's frames as 8-bit PNG and its ground truth
 //! (`groundtruth.csv`), the input of `coopwin track`.
+use super::args;
 use super::output::{check_folder, create_folder, OutFile};
 use super::{io_error, CliError};
 use crate::frames::groundtruth;
@@ -55,6 +56,13 @@ pub struct SceneArgs {
     /// Real photographs (fixtures/real/) for the part's surface and the background
     #[arg(long)]
     pub photo: bool,
+    /// Frame size WxH, each side 64..1024 (the path scales with it)
+    #[arg(long, value_name = "WxH", default_value = "256x256", value_parser = args::parse_size)]
+    pub size: (usize, usize),
+    /// Write colour (RGB) frames: the gray scene as their luma, the part tinted warm and the
+    /// background cool
+    #[arg(long)]
+    pub colour: bool,
     /// Output folder
     #[arg(long)]
     pub out: PathBuf,
@@ -79,9 +87,11 @@ pub fn write_scene_files(args: SceneArgs) -> Result<(), CliError> {
         noise: args.noise,
         seed: args.seed,
         photo: args.photo,
+        width: args.size.0,
+        height: args.size.1,
         ..SceneConfig::default()
     };
-    let n = write_scene(cfg, &args.out, args.force)?;
+    let n = write_scene(cfg, &args.out, args.force, args.colour)?;
     println!("wrote {n} frames and groundtruth.csv to {}", args.out.display());
     Ok(())
 }
@@ -89,11 +99,12 @@ pub fn write_scene_files(args: SceneArgs) -> Result<(), CliError> {
 /// Most frames `scene` writes: 20 000 frames is about three minutes at 114 frames/s.
 pub const MAX_FRAMES: usize = 20_000;
 
-/// Renders every frame of `cfg` into `out` as `frame_00000.png`..., and `groundtruth.csv`.
+/// Renders every frame of `cfg` into `out` as `frame_00000.png`... (8-bit gray, or RGB with
+/// `colour`), and `groundtruth.csv`.
 /// `out` must be a new or empty folder (its parent must exist), or, with `force`, a folder
 /// whose files are kept apart from the scene's own; `force` never mixes two scenes: it refuses
 /// a folder holding frames numbered past this scene's last.
-pub fn write_scene(cfg: SceneConfig, out: &Path, force: bool) -> Result<usize, CliError> {
+pub fn write_scene(cfg: SceneConfig, out: &Path, force: bool, colour: bool) -> Result<usize, CliError> {
     if cfg.frames == 0 || cfg.frames > MAX_FRAMES {
         return Err(CliError::arg(format!("--frames must be 1..{MAX_FRAMES}, got {}", cfg.frames)));
     }
@@ -135,10 +146,16 @@ pub fn write_scene(cfg: SceneConfig, out: &Path, force: bool) -> Result<usize, C
     let scene = Scene::new(cfg);
     let mut truth = Vec::with_capacity(n);
     for k in 0..n {
-        let (pixels, t) = scene.render(k);
         let path = out.join(format!("frame_{k:05}.png"));
-        let img = image::GrayImage::from_raw(w, h, pixels).ok_or_else(|| CliError::new("internal: frame buffer size mismatch"))?;
-        img.save(&path).map_err(|e| CliError::new(format!("cannot write {}: {e}", path.display())))?;
+        let mismatch = || CliError::new("internal: frame buffer size mismatch");
+        let (saved, t) = if colour {
+            let (pixels, t) = scene.render_colour(k);
+            (image::RgbImage::from_raw(w, h, pixels).ok_or_else(mismatch)?.save(&path), t)
+        } else {
+            let (pixels, t) = scene.render(k);
+            (image::GrayImage::from_raw(w, h, pixels).ok_or_else(mismatch)?.save(&path), t)
+        };
+        saved.map_err(|e| CliError::new(format!("cannot write {}: {e}", path.display())))?;
         truth.push(t);
     }
     OutFile::check(&out.join("groundtruth.csv"), "--out")?.write(groundtruth::to_csv(truth).as_bytes())?;

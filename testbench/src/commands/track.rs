@@ -1,14 +1,17 @@
-//! `coopwin track`: tracks a folder of PNG frames with a windowing strategy in simulated time
-//! (thesis 2.3-2.5, 4.2), writes the per-frame CSV (and, with rust-hdl units, a VCD and its
-//! requests CSV), and prints the summary against `groundtruth.csv` when the folder has one.
+//! `coopwin track`: tracks a folder of PNG frames or a video with a windowing strategy in
+//! simulated time (thesis 2.3-2.5, 4.2), writes the per-frame CSV (and, with rust-hdl units,
+//! a VCD and its requests CSV; on request an overlay GIF or MP4), and prints the summary
+//! against `groundtruth.csv` when the folder has one.
 use super::args::{self, HdlArg, PolicyArg, ProfileArg, StrategyArg};
 use super::output::OutFile;
 use super::CliError;
 use crate::analysis::audit::requests;
-use crate::analysis::metrics::{self, Summary};
+use crate::analysis::metrics;
 use crate::frames::folder::FolderFrames;
+use crate::frames::video::{self, Clip};
 use crate::frames::{groundtruth, FrameSource};
-use crate::report::{self, csv};
+use crate::report::csv::CsvBox;
+use crate::report::{self, csv, overlay};
 use crate::system::{self, RunLog, SystemConfig};
 use crate::units::clocked::Trace;
 use crate::units::clocks::Clocks;
@@ -20,20 +23,35 @@ use std::path::{Path, PathBuf};
 /// `coopwin track`'s options.
 #[derive(clap::Args)]
 pub struct TrackArgs {
-    /// Folder of PNG frames (8-bit gray or colour, 64x64 to 1024x1024, one size)
+    /// Folder of PNG frames (8-bit gray or colour, 64x64 to 1024x1024, one size), or a video
+    /// file FFmpeg reads (MP4, AVI, MKV, ...; needs the `ffmpeg` program)
     #[arg(long)]
     pub frames: PathBuf,
     /// Windowing strategy
     #[arg(long, value_enum, default_value_t = StrategyArg::Coop)]
     pub strategy: StrategyArg,
-    /// Template side N (4..32)
-    #[arg(long, default_value_t = 20, value_parser = args::parse_in::<u16>(4, 32, "a template side"))]
-    pub template: u16,
+    /// Template side N (4..32) [default: 20, or the --target-box's shorter side up to 32]
+    #[arg(long, value_parser = args::parse_in::<u16>(4, 32, "a template side"))]
+    pub template: Option<u16>,
     /// Point to track as X,Y (pixel centres at integers); default: lock on to motion
-    #[arg(long, value_parser = args::parse_point, allow_hyphen_values = true)]
+    #[arg(long, value_parser = args::parse_point, allow_hyphen_values = true, conflicts_with = "target_box")]
     pub target: Option<(f64, f64)>,
-    /// Processor speeds: the thesis's C40, or our kernels on this machine
-    #[arg(long, value_enum, default_value_t = ProfileArg::C40)]
+    /// Box to track as X,Y,W,H (OpenCV's convention: columns X..X+W-1, rows Y..Y+H-1); its
+    /// centre is tracked with the largest centred square template (up to 32x32), and the CSV
+    /// reports a W x H box
+    #[arg(long, value_name = "X,Y,W,H", value_parser = args::parse_box, allow_hyphen_values = true)]
+    pub target_box: Option<(u32, u32, u32, u32)>,
+    /// Frames per second of the source [default: a video's own rate; 114 for PNG frames,
+    /// the thesis's camera]
+    #[arg(long, value_parser = args::parse_fps)]
+    pub fps: Option<f64>,
+    /// Foveal search margin R: the Foveal window is the template plus R pixels on each side
+    /// (1..16), so the target may move R pixels between two of its windows
+    #[arg(long, value_name = "R", default_value_t = 2, value_parser = args::parse_in::<u16>(1, 16, "a search margin"))]
+    pub search: u16,
+    /// Processor speeds: our kernels on this machine (native), or the thesis's C40 timing,
+    /// which the experiments use
+    #[arg(long, value_enum, default_value_t = ProfileArg::Native)]
     pub profile: ProfileArg,
     /// COOP's confidence data set size n (3..8)
     #[arg(long, default_value_t = 4, value_parser = args::parse_in::<usize>(3, 8, "a data set size"))]
@@ -42,9 +60,16 @@ pub struct TrackArgs {
     /// Kalman filter (5.2)
     #[arg(long, value_enum, default_value_t = PolicyArg::Guarded)]
     pub policy: PolicyArg,
-    /// CSV to write (frame,x,y,mode,source,measured_frame,file); - for standard output
+    /// CSV to write, one line a frame (frame,x,y,mode,source,measured_frame,file,box_x,box_y,
+    /// box_w,box_h,confidence,ok; see the README); - for standard output
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Animated overlay of the run: FILE.gif, or FILE.mp4 (needs FFmpeg): each frame with the
+    /// Watch (blue), Peripheral (yellow) and Foveal (green; COOP's corner window magenta)
+    /// windows, the position and its box (red: NCC, orange: corner detector) and the true
+    /// point when groundtruth.csv is there (cyan x)
+    #[arg(long, value_name = "FILE")]
+    pub overlay: Option<PathBuf>,
     /// Print the frames in the order they are tracked (frame,file) and stop
     #[arg(long)]
     pub list: bool,
@@ -69,12 +94,35 @@ pub struct TrackArgs {
 }
 
 impl TrackArgs {
+    /// The template side: `--template`, the target box's shorter side (at most 32), or 20.
+    fn template_side(&self) -> u16 {
+        match (self.template, self.target_box) {
+            (Some(n), _) => n,
+            (None, Some((_, _, w, h))) => w.min(h).min(32) as u16,
+            (None, None) => 20,
+        }
+    }
+
+    /// The point to track: `--target`, or the centre of `--target-box`.
+    fn target_point(&self) -> Option<(f64, f64)> {
+        let centre = |(x, y, w, h): (u32, u32, u32, u32)| (f64::from(x) + (f64::from(w) - 1.0) / 2.0, f64::from(y) + (f64::from(h) - 1.0) / 2.0);
+        self.target.or(self.target_box.map(centre))
+    }
+
+    /// The box the CSV and the overlay draw around each position.
+    fn csv_box(&self) -> CsvBox {
+        let n = usize::from(self.template_side());
+        let size = self.target_box.map_or((n, n), |(_, _, w, h)| (w as usize, h as usize));
+        CsvBox { size, acceptance: coopwin_firmware::processors::Params::default().ncc_min }
+    }
+
     /// The run the options ask for.
     fn config(&self) -> SystemConfig {
+        let n = self.template_side();
         SystemConfig {
-            params: coopwin_firmware::processors::Params { template: self.template, foveal: self.template + 4, ..Default::default() },
+            params: coopwin_firmware::processors::Params { template: n, foveal: n + 2 * self.search, ..Default::default() },
             coop_n: self.coop_n,
-            target: self.target,
+            target: self.target_point(),
             backend: self.hdl.into(),
             policy: self.policy.into(),
             jitter: self.blank_jitter,
@@ -84,7 +132,54 @@ impl TrackArgs {
     }
 }
 
-/// Tracks the folder, writes the outputs asked for and prints the report (on standard error
+/// Where the frames come from: a folder of PNG files or a decoded video.
+pub enum Input {
+    /// A folder of PNG frames.
+    Folder(FolderFrames),
+    /// A video file, decoded whole.
+    Video(Clip),
+}
+
+impl Input {
+    /// Opens `path`: a folder of frames, or a video file through FFmpeg.
+    pub fn open(path: &Path) -> Result<Input, CliError> {
+        if path.is_file() {
+            let clip = video::decode(path, crate::frames::folder::SIDES, MAX_VIDEO_FRAMES).map_err(|e| CliError::new(e.to_string()))?;
+            Ok(Input::Video(clip))
+        } else {
+            Ok(Input::Folder(FolderFrames::open(path)?))
+        }
+    }
+
+    /// The frames.
+    pub fn source(&mut self) -> &mut dyn FrameSource {
+        match self {
+            Input::Folder(f) => f,
+            Input::Video(c) => c,
+        }
+    }
+
+    /// Each frame's file name (empty for a video's frames).
+    pub fn names(&self) -> Vec<String> {
+        match self {
+            Input::Folder(f) => f.names(),
+            Input::Video(c) => vec![String::new(); c.frames.len()],
+        }
+    }
+
+    /// The rate the source declares (a video's), if any.
+    fn declared_fps(&self) -> Option<f64> {
+        match self {
+            Input::Folder(_) => None,
+            Input::Video(c) => c.fps,
+        }
+    }
+}
+
+/// Longest video decoded, in frames (about 17 minutes at 30 frames/s, or 10 GB at 640x480).
+pub const MAX_VIDEO_FRAMES: usize = 30_000;
+
+/// Tracks the frames, writes the outputs asked for and prints the report (on standard error
 /// when the CSV goes to standard output).
 pub fn track_folder(args: TrackArgs) -> Result<(), CliError> {
     if args.list {
@@ -103,15 +198,30 @@ pub fn track_folder(args: TrackArgs) -> Result<(), CliError> {
     if matches!(args.hdl, HdlArg::Model) && vcd.is_some() {
         return Err(CliError::arg("--vcd traces the window units' signals: add --hdl rust-hdl"));
     }
+    let overlay_out = match &args.overlay {
+        Some(p) => Some((OverlayKind::of(p)?, OutFile::check(p, "--overlay")?)),
+        None => None,
+    };
     // With the CSV on standard output, the report goes to standard error.
     let to_stdout = out.as_ref().is_some_and(OutFile::is_stdout);
     let say = |line: String| if to_stdout { eprintln!("{line}") } else { println!("{line}") };
-    let cfg = args.config();
+    let mut input = Input::open(&args.frames)?;
+    let mut cfg = args.config();
+    let fps = args.fps.or(input.declared_fps());
+    if let Some(fps) = fps {
+        // The pixel clock that gives this frame rate with the camera's blanking.
+        let clocks = Clocks::for_frames(input.source(), None).timing.frame_clocks() as f64;
+        cfg.pixel_clock_hz = clocks * fps;
+    }
     let started = std::time::Instant::now();
-    let (log, summary, names) = track_frames(&args.frames, &cfg, vcd.as_ref().map(|(v, _)| (v, args.vcd_frames.clone())))?;
+    let truth_path = args.frames.join("groundtruth.csv");
+    let truth = if args.frames.is_dir() && truth_path.exists() { Some(groundtruth::read(&truth_path)?) } else { None };
+    let log = track_frames(input.source(), &cfg, vcd.as_ref().map(|(v, _)| (v, args.vcd_frames.clone())))?;
+    let summary = truth.as_ref().map(|t| metrics::summarise(&log, t));
     let secs = started.elapsed().as_secs_f64();
+    let shape = args.csv_box();
     if let Some(o) = &out {
-        o.write(csv::track_csv(&log.frames, Some(&names)).as_bytes())?;
+        o.write(csv::track_csv(&log.frames, Some(&input.names()), shape).as_bytes())?;
         if !to_stdout {
             say(format!("wrote {}", o.path.display()));
         }
@@ -119,6 +229,12 @@ pub fn track_folder(args: TrackArgs) -> Result<(), CliError> {
     if let Some((v, req)) = &vcd {
         req.write(requests::to_csv(&log).as_bytes())?;
         say(format!("wrote {} and {} (every unit; check one with `coopwin audit --unit K`)", v.path.display(), req.path.display()));
+    }
+    if let Some((kind, o)) = &overlay_out {
+        let points = truth.as_ref().map(|t| metrics::true_points(&log, t));
+        let fps = fps.unwrap_or(1.0 / log.frame_period);
+        o.write(&kind.encode(input.source(), &log, points.as_deref(), shape.size, fps)?)?;
+        say(format!("wrote {}", o.path.display()));
     }
     let tracked = log.frames.iter().filter(|r| r.point.is_some()).count();
     if log.hdl_clocks > 0 {
@@ -157,6 +273,42 @@ pub fn track_folder(args: TrackArgs) -> Result<(), CliError> {
     Ok(())
 }
 
+/// The overlay formats, told by the file's extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OverlayKind {
+    /// An animated GIF (written by coopwin).
+    Gif,
+    /// An H.264 MP4 (through FFmpeg).
+    Mp4,
+}
+
+impl OverlayKind {
+    /// The format of `path`: `.gif` or `.mp4`; anything else is an argument error.
+    pub fn of(path: &Path) -> Result<OverlayKind, CliError> {
+        match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
+            Some("gif") => Ok(OverlayKind::Gif),
+            Some("mp4") => Ok(OverlayKind::Mp4),
+            _ => Err(CliError::arg(format!("--overlay {}: name a .gif or an .mp4 file", path.display()))),
+        }
+    }
+
+    /// The overlay of `log` over `frames`, encoded. A GIF shows each frame for `1/fps` s
+    /// rounded to hundredths, at least 0.02 s (browsers slow anything shorter).
+    pub fn encode(self, frames: &mut dyn FrameSource, log: &RunLog, truth: Option<&[(f64, f64)]>, size: (usize, usize), fps: f64) -> Result<Vec<u8>, CliError> {
+        let canvases = overlay::draw_run(frames, log, truth, size).map_err(|e| CliError::new(e.to_string()))?;
+        match self {
+            OverlayKind::Gif => {
+                let delay = (100.0 / fps.max(1e-3)).round().clamp(2.0, 65535.0) as u16;
+                overlay::encode_gif(&canvases, delay).map_err(|e| CliError::new(e.to_string()))
+            }
+            OverlayKind::Mp4 => {
+                let (w, h) = frames.size();
+                video::mp4_bytes((w, h), fps, canvases.iter().map(overlay::Canvas::to_rgb).collect()).map_err(|e| CliError::new(e.to_string()))
+            }
+        }
+    }
+}
+
 /// A progress bar on stderr when it is a terminal.
 pub fn progress_bar(total: usize, label: &'static str) -> impl FnMut(usize) {
     let tty = std::io::stderr().is_terminal();
@@ -171,13 +323,10 @@ pub fn progress_bar(total: usize, label: &'static str) -> impl FnMut(usize) {
     }
 }
 
-/// Tracks the frames in `dir`; returns the run, its summary (against `groundtruth.csv`
-/// when the folder has one) and the frames' file names.
-/// With `vcd`, every window unit is traced into it, for the frames in its range (all without).
-/// The target, the traced range and the write phase are checked against the frames before
-/// the run (bad ones are argument errors).
-pub fn track_frames(dir: &Path, cfg: &SystemConfig, vcd: Option<(&OutFile, Option<Range<usize>>)>) -> Result<(RunLog, Option<Summary>, Vec<String>), CliError> {
-    let mut frames = FolderFrames::open(dir)?;
+/// Tracks `frames`; with `vcd`, every window unit is traced into it, for the frames in its
+/// range (all without). The target, the traced range and the write phase are checked against
+/// the frames before the run (bad ones are argument errors).
+pub fn track_frames(frames: &mut dyn FrameSource, cfg: &SystemConfig, vcd: Option<(&OutFile, Option<Range<usize>>)>) -> Result<RunLog, CliError> {
     let (w, h) = frames.size();
     if let Some((x, y)) = cfg.target {
         if !(x.is_finite() && y.is_finite() && x >= 0.0 && y >= 0.0 && x <= (w - 1) as f64 && y <= (h - 1) as f64) {
@@ -185,7 +334,7 @@ pub fn track_frames(dir: &Path, cfg: &SystemConfig, vcd: Option<(&OutFile, Optio
         }
     }
     if let Some(phase) = cfg.write_phase {
-        let clocks = Clocks::for_frames(&frames, cfg.jitter).timing.frame_clocks() as u64;
+        let clocks = Clocks::for_frames(frames, cfg.jitter).timing.frame_clocks() as u64;
         if phase >= clocks {
             return Err(CliError::arg(format!("--write-phase {phase}: a {w}x{h} frame has {clocks} clocks (0..{})", clocks - 1)));
         }
@@ -204,12 +353,9 @@ pub fn track_frames(dir: &Path, cfg: &SystemConfig, vcd: Option<(&OutFile, Optio
         }
         None => None,
     };
-    let names = frames.names();
-    let log = system::simulate_traced(cfg, &mut frames, &mut progress_bar(n, "tracking"), trace)?;
+    let log = system::simulate_traced(cfg, frames, &mut progress_bar(n, "tracking"), trace)?;
     if let Some(s) = stream {
         s.finish()?;
     }
-    let truth_path = dir.join("groundtruth.csv");
-    let summary = if truth_path.exists() { Some(metrics::summarise(&log, &groundtruth::read(&truth_path)?)) } else { None };
-    Ok((log, summary, names))
+    Ok(log)
 }

@@ -21,9 +21,7 @@ use std::path::{Path, PathBuf};
 /// Error beyond which a frame counts as lost (5 px, as in the OpenCV script).
 pub const LOSS_PX: f64 = 5.0;
 
-/// Oldest report, in frames, that still counts as a frame's position (the pipeline's
-/// latency: a COOP decision waits for the partner's message).
-pub const MAX_AGE: usize = 2;
+pub use crate::analysis::metrics::MAX_AGE;
 
 /// Which point of the object is tracked.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -7,6 +7,7 @@ pub mod gray;
 pub mod groundtruth;
 pub mod prerendered;
 pub mod scene;
+pub mod video;
 
 use std::collections::VecDeque;
 use std::path::PathBuf;

@@ -1,27 +1,68 @@
 //! The CSV files of a tracking run: the per-frame record (`coopwin track --out`, the main
 //! job's `coop.csv`) and the frame listing (`coopwin track --list`).
+use crate::analysis::metrics::MAX_AGE;
 use crate::system::FrameRecord;
 use coopwin_firmware::types::Source;
 use coopwin_firmware::processors::Mode;
 use std::fmt::Write as _;
 
-/// The CSV of a run: frame,x,y,mode,source,measured_frame,file (the frame's file name, empty
-/// for frames that come from no file).
-pub fn track_csv(frames: &[FrameRecord], files: Option<&[String]>) -> String {
-    let mut s = String::from("frame,x,y,mode,source,measured_frame,file\n");
+/// How a run's CSV describes each position: the box drawn around it and the NCC acceptance
+/// score its confidence is scaled from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CsvBox {
+    /// Box width and height in pixels (the target box given, or the template).
+    pub size: (usize, usize),
+    /// The NCC score at which a match is accepted: confidence 0.
+    pub acceptance: f32,
+}
+
+/// Confidence of a position measured by the corner detector alone, which gives no score.
+pub const CD_CONFIDENCE: f64 = 0.5;
+
+/// The header of [`track_csv`].
+pub const TRACK_HEADER: &str = "frame,x,y,mode,source,measured_frame,file,box_x,box_y,box_w,box_h,confidence,ok";
+
+/// The CSV of a run, one line a frame (see [`TRACK_HEADER`]): the position (pixel centres at
+/// integers), the mode, the source (`ncc`, `cd` or `none`), the frame the position was
+/// measured in, the frame's file name (empty for frames from no file); then the box of
+/// `shape.size` centred on the position (OpenCV's convention: columns `box_x..box_x+box_w-1`),
+/// the confidence in 0..1 (the NCC score scaled from the acceptance level, 0, to a perfect
+/// match, 1; [`CD_CONFIDENCE`] for the corner detector alone) and `ok`: 1 when the frame has a
+/// position measured at most [`MAX_AGE`] frames before, else 0. Fields without a position are
+/// empty.
+pub fn track_csv(frames: &[FrameRecord], files: Option<&[String]>, shape: CsvBox) -> String {
+    let mut s = format!("{TRACK_HEADER}\n");
+    let (bw, bh) = shape.size;
     for r in frames {
         let (x, y) = r.point.map(|(x, y)| (format!("{x:.3}"), format!("{y:.3}"))).unwrap_or_default();
         let file = files.and_then(|f| f.get(r.frame)).map(|n| csv_field(n)).unwrap_or_default();
+        let boxed = r
+            .point
+            .map(|(x, y)| format!("{:.3},{:.3},{bw},{bh}", x - (bw as f64 - 1.0) / 2.0, y - (bh as f64 - 1.0) / 2.0))
+            .unwrap_or_else(|| ",,,".into());
+        let confidence = match (r.point, r.score) {
+            (None, _) => String::new(),
+            (Some(_), Some(v)) => format!("{:.3}", confidence(v, shape.acceptance)),
+            (Some(_), None) => format!("{CD_CONFIDENCE:.3}"),
+        };
+        let ok = r.measured_frame.is_some_and(|m| m <= r.frame && r.frame - m <= MAX_AGE) && r.point.is_some();
         let _ = writeln!(
             s,
-            "{},{x},{y},{},{},{},{file}",
+            "{},{x},{y},{},{},{},{file},{boxed},{confidence},{}",
             r.frame,
             mode_name(r.mode),
             r.source.map(algo_name).unwrap_or("none"),
-            r.measured_frame.map(|f| f.to_string()).unwrap_or_default()
+            r.measured_frame.map(|f| f.to_string()).unwrap_or_default(),
+            u8::from(ok)
         );
     }
     s
+}
+
+/// An NCC score as a confidence: 0 at the acceptance level, 1 for a perfect match.
+pub fn confidence(score: f32, acceptance: f32) -> f64 {
+    let span = f64::from(1.0 - acceptance).max(f64::EPSILON);
+    ((f64::from(score) - f64::from(acceptance)) / span).clamp(0.0, 1.0)
 }
 
 /// `frame,file` lines: the order frames with these names are tracked in.
@@ -51,7 +92,7 @@ fn mode_name(m: Mode) -> &'static str {
     }
 }
 
-/// `ncc`, `cd` or `ssd`.
+/// `ncc` or `cd`.
 fn algo_name(a: Source) -> &'static str {
     match a {
         Source::Ncc => "ncc",

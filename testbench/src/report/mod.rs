@@ -2,6 +2,7 @@
 //! writes ([`csv`]), line charts ([`plot`]) and the Appendix B timing diagrams
 //! ([`timing_svg`]).
 pub mod csv;
+pub mod overlay;
 pub mod plot;
 pub mod summary;
 pub mod timing_svg;

@@ -44,7 +44,7 @@ pub fn simulate_with(
     let [mut b0, mut b1] = [vec![0u8; w * h], vec![0u8; w * h]];
     let roster = Roster::build(cfg, params, template, [&mut b0, &mut b1])?;
     let np = roster.len();
-    let log = RunLog { windows: vec![0; np], frame_period: clocks.period() as f64 / timing.hz, reference, ..RunLog::default() };
+    let log = RunLog { windows: vec![0; np], roles: roster.processor_roles(), frame_period: clocks.period() as f64 / timing.hz, reference, ..RunLog::default() };
     let mut run = Run {
         wiring: Wiring {
             units,
@@ -149,6 +149,7 @@ impl Run<'_, '_> {
         let log = &mut self.recorder.log;
         let dropped = self.drop_window == Some(log.deliveries.len());
         log.deliveries.push((p, win.frame, win.clock, fingerprint(&win.pixels)));
+        log.windows_delivered.push((p, win.frame, win.req));
         if dropped {
             // Not read: the processor still waits, and its watchdog will ask again.
             log.dropped.push((p, win.frame));

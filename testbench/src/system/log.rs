@@ -4,8 +4,7 @@ use super::roster::Roster;
 use super::SimError;
 use crate::units::RequestRefused;
 use coopwin_firmware::ports::position::{FramedPositionSink, PositionSink, PositionUpdate};
-use coopwin_firmware::types::WindowRequest;
-use coopwin_firmware::types::{Point, Source};
+use coopwin_firmware::types::{Point, Source, WindowRequest};
 use coopwin_firmware::processors::{Mode, Msg, Step};
 use std::collections::VecDeque;
 
@@ -22,6 +21,8 @@ pub struct FrameRecord {
     pub mode: Mode,
     /// The algorithm behind `point`.
     pub source: Option<Source>,
+    /// The NCC score behind `point`, when NCC measured it.
+    pub score: Option<f32>,
 }
 
 /// A position report: when it was made, for which frame's window, where, and by what.
@@ -35,6 +36,23 @@ pub struct Report {
     pub point: Point,
     /// The algorithm.
     pub algo: Source,
+    /// The NCC score behind the point, when NCC measured it.
+    pub score: Option<f32>,
+}
+
+/// What a processor of the run does (thesis 2.3), for drawing its windows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Role {
+    /// A Watch processor (motion detection).
+    Watch,
+    /// The Peripheral processor (detection at 25 %).
+    Peripheral,
+    /// The Foveal processor (NCC, or the corner detector alone).
+    Foveal,
+    /// COOP's second Foveal processor (the corner detector).
+    FovealCd,
+    /// SPMF's single processor, in every mode.
+    Single,
 }
 
 /// A finished run.
@@ -67,6 +85,10 @@ pub struct RunLog {
     /// Every window delivered: (processor, frame, clock, fingerprint of its pixels), so
     /// backends can be compared window for window.
     pub deliveries: Vec<(usize, usize, u64, u64)>,
+    /// Every window delivered: (processor, frame, the request it answers).
+    pub windows_delivered: Vec<(usize, usize, WindowRequest)>,
+    /// What each processor does, in processor order.
+    pub roles: Vec<Role>,
     /// The frame and point the template was cut at, if known before the run: the tracked
     /// point is that point of the part.
     pub reference: Option<(usize, (f64, f64))>,
@@ -104,7 +126,7 @@ impl Recorder {
             }
         }
         if let Some((point, algo)) = step.report {
-            let r = Report { t, frame, point, algo };
+            let r = Report { t, frame, point, algo, score: step.score };
             self.emit(&r)?;
             self.log.reports.push(r);
             self.last = Some(r);
@@ -134,6 +156,7 @@ impl Recorder {
             measured_frame: tracked.map(|r| r.frame),
             mode,
             source: tracked.map(|r| r.algo),
+            score: tracked.and_then(|r| r.score),
         });
     }
 

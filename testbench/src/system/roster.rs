@@ -2,6 +2,7 @@
 //! processor plays each role messages are addressed to. A new strategy is a [`Strategy`]
 //! variant and its arms in this file.
 use super::config::{CoopPolicy, SystemConfig};
+use super::log::Role;
 use super::SimError;
 use coopwin_firmware::kernels::confidence::{KalmanCoop, SseCoop};
 use coopwin_firmware::processors::coop::guard::{Guard, GuardParams};
@@ -152,6 +153,19 @@ impl<'b> Roster<'b> {
             partner: fovea.get(1).copied(),
         };
         Ok(Roster { processors, roles })
+    }
+
+    /// What each processor does, in processor order.
+    pub(super) fn processor_roles(&self) -> Vec<Role> {
+        (0..self.processors.len())
+            .map(|k| match &self.processors[k] {
+                Processor::Watch(_) => Role::Watch,
+                Processor::Peripheral(_) => Role::Peripheral,
+                Processor::Foveal(_) if self.roles.partner == Some(k) => Role::FovealCd,
+                Processor::Foveal(_) => Role::Foveal,
+                Processor::Spmf(_) => Role::Single,
+            })
+            .collect()
     }
 
     /// Processors in the run.

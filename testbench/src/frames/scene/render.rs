@@ -39,7 +39,30 @@ impl Scene {
 
     /// Renders frame `k` as 8-bit gray, row-major, with its ground truth.
     pub fn render(&self, k: usize) -> (Vec<u8>, Truth) {
+        let (pixels, _, truth) = self.render_with_coverage(k);
+        (pixels, truth)
+    }
+
+    /// Renders frame `k` as RGB, row-major: the gray frame's pixels as the BT.601 luma, the
+    /// part tinted warm and the background cool in proportion to the part's coverage of each
+    /// pixel (a colour camera's view of the same scene, for trying colour input).
+    pub fn render_colour(&self, k: usize) -> (Vec<u8>, Truth) {
+        let (gray, coverage, truth) = self.render_with_coverage(k);
+        let mut rgb = Vec::with_capacity(3 * gray.len());
+        for (&y, &c) in gray.iter().zip(&coverage) {
+            let (c, y) = (f64::from(c), f64::from(y));
+            // Chroma offsets (Cb, Cr) from 128: the part orange, the background blue-gray.
+            let (cb, cr) = (c * -30.0 + (1.0 - c) * 12.0, c * 36.0 + (1.0 - c) * -8.0);
+            let px = [y + 1.402 * cr, y - 0.344_136 * cb - 0.714_136 * cr, y + 1.772 * cb];
+            rgb.extend(px.map(|v| v.round().clamp(0.0, 255.0) as u8));
+        }
+        (rgb, truth)
+    }
+
+    /// Frame `k` as 8-bit gray, the share of each pixel the part covers, and the truth.
+    fn render_with_coverage(&self, k: usize) -> (Vec<u8>, Vec<f32>, Truth) {
         let (w, h) = (self.cfg.width, self.cfg.height);
+        let mut coverage = vec![0f32; w * h];
         let truth = self.truth(k);
         let c = truth.corner;
         let mut img = self.background.clone();
@@ -70,6 +93,7 @@ impl Scene {
                 if covered > 0 {
                     let bg = img[py * w + px] as f64;
                     let samples = grid * grid;
+                    coverage[py * w + px] = covered as f32 / samples as f32;
                     img[py * w + px] = ((acc + bg * (samples - covered) as f64) / samples as f64) as f32;
                 }
             }
@@ -97,7 +121,7 @@ impl Scene {
                 (self.lit(v as f64, i % w, i / w, lamp) + n).round().clamp(0.0, 255.0) as u8
             })
             .collect();
-        (pixels, truth)
+        (pixels, coverage, truth)
     }
 }
 
