@@ -2,7 +2,7 @@
 //! numbers, ranges, points, windows and jitter, each refusing a bad value with the reason.
 use crate::frames::folder::SIDES;
 use crate::system::cost::CostModel;
-use crate::system::{CoopPolicy, Strategy};
+use crate::system::{CoopPolicy, MpdfWatch, Strategy};
 use crate::units::UnitBackend;
 use coopwin_hdl::sim::camera::{Jitter, Window};
 use std::fmt::Display;
@@ -46,6 +46,24 @@ impl From<PolicyArg> for CoopPolicy {
             PolicyArg::Guarded => CoopPolicy::Guarded,
             PolicyArg::Sse => CoopPolicy::Sse,
             PolicyArg::Kalman => CoopPolicy::Kalman,
+        }
+    }
+}
+
+/// `--watch`.
+#[derive(Clone, Copy, PartialEq, clap::ValueEnum)]
+// No doc comments on the variants: clap would list them as help beside each value.
+#[allow(missing_docs)]
+pub enum WatchArg {
+    Strips,
+    Halves,
+}
+
+impl From<WatchArg> for MpdfWatch {
+    fn from(w: WatchArg) -> MpdfWatch {
+        match w {
+            WatchArg::Strips => MpdfWatch::Strips,
+            WatchArg::Halves => MpdfWatch::Halves,
         }
     }
 }

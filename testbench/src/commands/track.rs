@@ -2,7 +2,7 @@
 //! simulated time (thesis 2.3-2.5, 4.2), writes the per-frame CSV (and, with rust-hdl units,
 //! a VCD and its requests CSV; on request an overlay GIF or MP4), and prints the summary
 //! against `groundtruth.csv` when the folder has one.
-use super::args::{self, HdlArg, PolicyArg, ProfileArg, StrategyArg};
+use super::args::{self, HdlArg, PolicyArg, ProfileArg, StrategyArg, WatchArg};
 use super::output::OutFile;
 use super::CliError;
 use crate::analysis::audit::requests;
@@ -53,6 +53,11 @@ pub struct TrackArgs {
     /// which the experiments use
     #[arg(long, value_enum, default_value_t = ProfileArg::Native)]
     pub profile: ProfileArg,
+    /// MPDF's two Watch windows: the thesis's 20-row strips at the top and bottom edges
+    /// (where an object enters the view), or the two halves of the view (an object already
+    /// in it is found too)
+    #[arg(long, value_enum, default_value_t = WatchArg::Halves)]
+    pub watch: WatchArg,
     /// COOP's confidence data set size n (3..8)
     #[arg(long, default_value_t = 4, value_parser = args::parse_in::<usize>(3, 8, "a data set size"))]
     pub coop_n: usize,
@@ -125,6 +130,7 @@ impl TrackArgs {
             target: self.target_point(),
             backend: self.hdl.into(),
             policy: self.policy.into(),
+            mpdf_watch: self.watch.into(),
             jitter: self.blank_jitter,
             write_phase: self.write_phase,
             ..SystemConfig::thesis(self.strategy.into(), self.profile.into(), None)

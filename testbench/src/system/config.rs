@@ -17,6 +17,15 @@ pub enum CoopPolicy {
     Kalman,
 }
 
+/// Where MPDF's two Watch processors look (thesis 2.3.3: "depending on the application").
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MpdfWatch {
+    /// The thesis's 20-row strips along the top and bottom edges, where an object enters.
+    Strips,
+    /// The top and bottom halves of the view: an object already in view is seen too.
+    Halves,
+}
+
 /// A run's configuration.
 #[derive(Clone, Debug)]
 pub struct SystemConfig {
@@ -41,6 +50,8 @@ pub struct SystemConfig {
     pub backend: UnitBackend,
     /// COOP's decision policy.
     pub policy: CoopPolicy,
+    /// MPDF's Watch windows.
+    pub mpdf_watch: MpdfWatch,
     /// Fault injection: the request with this index (counting from 0 over the run) is
     /// corrupted on its way to the unit into an invalid set (a one-column window).
     pub corrupt_request: Option<usize>,
@@ -69,6 +80,7 @@ impl SystemConfig {
             pixel_clock_hz: coopwin_hdl::sim::camera::CA_D1_PIXEL_CLOCK_HZ,
             backend: UnitBackend::BehaviouralModel,
             policy: CoopPolicy::Guarded,
+            mpdf_watch: MpdfWatch::Strips,
             corrupt_request: None,
             drop_window: None,
             jitter: None,

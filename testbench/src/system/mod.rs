@@ -18,7 +18,7 @@ pub mod log;
 pub mod roster;
 mod writes;
 
-pub use config::{CoopPolicy, SystemConfig};
+pub use config::{CoopPolicy, MpdfWatch, SystemConfig};
 pub use event_loop::simulate_with;
 pub use log::{FrameRecord, Report, Role, RunLog};
 pub use roster::Strategy;

@@ -1,7 +1,7 @@
 //! Which processors a strategy runs (thesis 2.3, 3.5, 4.2), how each is started, and which
 //! processor plays each role messages are addressed to. A new strategy is a [`Strategy`]
 //! variant and its arms in this file.
-use super::config::{CoopPolicy, SystemConfig};
+use super::config::{CoopPolicy, MpdfWatch, SystemConfig};
 use super::log::Role;
 use super::SimError;
 use coopwin_firmware::kernels::confidence::{KalmanCoop, SseCoop};
@@ -112,9 +112,13 @@ impl<'b> Roster<'b> {
         let [b0, b1] = buffers;
         let (w, h) = (params.frame_w, params.frame_h);
         let full = WindowRequest { x0: 0, y0: 0, width: w, height: h, decimation: Decimation::Full };
-        let strip = 20.min(h / 2);
-        let top = WindowRequest { height: strip, ..full };
-        let bottom = WindowRequest { y0: h - strip, height: strip, ..full };
+        // The top window's rows, and the bottom window's (to the last row).
+        let (top_rows, bottom_rows) = match cfg.mpdf_watch {
+            MpdfWatch::Strips => (20.min(h / 2), 20.min(h / 2)),
+            MpdfWatch::Halves => (h / 2, h - h / 2),
+        };
+        let top = WindowRequest { height: top_rows, ..full };
+        let bottom = WindowRequest { y0: h - bottom_rows, height: bottom_rows, ..full };
         let known = template.is_some();
         let foveal = |kind| Foveal::new(kind, params, template.clone());
         let processors = match cfg.strategy {
