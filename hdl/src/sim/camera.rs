@@ -110,16 +110,18 @@ pub struct Jitter {
     pub frame_max: u32,
 }
 
+/// SplitMix64's finaliser: 64 well-mixed bits from `z` (Steele, Lea and Flood 2014), for the
+/// jitter draws here and the testbench's scene generator.
+pub fn splitmix64(z: u64) -> u64 {
+    let z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    let z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
 impl Jitter {
     /// Extra clocks for slot `slot` of frame `k` (a line, or `usize::MAX` for the frame's end).
     fn draw(&self, k: usize, slot: usize, max: u32) -> u32 {
-        // SplitMix64 finaliser over (seed, frame, slot).
-        let mut z = self.seed
-            ^ (k as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15)
-            ^ (slot as u64).wrapping_mul(0xc2b2_ae3d_27d4_eb4f);
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^= z >> 31;
+        let z = splitmix64(self.seed ^ (k as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15) ^ (slot as u64).wrapping_mul(0xc2b2_ae3d_27d4_eb4f));
         (z % (u64::from(max) + 1)) as u32
     }
 }
