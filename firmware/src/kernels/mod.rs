@@ -10,8 +10,11 @@
 //! * [`info`]: information content measures (3.4.1);
 //! * [`confidence`]: the least-squares window confidence measure (4.3) and a Kalman-filter
 //!   policy (5.2).
+//!
+//! `fmath` has the one float function the FPU does in hardware (`sqrtf`).
 pub mod confidence;
 pub mod corner;
+mod fmath;
 pub mod info;
 pub mod matching;
 pub mod motion;

@@ -27,7 +27,7 @@
 //!      and either polarity.
 //!
 //! Windows up to [`MAX_DIM`] x [`MAX_DIM`] are handled with fixed buffers held by a
-//! [`CornerDetector`] (about 43 KiB, so it can live in a `static` on a microcontroller).
+//! [`CornerDetector`] (about 61 KiB, so it can live in a `static` on a microcontroller).
 
 mod bounds;
 mod labelling;
@@ -275,7 +275,7 @@ impl CornerDetector {
         }
         let (x, y, case, rays) = if params.refine {
             collect_points(&self.wide, rows, w, h, &mut self.points);
-            let ((x, y), rays) = apex_from_points(&self.points, w, h)?;
+            let ((x, y), rays) = apex_from_points(&mut self.points, w, h)?;
             (x, y, CornerCase::Lines, Some(rays))
         } else {
             let b = bounding_points_bits(rows).ok_or(NoCorner::FilteredOut)?;
