@@ -15,7 +15,10 @@
 //! Arithmetic is `f32` (the Cortex-M4F's single-precision FPU); no allocation, no panic.
 
 use crate::kernels::support::Support;
+use crate::kernels::fmath::{cmp_hypotf, sqrtf};
+use core::cmp::Ordering::{Greater, Less};
 use crate::kernels::view::WindowView;
+use heapless::Vec;
 
 /// Iterations at most.
 const ITERATIONS: usize = 8;
@@ -52,51 +55,52 @@ fn refine(win: &WindowView<'_>, tpl: &WindowView<'_>, support: Option<&Support>,
     if !(3..=MAX_SIDE).contains(&tw) || !(3..=MAX_SIDE).contains(&th) || !x.is_finite() || !y.is_finite() {
         return None;
     }
-    // The template's interior pixels (those in the support) and their central-difference
-    // gradients, row by row.
+    // The template's interior pixels (those in the support, `used[j]` bit `i` for interior
+    // pixel `(i, j)`) and their central-difference gradients, row by row. The sums below
+    // run over them in this order.
     let (iw, ih) = (tw - 2, th - 2);
-    let used = |i: usize, j: usize| support.is_none_or(|s| s.contains(i + 1, j + 1));
-    let (mut tv, mut gx, mut gy) = ([0f32; INTERIOR], [0f32; INTERIOR], [0f32; INTERIOR]);
-    let t = |i: usize, j: usize| tpl.get(i, j).map(f32::from);
-    let mut n = 0;
-    for j in 0..ih {
-        for i in (0..iw).filter(|&i| used(i, j)) {
-            *tv.get_mut(n)? = t(i + 1, j + 1)?;
-            *gx.get_mut(n)? = (t(i + 2, j + 1)? - t(i, j + 1)?) / 2.0;
-            *gy.get_mut(n)? = (t(i + 1, j + 2)? - t(i + 1, j)?) / 2.0;
-            n += 1;
+    let mut used = [0u32; MAX_SIDE];
+    for (j, u) in used.iter_mut().enumerate().take(ih) {
+        *u = (0..iw).filter(|&i| support.is_none_or(|s| s.contains(i + 1, j + 1))).fold(0, |b, i| b | 1 << i);
+    }
+    let mut pixels = [0u8; MAX_SIDE * MAX_SIDE];
+    for (j, row) in pixels.chunks_exact_mut(tw).take(th).enumerate() {
+        row.iter_mut().zip(tpl.row_iter(j)).for_each(|(d, s)| *d = s);
+    }
+    let t = |i: usize, j: usize| pixels.get(j * tw + i).copied().map(f32::from);
+    let (mut tv, mut gx, mut gy) = (Vec::<f32, INTERIOR>::new(), Vec::<f32, INTERIOR>::new(), Vec::<f32, INTERIOR>::new());
+    for (j, &bits) in used.iter().enumerate().take(ih) {
+        for i in (0..iw).filter(|&i| bits >> i & 1 == 1) {
+            tv.push(t(i + 1, j + 1)?).ok()?;
+            gx.push((t(i + 2, j + 1)? - t(i, j + 1)?) / 2.0).ok()?;
+            gy.push((t(i + 1, j + 2)? - t(i + 1, j)?) / 2.0).ok()?;
         }
     }
+    let n = tv.len();
     if n == 0 {
         return None;
     }
-    let (tv, gx, gy) = (tv.get(..n)?, gx.get(..n)?, gy.get(..n)?);
     let dot = |a: &[f32], b: &[f32]| a.iter().zip(b).map(|(p, q)| p * q).sum::<f32>();
-    let (h11, h12, h22) = (dot(gx, gx), dot(gx, gy), dot(gy, gy));
+    let (h11, h12, h22) = (dot(&gx, &gx), dot(&gx, &gy), dot(&gy, &gy));
     let det = h11 * h22 - h12 * h12;
     if det.is_nan() || det <= 1e-3 * (h11 + h22) * (h11 + h22) {
         return None;
     }
     let t_mean = tv.iter().sum::<f32>() / n as f32;
-    let t_dev = libm::sqrtf(tv.iter().map(|v| (v - t_mean) * (v - t_mean)).sum());
-    let (mut block, mut w) = ([0f32; INTERIOR], [0f32; INTERIOR]);
+    let t_dev = sqrtf(tv.iter().map(|v| (v - t_mean) * (v - t_mean)).sum());
+    let mut w = Vec::<f32, INTERIOR>::new();
     let (mut px, mut py) = (x, y);
     for _ in 0..ITERATIONS {
-        sample(win, px + 1.0, py + 1.0, iw, ih, block.get_mut(..iw * ih)?)?;
-        let picked = block.iter().enumerate().filter(|(k, _)| used(k % iw, k / iw)).map(|(_, v)| *v);
-        for (dst, v) in w.iter_mut().zip(picked) {
-            *dst = v;
-        }
-        let wv = w.get(..n)?;
-        let w_sum: f32 = wv.iter().sum();
+        sample(win, px + 1.0, py + 1.0, iw, used.get(..ih)?, &mut w)?;
+        let w_sum: f32 = w.iter().sum();
         let w_mean = w_sum / n as f32;
-        let w_dev = libm::sqrtf(wv.iter().map(|v| (v - w_mean) * (v - w_mean)).sum());
+        let w_dev = sqrtf(w.iter().map(|v| (v - w_mean) * (v - w_mean)).sum());
         if w_dev.is_nan() || w_dev <= 0.0 {
             return None;
         }
         let gain = t_dev / w_dev;
         let (mut b1, mut b2) = (0.0f32, 0.0f32);
-        for ((wk, tk), (gxk, gyk)) in wv.iter().zip(tv).zip(gx.iter().zip(gy)) {
+        for ((wk, tk), (gxk, gyk)) in w.iter().zip(&tv).zip(gx.iter().zip(&gy)) {
             let e = (wk - w_mean) * gain + t_mean - tk;
             b1 += gxk * e;
             b2 += gyk * e;
@@ -104,20 +108,22 @@ fn refine(win: &WindowView<'_>, tpl: &WindowView<'_>, support: Option<&Support>,
         let (dx, dy) = ((h22 * b1 - h12 * b2) / det, (h11 * b2 - h12 * b1) / det);
         px -= dx;
         py -= dy;
-        if libm::hypotf(px - x, py - y) > MAX_WALK || !px.is_finite() || !py.is_finite() {
+        if cmp_hypotf(px - x, py - y, MAX_WALK) == Some(Greater) || !px.is_finite() || !py.is_finite() {
             return None;
         }
-        if libm::hypotf(dx, dy) < CONVERGED {
+        if cmp_hypotf(dx, dy, CONVERGED) == Some(Less) {
             break;
         }
     }
     Some((px, py))
 }
 
-/// The `iw` x `ih` block of `win` whose top-left sample sits at real-valued `(x, y)`, by
-/// bilinear interpolation (a translation: one set of weights for every pixel), into `out`;
-/// `None` when it would reach outside the window.
-fn sample(win: &WindowView<'_>, x: f32, y: f32, iw: usize, ih: usize, out: &mut [f32]) -> Option<()> {
+/// The `used` pixels (bit `i` of `used[j]` for pixel `(i, j)`) of the `iw x used.len()`
+/// block of `win` whose top-left sample sits at real-valued `(x, y)`, by bilinear
+/// interpolation (a translation: one set of weights for every pixel), row by row into `out`;
+/// `None` when the block would reach outside the window.
+fn sample(win: &WindowView<'_>, x: f32, y: f32, iw: usize, used: &[u32], out: &mut Vec<f32, INTERIOR>) -> Option<()> {
+    out.clear();
     if !(x >= 0.0 && y >= 0.0) {
         return None;
     }
@@ -126,20 +132,22 @@ fn sample(win: &WindowView<'_>, x: f32, y: f32, iw: usize, ih: usize, out: &mut 
     let (x0, y0) = (fx as usize, fy as usize);
     // A zero weight never reads the next column or row, so a block ending on the window's
     // last one is inside.
-    let (cols, rows) = (iw + usize::from(ax > 0.0), ih + usize::from(ay > 0.0));
+    let (cols, rows) = (iw + usize::from(ax > 0.0), used.len() + usize::from(ay > 0.0));
     if x0 + cols > win.width() || y0 + rows > win.height() {
         return None;
     }
     let w = [(1.0 - ax) * (1.0 - ay), ax * (1.0 - ay), (1.0 - ax) * ay, ax * ay];
-    for j in 0..ih {
+    for (j, &bits) in used.iter().enumerate() {
         let top = win.row(y0 + j)?.get(x0..x0 + cols)?;
         let bottom = if ay > 0.0 { win.row(y0 + j + 1)?.get(x0..x0 + cols)? } else { top };
-        let dst = out.get_mut(j * iw..(j + 1) * iw)?;
-        for (i, d) in dst.iter_mut().enumerate() {
-            let right = |r: &[u8]| if ax > 0.0 { r.get(i + 1).copied().map(f32::from) } else { Some(0.0) };
-            let (a, b) = (f32::from(*top.get(i)?), right(top)?);
-            let (c, e) = (f32::from(*bottom.get(i)?), right(bottom)?);
-            *d = w[0] * a + w[1] * b + w[2] * c + w[3] * e;
+        let right = |r: &[u8], i: usize| if ax > 0.0 { r.get(i + 1).copied().map(f32::from) } else { Some(0.0) };
+        let mut bits = bits;
+        while bits != 0 {
+            let i = bits.trailing_zeros() as usize;
+            bits &= bits - 1;
+            let (a, b) = (f32::from(*top.get(i)?), right(top, i)?);
+            let (c, e) = (f32::from(*bottom.get(i)?), right(bottom, i)?);
+            out.push(w[0] * a + w[1] * b + w[2] * c + w[3] * e).ok()?;
         }
     }
     Some(())

@@ -308,7 +308,8 @@ impl Guard {
     /// past.
     fn predict(&self, t: f64) -> Option<Point> {
         let recent = Line::fit(&self.history[..HISTORY])?;
-        let long = Line::fit(&self.history).filter(|_| self.coasted > 0);
+        // The long fit (soft-float f64 over 32 positions on the M4F) only while coasting.
+        let long = if self.coasted > 0 { Line::fit(&self.history) } else { None };
         recent.at(t, long.unwrap_or(recent).velocity)
     }
 }
