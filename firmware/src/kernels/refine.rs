@@ -63,17 +63,23 @@ fn refine(win: &WindowView<'_>, tpl: &WindowView<'_>, support: Option<&Support>,
     for (j, u) in used.iter_mut().enumerate().take(ih) {
         *u = (0..iw).filter(|&i| support.is_none_or(|s| s.contains(i + 1, j + 1))).fold(0, |b, i| b | 1 << i);
     }
-    let mut pixels = [0u8; MAX_SIDE * MAX_SIDE];
-    for (j, row) in pixels.chunks_exact_mut(tw).take(th).enumerate() {
-        row.iter_mut().zip(tpl.row_iter(j)).for_each(|(d, s)| *d = s);
-    }
-    let t = |i: usize, j: usize| pixels.get(j * tw + i).copied().map(f32::from);
+    let mut packed = [0u8; MAX_SIDE * MAX_SIDE];
+    let tpl = if tpl.step() == 1 { *tpl } else { tpl.pack_into(&mut packed)? };
     let (mut tv, mut gx, mut gy) = (Vec::<f32, INTERIOR>::new(), Vec::<f32, INTERIOR>::new(), Vec::<f32, INTERIOR>::new());
     for (j, &bits) in used.iter().enumerate().take(ih) {
-        for i in (0..iw).filter(|&i| bits >> i & 1 == 1) {
-            tv.push(t(i + 1, j + 1)?).ok()?;
-            gx.push((t(i + 2, j + 1)? - t(i, j + 1)?) / 2.0).ok()?;
-            gy.push((t(i + 1, j + 2)? - t(i + 1, j)?) / 2.0).ok()?;
+        let (up, mid, down) = (tpl.row(j)?, tpl.row(j + 1)?, tpl.row(j + 2)?);
+        // Interior pixel i: pixels i, i+1 and i+2 of its row, i+1 of the rows above and below.
+        let [left, centre, right, above, below] =
+            [mid.get(..iw), mid.get(1..=iw), mid.get(2..iw + 2), up.get(1..=iw), down.get(1..=iw)];
+        let columns = left?.iter().zip(centre?).zip(right?).zip(above?.iter().zip(below?));
+        let mut bit = bits;
+        for (((&l, &c), &r), (&u, &d)) in columns {
+            if bit & 1 == 1 {
+                tv.push(f32::from(c)).ok()?;
+                gx.push((f32::from(r) - f32::from(l)) / 2.0).ok()?;
+                gy.push((f32::from(d) - f32::from(u)) / 2.0).ok()?;
+            }
+            bit >>= 1;
         }
     }
     let n = tv.len();
@@ -137,17 +143,20 @@ fn sample(win: &WindowView<'_>, x: f32, y: f32, iw: usize, used: &[u32], out: &m
         return None;
     }
     let w = [(1.0 - ax) * (1.0 - ay), ax * (1.0 - ay), (1.0 - ax) * ay, ax * ay];
+    // With `ax = 0` the right-hand pixels weigh `+0`: they may be the left ones, which are
+    // always inside (the block may end on the window's last column), for the same sum.
+    let right = usize::from(ax > 0.0);
     for (j, &bits) in used.iter().enumerate() {
         let top = win.row(y0 + j)?.get(x0..x0 + cols)?;
         let bottom = if ay > 0.0 { win.row(y0 + j + 1)?.get(x0..x0 + cols)? } else { top };
-        let right = |r: &[u8], i: usize| if ax > 0.0 { r.get(i + 1).copied().map(f32::from) } else { Some(0.0) };
-        let mut bits = bits;
-        while bits != 0 {
-            let i = bits.trailing_zeros() as usize;
-            bits &= bits - 1;
-            let (a, b) = (f32::from(*top.get(i)?), right(top, i)?);
-            let (c, e) = (f32::from(*bottom.get(i)?), right(bottom, i)?);
-            out.push(w[0] * a + w[1] * b + w[2] * c + w[3] * e).ok()?;
+        let [tl, tr, bl, br] = [top.get(..iw), top.get(right..right + iw), bottom.get(..iw), bottom.get(right..right + iw)];
+        let mut bit = bits;
+        for ((&a, &b), (&c, &e)) in tl?.iter().zip(tr?).zip(bl?.iter().zip(br?)) {
+            if bit & 1 == 1 {
+                let [a, b, c, e] = [a, b, c, e].map(f32::from);
+                out.push(w[0] * a + w[1] * b + w[2] * c + w[3] * e).ok()?;
+            }
+            bit >>= 1;
         }
     }
     Some(())
