@@ -128,12 +128,12 @@ impl Foveal {
     fn start(&mut self, p: Point, exact: bool) -> Step {
         self.tracking = Some(p);
         self.coop.begin(p, exact);
-        let step = Step::new(Work::None).ask(Some(self.params.foveal_window(p)));
+        let mut step = Step::new(Work::None);
+        step.ask(Some(self.params.foveal_window(p)));
         if self.kind == FovealKind::CoopMaster {
-            step.send(Dest::FovealCd, Msg::Follow(p))
-        } else {
-            step
+            step.send(Dest::FovealCd, Msg::Follow(p));
         }
+        step
     }
 
     /// Whether a COOP master's track is coasting: tracking, but with no current position.
@@ -160,7 +160,9 @@ impl Foveal {
             Msg::Approx(p) if self.tracking.is_none() => self.start(*p, false),
             Msg::Follow(p) => {
                 self.tracking = Some(*p);
-                Step::new(Work::None).ask(Some(self.params.foveal_window(*p)))
+                let mut step = Step::new(Work::None);
+                step.ask(Some(self.params.foveal_window(*p)));
+                step
             }
             Msg::Result(r) if self.kind == FovealKind::CoopMaster => {
                 self.partner = Some(*r);
@@ -179,12 +181,13 @@ impl Foveal {
         match self.kind {
             FovealKind::Cd | FovealKind::CoopPartner => {
                 let (found, work) = cd_track(win, &mut self.detector, &self.params);
-                let step = Step::new(work);
+                let mut step = Step::new(work);
                 if self.kind == FovealKind::CoopPartner {
-                    step.send(Dest::Foveal, Msg::Result(found))
+                    step.send(Dest::Foveal, Msg::Result(found));
                 } else {
-                    self.follow(step, found, Source::Cd)
+                    self.follow(&mut step, found, Source::Cd);
                 }
+                step
             }
             FovealKind::Ncc | FovealKind::CoopMaster => {
                 let (found, work) = match &self.template {
@@ -197,7 +200,9 @@ impl Foveal {
                     s.work = work;
                     s
                 } else {
-                    self.follow(Step::new(work), found.map(|(p, _)| p), Source::Ncc)
+                    let mut step = Step::new(work);
+                    self.follow(&mut step, found.map(|(p, _)| p), Source::Ncc);
+                    step
                 }
             }
         }
@@ -210,38 +215,41 @@ impl Foveal {
         self.own = None;
         self.partner = None;
         let chosen = self.coop.decide(t, own, partner);
+        let mut step = Step::new(Work::Decision);
         if let Some(q) = chosen.is_none().then(|| self.coop.coast(t)).flatten() {
             // Nothing measured the point: look where it should be next, report nothing.
             let side = self.params.foveal + 2 * COAST_MARGIN;
-            return Step::new(Work::Decision)
-                .ask(Some(self.params.window(q, side, Decimation::Full)))
-                .send(Dest::FovealCd, Msg::Follow(q));
+            step.ask(Some(self.params.window(q, side, Decimation::Full))).send(Dest::FovealCd, Msg::Follow(q));
+            return step;
         }
         let (found, source) = (chosen.map(|c| c.0), chosen.map_or(Source::Ncc, |c| c.1));
-        let step = self.follow(Step::new(Work::Decision), found, source);
+        self.follow(&mut step, found, source);
         match (step.request, found, step.lost) {
-            (Some(_), Some(p), _) => step.send(Dest::FovealCd, Msg::Follow(p)),
+            (Some(_), Some(p), _) => {
+                step.send(Dest::FovealCd, Msg::Follow(p));
+            }
             // The partner stops with the master; the Peripheral takes over.
-            (_, _, Some(last)) => step.send(Dest::FovealCd, Msg::Lost(last)),
-            _ => step,
+            (_, _, Some(last)) => {
+                step.send(Dest::FovealCd, Msg::Lost(last));
+            }
+            _ => {}
         }
+        step
     }
 
-    fn follow(&mut self, step: Step, found: Option<Point>, source: Source) -> Step {
+    fn follow(&mut self, step: &mut Step, found: Option<Point>, source: Source) {
         match (found, self.tracking) {
             (Some(p), _) => {
                 self.tracking = Some(p);
-                let mut s = step.ask(Some(self.params.foveal_window(p))).send(Dest::Peripheral, Msg::Tracked(p));
-                s.report = Some((p, source));
-                s
+                step.ask(Some(self.params.foveal_window(p))).send(Dest::Peripheral, Msg::Tracked(p));
+                step.report = Some((p, source));
             }
             (None, Some(last)) => {
                 self.tracking = None;
-                let mut s = step.send(Dest::Peripheral, Msg::Lost(last));
-                s.lost = Some(last);
-                s
+                step.send(Dest::Peripheral, Msg::Lost(last));
+                step.lost = Some(last);
             }
-            (None, None) => step,
+            (None, None) => {}
         }
     }
 }
