@@ -326,26 +326,37 @@ struct Line {
 }
 
 impl Line {
-    /// The line through `history` (newest first), `None` when it is empty.
+    /// The line through `history` (newest first, at most [`MOTION_HISTORY`] entries),
+    /// `None` when it is empty.
     fn fit(history: &[Option<(f64, Point)>]) -> Option<Line> {
-        let pts = history.iter().flatten();
-        let n = pts.clone().count() as f64;
         let (t_new, _) = history.first().copied().flatten()?;
-        // Times relative to the newest keep the sums well conditioned.
-        let mean = |f: &dyn Fn(&(f64, Point)) -> f64| pts.clone().map(f).sum::<f64>() / n;
-        let mt = mean(&|q| q.0 - t_new);
-        let mx = mean(&|q| f64::from(q.1.x));
-        let my = mean(&|q| f64::from(q.1.y));
-        let stt = pts.clone().map(|q| (q.0 - t_new - mt) * (q.0 - t_new - mt)).sum::<f64>();
-        let slope = |v: &dyn Fn(&(f64, Point)) -> f64, m: f64| {
+        // Times relative to the newest keep the sums well conditioned. Each position's
+        // time offset and coordinates are taken once (soft-float `f64` on the M4F), then
+        // summed in order.
+        let (mut dt, mut xs, mut ys) = ([0.0f64; MOTION_HISTORY], [0.0f64; MOTION_HISTORY], [0.0f64; MOTION_HISTORY]);
+        let mut k = 0;
+        for ((q, d), (x, y)) in history.iter().flatten().zip(&mut dt).zip(xs.iter_mut().zip(&mut ys)) {
+            (*d, *x, *y) = (q.0 - t_new, f64::from(q.1.x), f64::from(q.1.y));
+            k += 1;
+        }
+        let (dt, xs, ys) = (dt.get(..k)?, xs.get(..k)?, ys.get(..k)?);
+        let n = k as f64;
+        let mean = |v: &[f64]| v.iter().sum::<f64>() / n;
+        let (mt, mx, my) = (mean(dt), mean(xs), mean(ys));
+        let mut centred = [0.0f64; MOTION_HISTORY];
+        for (c, d) in centred.iter_mut().zip(dt) {
+            *c = d - mt;
+        }
+        let centred = centred.get(..k)?;
+        let stt = centred.iter().map(|c| c * c).sum::<f64>();
+        let slope = |v: &[f64], m: f64| {
             if stt > 0.0 {
-                pts.clone().map(|q| (q.0 - t_new - mt) * (v(q) - m)).sum::<f64>() / stt
+                centred.iter().zip(v).map(|(c, v)| c * (v - m)).sum::<f64>() / stt
             } else {
                 0.0
             }
         };
-        let velocity = (slope(&|q| f64::from(q.1.x), mx), slope(&|q| f64::from(q.1.y), my));
-        Some(Line { t: t_new + mt, at: (mx, my), velocity })
+        Some(Line { t: t_new + mt, at: (mx, my), velocity: (slope(xs, mx), slope(ys, my)) })
     }
 
     /// The point at `t` of the line through this one's mean with `velocity`.
