@@ -37,98 +37,164 @@ const INTERIOR: usize = (MAX_SIDE - 2) * (MAX_SIDE - 2);
 /// has no texture in some direction (singular `H`), the window is flat, a sample would fall
 /// outside the window, or the iteration walks more than a pixel.
 pub fn refine_translation(win: &WindowView<'_>, tpl: &WindowView<'_>, x: f32, y: f32) -> Option<(f32, f32)> {
-    refine(win, tpl, None, x, y)
+    let mut lk = LkTemplate::new();
+    lk.prepare(tpl, None).then(|| lk.refine(win, x, y)).flatten()
 }
 
 /// [`refine_translation`] with the sums over the template pixels in `support` only (the
 /// object's part of a corner template, see [`super::support`]); `None` also when the
 /// support is not the template's size.
 pub fn refine_translation_on(win: &WindowView<'_>, tpl: &WindowView<'_>, support: &Support, x: f32, y: f32) -> Option<(f32, f32)> {
-    if support.size() != (tpl.width(), tpl.height()) {
-        return None;
-    }
-    refine(win, tpl, Some(support), x, y)
+    let mut lk = LkTemplate::new();
+    lk.prepare(tpl, Some(support)).then(|| lk.refine(win, x, y)).flatten()
 }
 
-fn refine(win: &WindowView<'_>, tpl: &WindowView<'_>, support: Option<&Support>, x: f32, y: f32) -> Option<(f32, f32)> {
-    let (tw, th) = (tpl.width(), tpl.height());
-    if !(3..=MAX_SIDE).contains(&tw) || !(3..=MAX_SIDE).contains(&th) || !x.is_finite() || !y.is_finite() {
-        return None;
+/// The template's side of the refinement (its used interior pixels, their gradients, `H` and
+/// the template's mean and deviation), which does not depend on the window: a tracker that
+/// refines every frame with one template prepares it once ([`LkTemplate::prepare`]) and
+/// refines with it ([`LkTemplate::refine`]), with the results of [`refine_translation`] (or
+/// [`refine_translation_on`] with a support). Prepared in place: it is 11 KiB.
+#[derive(Clone, Debug)]
+pub struct LkTemplate {
+    /// A template was prepared and can refine.
+    ready: bool,
+    /// Bit `i` of `used[j]`: interior pixel `(i, j)` is summed over.
+    used: [u32; MAX_SIDE],
+    iw: usize,
+    ih: usize,
+    /// The used pixels' values and gradients, row by row: the order of every sum.
+    tv: Vec<f32, INTERIOR>,
+    gx: Vec<f32, INTERIOR>,
+    gy: Vec<f32, INTERIOR>,
+    h: (f32, f32, f32),
+    det: f32,
+    t_mean: f32,
+    t_dev: f32,
+}
+
+impl Default for LkTemplate {
+    fn default() -> Self {
+        Self::new()
     }
-    // The template's interior pixels (those in the support, `used[j]` bit `i` for interior
-    // pixel `(i, j)`) and their central-difference gradients, row by row. The sums below
-    // run over them in this order.
-    let (iw, ih) = (tw - 2, th - 2);
-    let mut used = [0u32; MAX_SIDE];
-    for (j, u) in used.iter_mut().enumerate().take(ih) {
-        *u = (0..iw).filter(|&i| support.is_none_or(|s| s.contains(i + 1, j + 1))).fold(0, |b, i| b | 1 << i);
+}
+
+impl LkTemplate {
+    /// Nothing prepared: refines nothing.
+    pub const fn new() -> Self {
+        LkTemplate {
+            ready: false,
+            used: [0; MAX_SIDE],
+            iw: 0,
+            ih: 0,
+            tv: Vec::new(),
+            gx: Vec::new(),
+            gy: Vec::new(),
+            h: (0.0, 0.0, 0.0),
+            det: 0.0,
+            t_mean: 0.0,
+            t_dev: 0.0,
+        }
     }
-    let mut packed = [0u8; MAX_SIDE * MAX_SIDE];
-    let tpl = if tpl.step() == 1 { *tpl } else { tpl.pack_into(&mut packed)? };
-    let (mut tv, mut gx, mut gy) = (Vec::<f32, INTERIOR>::new(), Vec::<f32, INTERIOR>::new(), Vec::<f32, INTERIOR>::new());
-    for (j, &bits) in used.iter().enumerate().take(ih) {
-        let (up, mid, down) = (tpl.row(j)?, tpl.row(j + 1)?, tpl.row(j + 2)?);
-        // Interior pixel i: pixels i, i+1 and i+2 of its row, i+1 of the rows above and below.
-        let [left, centre, right, above, below] =
-            [mid.get(..iw), mid.get(1..=iw), mid.get(2..iw + 2), up.get(1..=iw), down.get(1..=iw)];
-        let columns = left?.iter().zip(centre?).zip(right?).zip(above?.iter().zip(below?));
-        let mut bit = bits;
-        for (((&l, &c), &r), (&u, &d)) in columns {
-            if bit & 1 == 1 {
-                tv.push(f32::from(c)).ok()?;
-                gx.push((f32::from(r) - f32::from(l)) / 2.0).ok()?;
-                gy.push((f32::from(d) - f32::from(u)) / 2.0).ok()?;
+
+    /// Prepares `tpl` for refinement, over the pixels in `support` if there is one; `false`
+    /// (and it refines nothing) when the template is under 3 or over [`MAX_SIDE`] pixels a
+    /// side, the support is not its size or holds no interior pixel, or `H` is singular.
+    pub fn prepare(&mut self, tpl: &WindowView<'_>, support: Option<&Support>) -> bool {
+        self.ready = false;
+        self.ready = self.fill(tpl, support).is_some();
+        self.ready
+    }
+
+    fn fill(&mut self, tpl: &WindowView<'_>, support: Option<&Support>) -> Option<()> {
+        let (tw, th) = (tpl.width(), tpl.height());
+        if !(3..=MAX_SIDE).contains(&tw) || !(3..=MAX_SIDE).contains(&th) || support.is_some_and(|s| s.size() != (tw, th)) {
+            return None;
+        }
+        let (iw, ih) = (tw - 2, th - 2);
+        let used = &mut self.used;
+        for (j, u) in used.iter_mut().enumerate() {
+            *u = (0..iw).filter(|&i| j < ih && support.is_none_or(|s| s.contains(i + 1, j + 1))).fold(0, |b, i| b | 1 << i);
+        }
+        let mut packed = [0u8; MAX_SIDE * MAX_SIDE];
+        let tpl = if tpl.step() == 1 { *tpl } else { tpl.pack_into(&mut packed)? };
+        let (tv, gx, gy) = (&mut self.tv, &mut self.gx, &mut self.gy);
+        (tv.clear(), gx.clear(), gy.clear());
+        for (j, &bits) in used.iter().enumerate().take(ih) {
+            let (up, mid, down) = (tpl.row(j)?, tpl.row(j + 1)?, tpl.row(j + 2)?);
+            // Interior pixel i: pixels i, i+1 and i+2 of its row, i+1 of the rows above and below.
+            let [left, centre, right, above, below] =
+                [mid.get(..iw), mid.get(1..=iw), mid.get(2..iw + 2), up.get(1..=iw), down.get(1..=iw)];
+            let columns = left?.iter().zip(centre?).zip(right?).zip(above?.iter().zip(below?));
+            let mut bit = bits;
+            for (((&l, &c), &r), (&u, &d)) in columns {
+                if bit & 1 == 1 {
+                    tv.push(f32::from(c)).ok()?;
+                    gx.push((f32::from(r) - f32::from(l)) / 2.0).ok()?;
+                    gy.push((f32::from(d) - f32::from(u)) / 2.0).ok()?;
+                }
+                bit >>= 1;
             }
-            bit >>= 1;
         }
-    }
-    let n = tv.len();
-    if n == 0 {
-        return None;
-    }
-    let dot = |a: &[f32], b: &[f32]| a.iter().zip(b).map(|(p, q)| p * q).sum::<f32>();
-    let (h11, h12, h22) = (dot(&gx, &gx), dot(&gx, &gy), dot(&gy, &gy));
-    let det = h11 * h22 - h12 * h12;
-    if det.is_nan() || det <= 1e-3 * (h11 + h22) * (h11 + h22) {
-        return None;
-    }
-    let t_mean = tv.iter().sum::<f32>() / n as f32;
-    let t_dev = sqrtf(tv.iter().map(|v| (v - t_mean) * (v - t_mean)).sum());
-    let mut w = Vec::<f32, INTERIOR>::new();
-    let (mut px, mut py) = (x, y);
-    for _ in 0..ITERATIONS {
-        sample(win, px + 1.0, py + 1.0, iw, used.get(..ih)?, &mut w)?;
-        let w_sum: f32 = w.iter().sum();
-        let w_mean = w_sum / n as f32;
-        let w_dev = sqrtf(w.iter().map(|v| (v - w_mean) * (v - w_mean)).sum());
-        if w_dev.is_nan() || w_dev <= 0.0 {
+        let n = tv.len();
+        if n == 0 {
             return None;
         }
-        let gain = t_dev / w_dev;
-        let (mut b1, mut b2) = (0.0f32, 0.0f32);
-        for ((wk, tk), (gxk, gyk)) in w.iter().zip(&tv).zip(gx.iter().zip(&gy)) {
-            let e = (wk - w_mean) * gain + t_mean - tk;
-            b1 += gxk * e;
-            b2 += gyk * e;
-        }
-        let (dx, dy) = ((h22 * b1 - h12 * b2) / det, (h11 * b2 - h12 * b1) / det);
-        px -= dx;
-        py -= dy;
-        if cmp_hypotf(px - x, py - y, MAX_WALK) == Some(Greater) || !px.is_finite() || !py.is_finite() {
+        let dot = |a: &[f32], b: &[f32]| a.iter().zip(b).map(|(p, q)| p * q).sum::<f32>();
+        let (h11, h12, h22) = (dot(gx, gx), dot(gx, gy), dot(gy, gy));
+        let det = h11 * h22 - h12 * h12;
+        if det.is_nan() || det <= 1e-3 * (h11 + h22) * (h11 + h22) {
             return None;
         }
-        if cmp_hypotf(dx, dy, CONVERGED) == Some(Less) {
-            break;
-        }
+        let t_mean = tv.iter().sum::<f32>() / n as f32;
+        let t_dev = sqrtf(tv.iter().map(|v| (v - t_mean) * (v - t_mean)).sum());
+        (self.iw, self.ih, self.h, self.det, self.t_mean, self.t_dev) = (iw, ih, (h11, h12, h22), det, t_mean, t_dev);
+        Some(())
     }
-    Some((px, py))
+
+    /// The refined top-left placement of the prepared template in `win` from `(x, y)`, as
+    /// [`refine_translation`] finds it; `None` also when nothing is prepared.
+    pub fn refine(&self, win: &WindowView<'_>, x: f32, y: f32) -> Option<(f32, f32)> {
+        if !self.ready || !x.is_finite() || !y.is_finite() {
+            return None;
+        }
+        let LkTemplate { used, iw, ih, tv, gx, gy, h: (h11, h12, h22), det, t_mean, t_dev, .. } = self;
+        let n = tv.len() as f32;
+        let mut w = Vec::<f32, INTERIOR>::new();
+        let (mut px, mut py) = (x, y);
+        for _ in 0..ITERATIONS {
+            let w_sum = sample(win, px + 1.0, py + 1.0, *iw, used.get(..*ih)?, &mut w)?;
+            let w_mean = w_sum / n;
+            let w_dev = sqrtf(w.iter().map(|v| (v - w_mean) * (v - w_mean)).sum());
+            if w_dev.is_nan() || w_dev <= 0.0 {
+                return None;
+            }
+            let gain = t_dev / w_dev;
+            let (mut b1, mut b2) = (0.0f32, 0.0f32);
+            for ((wk, tk), (gxk, gyk)) in w.iter().zip(tv).zip(gx.iter().zip(gy)) {
+                let e = (wk - w_mean) * gain + t_mean - tk;
+                b1 += gxk * e;
+                b2 += gyk * e;
+            }
+            let (dx, dy) = ((h22 * b1 - h12 * b2) / det, (h11 * b2 - h12 * b1) / det);
+            px -= dx;
+            py -= dy;
+            if cmp_hypotf(px - x, py - y, MAX_WALK) == Some(Greater) || !px.is_finite() || !py.is_finite() {
+                return None;
+            }
+            if cmp_hypotf(dx, dy, CONVERGED) == Some(Less) {
+                break;
+            }
+        }
+        Some((px, py))
+    }
 }
 
 /// The `used` pixels (bit `i` of `used[j]` for pixel `(i, j)`) of the `iw x used.len()`
 /// block of `win` whose top-left sample sits at real-valued `(x, y)`, by bilinear
 /// interpolation (a translation: one set of weights for every pixel), row by row into `out`;
-/// `None` when the block would reach outside the window.
-fn sample(win: &WindowView<'_>, x: f32, y: f32, iw: usize, used: &[u32], out: &mut Vec<f32, INTERIOR>) -> Option<()> {
+/// their sum (as `Iterator::sum` adds them, from `-0.0` in order), or `None` when the block
+/// would reach outside the window.
+fn sample(win: &WindowView<'_>, x: f32, y: f32, iw: usize, used: &[u32], out: &mut Vec<f32, INTERIOR>) -> Option<f32> {
     out.clear();
     if !(x >= 0.0 && y >= 0.0) {
         return None;
@@ -143,6 +209,7 @@ fn sample(win: &WindowView<'_>, x: f32, y: f32, iw: usize, used: &[u32], out: &m
         return None;
     }
     let w = [(1.0 - ax) * (1.0 - ay), ax * (1.0 - ay), (1.0 - ax) * ay, ax * ay];
+    let mut sum = -0.0f32;
     // With `ax = 0` the right-hand pixels weigh `+0`: they may be the left ones, which are
     // always inside (the block may end on the window's last column), for the same sum.
     let right = usize::from(ax > 0.0);
@@ -154,12 +221,14 @@ fn sample(win: &WindowView<'_>, x: f32, y: f32, iw: usize, used: &[u32], out: &m
         for ((&a, &b), (&c, &e)) in tl?.iter().zip(tr?).zip(bl?.iter().zip(br?)) {
             if bit & 1 == 1 {
                 let [a, b, c, e] = [a, b, c, e].map(f32::from);
-                out.push(w[0] * a + w[1] * b + w[2] * c + w[3] * e).ok()?;
+                let v = w[0] * a + w[1] * b + w[2] * c + w[3] * e;
+                out.push(v).ok()?;
+                sum += v;
             }
             bit >>= 1;
         }
     }
-    Some(())
+    Some(sum)
 }
 
 #[cfg(test)]

@@ -9,15 +9,35 @@ use super::step::{placements, Mode, Step, Work};
 use super::template::Template;
 use crate::kernels::corner::{CornerDetector, CornerParams};
 use crate::kernels::matching::{best_match, Method};
-use crate::kernels::refine::{refine_translation, refine_translation_on};
+use crate::kernels::refine::LkTemplate;
 use crate::kernels::support::{best_match_on, Support};
 use crate::kernels::view::WindowView;
 use crate::types::{Decimation, Point, Source};
 
+/// Lucas-Kanade's side of the template ([`LkTemplate`]), prepared once per template and
+/// kept while it is; `over` says for which pixels (`Some(true)`: its support, `Some(false)`:
+/// the whole template, `None`: not prepared).
+struct LkCache {
+    over: Option<bool>,
+    template: LkTemplate,
+}
+
+impl LkCache {
+    /// The template prepared over `support` (or all of it), as it is or prepared now.
+    fn prepared(&mut self, tpl: &WindowView<'_>, support: Option<&Support>) -> &LkTemplate {
+        if self.over != Some(support.is_some()) {
+            self.template.prepare(tpl, support);
+            self.over = Some(support.is_some());
+        }
+        &self.template
+    }
+}
+
 /// NCC tracking of `tpl` in `win`: the new point (the best placement, refined to sub-pixel
-/// accuracy by [`refine_translation`]) and its score, or `None` if the best score is under
-/// `ncc_min` (the target has left the window, or no longer looks like the template).
-fn ncc_track(win: &WindowView<'_>, tpl: &Template, support: Option<&Support>, p: &Params) -> (Option<(Point, f32)>, Work) {
+/// accuracy by Lucas-Kanade, [`crate::kernels::refine`]) and its score, or `None` if the best
+/// score is under `ncc_min` (the target has left the window, or no longer looks like the
+/// template). `lk` holds the template prepared for the refinement.
+fn ncc_track(win: &WindowView<'_>, tpl: &Template, support: Option<&Support>, lk: &mut LkCache, p: &Params) -> (Option<(Point, f32)>, Work) {
     let n = tpl.side();
     // The cost model counts the whole template: the support is a part of it.
     let work = Work::Match { method: Method::Ncc, template: (n * n) as u32, placements: placements(win, n, 1) };
@@ -38,10 +58,7 @@ fn ncc_track(win: &WindowView<'_>, tpl: &Template, support: Option<&Support>, p:
     }
     // Lucas-Kanade from the parabola's placement; the parabola's own when it is refused.
     let (ox, oy) = win.origin();
-    let refined = match support {
-        Some(s) => refine_translation_on(win, &tv, s, m.sub_x, m.sub_y),
-        None => refine_translation(win, &tv, m.sub_x, m.sub_y),
-    };
+    let refined = lk.prepared(&tv, support).refine(win, m.sub_x, m.sub_y);
     let (x, y) = refined.map_or((m.frame_x, m.frame_y), |(x, y)| (x + ox as f32, y + oy as f32));
     (Some((tpl.point_at(x, y), score)), work)
 }
@@ -73,6 +90,7 @@ pub struct Foveal {
     template: Option<Template>,
     /// The object's part of a corner template ([`crate::kernels::support`]), when it is one.
     support: Option<Support>,
+    lk: LkCache,
     detector: CornerDetector,
     tracking: Option<Point>,
     params: Params,
@@ -90,6 +108,7 @@ impl Foveal {
             kind,
             template: None,
             support: None,
+            lk: LkCache { over: None, template: LkTemplate::new() },
             detector: CornerDetector::default(),
             tracking: None,
             params,
@@ -109,6 +128,11 @@ impl Foveal {
         self.support = tpl.view().and_then(|v| {
             Support::of_template(&v, (a.x, a.y), &mut self.detector, &CornerParams::new(self.params.corner_threshold))
         });
+        // Prepared now (outside the frames), over the support that NCC tries first.
+        self.lk.over = None;
+        if let Some(v) = tpl.view() {
+            self.lk.prepared(&v, self.support.as_ref());
+        }
         self.template = Some(tpl);
     }
 
@@ -191,7 +215,7 @@ impl Foveal {
             }
             FovealKind::Ncc | FovealKind::CoopMaster => {
                 let (found, work) = match &self.template {
-                    Some(tpl) => ncc_track(win, tpl, self.support.as_ref(), &self.params),
+                    Some(tpl) => ncc_track(win, tpl, self.support.as_ref(), &mut self.lk, &self.params),
                     None => (None, Work::None),
                 };
                 if self.kind == FovealKind::CoopMaster {
