@@ -189,15 +189,16 @@ fn fill_strip(dst: &mut [i16], view: &WindowView<'_>, px: usize, tw: usize) -> O
 /// window row and placement column, far less than the `tw·th` multiply-adds per
 /// placement.
 ///
-/// `None` (use the other paths) when the strip or the placement count exceed their
-/// capacities.
-pub(super) fn strip_dot_products(win: &WindowView<'_>, tpl: &WindowView<'_>) -> Option<Vec<u32, SCORE_CACHE>> {
+/// The products go into `dots` (row-major placements; a 4 KiB vector is not returned by
+/// value, which would copy it). `None` (use the other paths) when the strip or the placement
+/// count exceed their capacities.
+pub(super) fn strip_dot_products(win: &WindowView<'_>, tpl: &WindowView<'_>, dots: &mut Vec<u32, SCORE_CACHE>) -> Option<()> {
     // Small windows use small buffers: zeroing two 8 KiB arrays would cost as much as
     // the whole Foveal match.
     if tpl.width().checked_mul(win.height())? <= SMALL_STRIP_CAP {
-        strip_dot_products_in::<SMALL_STRIP_CAP>(win, tpl)
+        strip_dot_products_in::<SMALL_STRIP_CAP>(win, tpl, dots)
     } else {
-        strip_dot_products_in::<STRIP_CAP>(win, tpl)
+        strip_dot_products_in::<STRIP_CAP>(win, tpl, dots)
     }
 }
 
@@ -206,10 +207,7 @@ pub(super) fn strip_dot_products(win: &WindowView<'_>, tpl: &WindowView<'_>) -> 
 const SMALL_STRIP_CAP: usize = 1024;
 
 /// [`strip_dot_products`] with strip buffers of `CAP <= STRIP_CAP` pixels.
-fn strip_dot_products_in<const CAP: usize>(
-    win: &WindowView<'_>,
-    tpl: &WindowView<'_>,
-) -> Option<Vec<u32, SCORE_CACHE>> {
+fn strip_dot_products_in<const CAP: usize>(win: &WindowView<'_>, tpl: &WindowView<'_>, dots: &mut Vec<u32, SCORE_CACHE>) -> Option<()> {
     let (tw, th, ww, wh) = (tpl.width(), tpl.height(), win.width(), win.height());
     let nx = ww.checked_sub(tw)? + 1;
     let ny = wh.checked_sub(th)? + 1;
@@ -219,13 +217,16 @@ fn strip_dot_products_in<const CAP: usize>(
     if nx * ny > SCORE_CACHE || tw.checked_mul(wh)? > CAP.min(STRIP_CAP) || tw == 0 {
         return None;
     }
-    let mut tbuf = [0i16; CAP];
+    // Buffers of the sizes used (the rest of a zeroed array would cost its zeroing).
+    let mut tbuf: Vec<i16, CAP> = Vec::new();
+    tbuf.resize(n, 0).ok()?;
     fill_strip(&mut tbuf, tpl, 0, tw)?;
     let t = tbuf.get(..n)?;
     let body = n - n % 16;
-    let mut dots: Vec<u32, SCORE_CACHE> = Vec::new();
+    dots.clear();
     dots.resize(nx * ny, 0).ok()?;
-    let mut strip = [0i16; CAP];
+    let mut strip: Vec<i16, CAP> = Vec::new();
+    strip.resize(tw * wh, 0).ok()?;
     for px in 0..nx {
         fill_strip(&mut strip, win, px, tw)?;
         let mut py = 0;
@@ -245,7 +246,7 @@ fn strip_dot_products_in<const CAP: usize>(
             py += 1;
         }
     }
-    Some(dots)
+    Some(())
 }
 
 /// Scalar `Σ a·b` of two short runs (the last `n % 16` pixels of [`dot_long4`]).
@@ -256,6 +257,7 @@ fn dot_tail(a: &[i16], b: &[i16]) -> i32 {
 
 /// `Σ a·b` of two equally long `i16` runs of non-negative pixels (`len <= STRIP_CAP`,
 /// so `i32` cannot overflow). 16 lanes: LLVM folds the pairs into `pmaddwd`.
+#[cfg(not(target_arch = "arm"))]
 #[inline(never)]
 fn dot_long(a: &[i16], b: &[i16]) -> i32 {
     let mut lanes = [0i32; 16];
@@ -355,4 +357,20 @@ pub(super) fn dot_long4_pairs(t: &[i16], s: &[i16], step: usize) -> [i32; 4] {
 
 #[cfg(target_arch = "arm")]
 use dot_long4_pairs as dot_long4;
+
+/// [`dot_long`] for 32-bit Arm: its 16 lanes spill there, so one scalar sum takes the runs
+/// two values at a time, as [`dot_long4_pairs`] does.
+#[cfg(any(test, target_arch = "arm"))]
+#[inline(never)]
+pub(super) fn dot_long_pairs(a: &[i16], b: &[i16]) -> i32 {
+    let (ca, cb) = (a.chunks_exact(2), b.chunks_exact(2));
+    let tail = ca.remainder().iter().zip(cb.remainder()).fold(0i32, |s, (&p, &q)| s.wrapping_add(i32::from(p) * i32::from(q)));
+    ca.zip(cb).fold(tail, |s, pair| match pair {
+        (&[a0, a1], &[b0, b1]) => s.wrapping_add((i32::from(a0) * i32::from(b0)).wrapping_add(i32::from(a1) * i32::from(b1))),
+        _ => s,
+    })
+}
+
+#[cfg(target_arch = "arm")]
+use dot_long_pairs as dot_long;
 

@@ -1,4 +1,4 @@
-use super::dot::{dot_long4, dot_long4_pairs};
+use super::dot::{dot_long4, dot_long4_pairs, dot_long_pairs};
 use super::subpixel::parabola;
 use super::*;
 
@@ -19,6 +19,12 @@ fn the_arm_pairwise_dot_products_equal_the_lane_ones() {
         assert_eq!(dot_long4_pairs(&t, &s, step).to_vec(), want, "n {n}");
         #[cfg(not(target_arch = "arm"))]
         assert_eq!(dot_long4(&t, &s, step).to_vec(), want, "n {n}");
+    }
+    // The single runs of the last placements, of any length.
+    for n in [0, 1, 15, 399, 400, 401, 4096] {
+        let (a, b): (std::vec::Vec<i16>, std::vec::Vec<i16>) = (0..n).map(|_| (px(), px())).unzip();
+        let want: i32 = a.iter().zip(&b).map(|(&p, &q)| i32::from(p) * i32::from(q)).sum();
+        assert_eq!(dot_long_pairs(&a, &b), want, "n {n}");
     }
 }
 
