@@ -216,16 +216,19 @@ fn sample(win: &WindowView<'_>, x: f32, y: f32, iw: usize, used: &[u32], out: &m
     for (j, &bits) in used.iter().enumerate() {
         let top = win.row(y0 + j)?.get(x0..x0 + cols)?;
         let bottom = if ay > 0.0 { win.row(y0 + j + 1)?.get(x0..x0 + cols)? } else { top };
-        let [tl, tr, bl, br] = [top.get(..iw), top.get(right..right + iw), bottom.get(..iw), bottom.get(right..right + iw)];
-        let mut bit = bits;
-        for ((&a, &b), (&c, &e)) in tl?.iter().zip(tr?).zip(bl?.iter().zip(br?)) {
-            if bit & 1 == 1 {
+        // Each run of used pixels (a support's row is one) without a test per pixel.
+        let mut rest = bits;
+        while rest != 0 {
+            let (i, run) = (rest.trailing_zeros() as usize, (rest >> rest.trailing_zeros()).trailing_ones() as usize);
+            rest &= rest.wrapping_add(rest & rest.wrapping_neg());
+            let [tl, tr, bl, br] = [i, i + right, i, i + right].map(|k| k..k + run);
+            let cells = top.get(tl)?.iter().zip(top.get(tr)?).zip(bottom.get(bl)?.iter().zip(bottom.get(br)?));
+            for ((&a, &b), (&c, &e)) in cells {
                 let [a, b, c, e] = [a, b, c, e].map(f32::from);
                 let v = w[0] * a + w[1] * b + w[2] * c + w[3] * e;
                 out.push(v).ok()?;
                 sum += v;
             }
-            bit >>= 1;
         }
     }
     Some(sum)
