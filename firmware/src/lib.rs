@@ -13,7 +13,8 @@
 //!
 //! Dependencies go one way: `types` <- `kernels` <- `processors` <- `ports`.
 #![no_std]
-// One exception, `kernels::fmath::sqrtf`: an FPU instruction through `asm!`.
+// Two exceptions, `kernels::fmath::sqrtf` and `kernels::dsp::smlad`: one instruction each
+// through `asm!`.
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
 

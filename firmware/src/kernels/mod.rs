@@ -11,9 +11,11 @@
 //! * [`confidence`]: the least-squares window confidence measure (4.3) and a Kalman-filter
 //!   policy (5.2).
 //!
-//! `fmath` has the one float function the FPU does in hardware (`sqrtf`).
+//! `fmath` and `dsp` have the FPU's square root and the DSP extension's dual multiply-add
+//! (through `asm!` on the Cortex-M4F, portable elsewhere).
 pub mod confidence;
 pub mod corner;
+mod dsp;
 mod fmath;
 pub mod info;
 pub mod matching;

@@ -12,6 +12,8 @@
 //! per-row `u8` dot products.
 //!
 use super::SCORE_CACHE;
+#[cfg(any(test, target_arch = "arm"))]
+use crate::kernels::dsp::{pair, smlad};
 use crate::kernels::view::WindowView;
 use heapless::Vec;
 
@@ -327,32 +329,30 @@ pub(super) fn dot_long4(t: &[i16], s: &[i16], step: usize) -> [i32; 4] {
 
 /// [`dot_long4`] for 32-bit Arm (Cortex-M4, thesis 2.6's processors on a microcontroller):
 /// 64 lanes of accumulators spill on its 13 registers, so here four scalar sums, one per
-/// placement, take the template two pixels at a time, the shape LLVM's parallel-DSP pass
-/// turns into `SMLAD` (two 16-bit products a cycle). Exact integers either way, so the
-/// results are the same bits (checked against x86 by `scripts/board.sh`, and against
-/// [`dot_long4`] by a unit test).
+/// placement, take the template two pixels at a time: each pair is one word, and one
+/// `SMLAD` per placement adds both products ([`crate::kernels::dsp`]). Exact integers
+/// either way, so the results are the same bits (checked against x86 by
+/// `scripts/board.sh`, and against [`dot_long4`] by a unit test).
 #[cfg(any(test, target_arch = "arm"))]
 #[inline(never)]
 pub(super) fn dot_long4_pairs(t: &[i16], s: &[i16], step: usize) -> [i32; 4] {
     let Some([s0, s1, s2, s3]) = four_runs(s, step, t.len()) else { return [0; 4] };
-    let (mut a0, mut a1, mut a2, mut a3) = (0i32, 0i32, 0i32, 0i32);
+    let mut acc = [0i32; 4];
     let it = t
         .chunks_exact(2)
         .zip(s0.chunks_exact(2))
         .zip(s1.chunks_exact(2))
         .zip(s2.chunks_exact(2))
         .zip(s3.chunks_exact(2));
-    let dot2 = |t: &[i16], x: &[i16]| match (t, x) {
-        (&[t0, t1], &[x0, x1]) => (i32::from(t0) * i32::from(x0)).wrapping_add(i32::from(t1) * i32::from(x1)),
+    let word = |v: &[i16]| match v {
+        &[lo, hi] => pair(lo, hi),
         _ => 0,
     };
     for ((((tc, a), b), c), d) in it {
-        a0 = a0.wrapping_add(dot2(tc, a));
-        a1 = a1.wrapping_add(dot2(tc, b));
-        a2 = a2.wrapping_add(dot2(tc, c));
-        a3 = a3.wrapping_add(dot2(tc, d));
+        let t = word(tc);
+        acc = [smlad(acc[0], t, word(a)), smlad(acc[1], t, word(b)), smlad(acc[2], t, word(c)), smlad(acc[3], t, word(d))];
     }
-    [a0, a1, a2, a3]
+    acc
 }
 
 #[cfg(target_arch = "arm")]
@@ -365,8 +365,8 @@ use dot_long4_pairs as dot_long4;
 pub(super) fn dot_long_pairs(a: &[i16], b: &[i16]) -> i32 {
     let (ca, cb) = (a.chunks_exact(2), b.chunks_exact(2));
     let tail = ca.remainder().iter().zip(cb.remainder()).fold(0i32, |s, (&p, &q)| s.wrapping_add(i32::from(p) * i32::from(q)));
-    ca.zip(cb).fold(tail, |s, pair| match pair {
-        (&[a0, a1], &[b0, b1]) => s.wrapping_add((i32::from(a0) * i32::from(b0)).wrapping_add(i32::from(a1) * i32::from(b1))),
+    ca.zip(cb).fold(tail, |s, two| match two {
+        (&[a0, a1], &[b0, b1]) => smlad(s, pair(a0, a1), pair(b0, b1)),
         _ => s,
     })
 }
