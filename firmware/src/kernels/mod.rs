@@ -15,6 +15,7 @@
 //! (through `asm!` on the Cortex-M4F, portable elsewhere).
 pub mod confidence;
 pub mod corner;
+#[cfg(any(test, target_arch = "arm"))]
 mod dsp;
 mod fmath;
 pub mod info;

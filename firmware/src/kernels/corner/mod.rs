@@ -267,7 +267,11 @@ impl CornerDetector {
         for (dst, &r) in self.edges.chunks_exact_mut(w).zip(rows.iter()) {
             for (k, d) in dst.chunks_mut(8).enumerate() {
                 let bytes = BYTES[((r >> (8 * k)) & 0xff) as usize].to_le_bytes();
-                d.copy_from_slice(bytes.get(..d.len()).unwrap_or(&[]));
+                // Whole chunks as one store (a copy of under 8 bytes is a library call).
+                match <&mut [u8; 8]>::try_from(&mut *d) {
+                    Ok(d) => *d = bytes,
+                    Err(_) => d.iter_mut().zip(bytes).for_each(|(d, b)| *d = b),
+                }
             }
         }
         if clean == 0 {
