@@ -216,18 +216,21 @@ fn sample(win: &WindowView<'_>, x: f32, y: f32, iw: usize, used: &[u32], out: &m
     for (j, &bits) in used.iter().enumerate() {
         let top = win.row(y0 + j)?.get(x0..x0 + cols)?;
         let bottom = if ay > 0.0 { win.row(y0 + j + 1)?.get(x0..x0 + cols)? } else { top };
-        // Each run of used pixels (a support's row is one) without a test per pixel.
+        // Each run of used pixels (a support's row is one) without a test per pixel; each
+        // column converted once, as a sample's right-hand column and the next one's left.
         let mut rest = bits;
         while rest != 0 {
             let (i, run) = (rest.trailing_zeros() as usize, (rest >> rest.trailing_zeros()).trailing_ones() as usize);
             rest &= rest.wrapping_add(rest & rest.wrapping_neg());
-            let [tl, tr, bl, br] = [i, i + right, i, i + right].map(|k| k..k + run);
-            let cells = top.get(tl)?.iter().zip(top.get(tr)?).zip(bottom.get(bl)?.iter().zip(bottom.get(br)?));
-            for ((&a, &b), (&c, &e)) in cells {
-                let [a, b, c, e] = [a, b, c, e].map(f32::from);
-                let v = w[0] * a + w[1] * b + w[2] * c + w[3] * e;
+            let (t, b) = (top.get(i..i + run + right)?, bottom.get(i..i + run + right)?);
+            let mut columns = t.iter().zip(b).map(|(&t, &b)| (f32::from(t), f32::from(b)));
+            let mut left = columns.next()?;
+            for _ in 0..run {
+                let r = if right == 1 { columns.next()? } else { left };
+                let v = w[0] * left.0 + w[1] * r.0 + w[2] * left.1 + w[3] * r.1;
                 out.push(v).ok()?;
                 sum += v;
+                left = if right == 1 { r } else { columns.next().unwrap_or(left) };
             }
         }
     }
