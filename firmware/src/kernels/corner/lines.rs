@@ -186,16 +186,17 @@ impl EdgePoints {
         self.iter().filter(move |(_, f)| f & flag != 0).map(|(p, _)| p)
     }
 
-    /// Sets or clears `flag` of every point with a gradient by `set` (given the point and
-    /// its flags); whether any point's flag changed.
+    /// Sets or clears the flags `flag` (one or more bits) of every point with a gradient by
+    /// `set` (given the point and its flags); whether any point's flags changed.
     fn mark(&mut self, flag: u8, set: impl Fn(&EdgePoint, u8) -> bool) -> bool {
         let mut changed = false;
         let points = self.x.iter().zip(&self.y).zip(&self.c2).zip(&self.s2).zip(&self.m).zip(self.flags.iter_mut());
         for (((((&x, &y), &c2), &s2), &m), f) in points.take(self.n) {
             if m > 0.0 {
                 let on = set(&EdgePoint { x: f32::from(x) / FIX, y: f32::from(y) / FIX, c2, s2, m }, *f);
-                changed |= (*f & flag != 0) != on;
-                *f = if on { *f | flag } else { *f & !flag };
+                let new = if on { *f | flag } else { *f & !flag };
+                changed |= new != *f;
+                *f = new;
             }
         }
         changed
@@ -432,9 +433,7 @@ pub(super) fn apex_from_points(pts: &mut EdgePoints, w: usize, h: usize) -> Resu
     // Each side's points, and the first lines, through all of them. A side without points:
     // one edge orientation only.
     for ((&ck, &side), &fit) in c.iter().zip(&ON_SIDE).zip(&IN_FIT) {
-        let on = |p: &EdgePoint, _| p.c2 * ck.0 + p.s2 * ck.1 >= COS_2_SIDE_TOL;
-        pts.mark(side, on);
-        pts.mark(fit, on);
+        pts.mark(side | fit, |p, _| p.c2 * ck.0 + p.s2 * ck.1 >= COS_2_SIDE_TOL);
     }
     let mut lines = [
         fit_side(pts, IN_FIT[0]).ok_or(NoCorner::StraightLine)?,
