@@ -62,10 +62,9 @@ pub struct LkTemplate {
     used: [u32; MAX_SIDE],
     iw: usize,
     ih: usize,
-    /// The used pixels' values and gradients, row by row: the order of every sum.
-    tv: Vec<f32, INTERIOR>,
-    gx: Vec<f32, INTERIOR>,
-    gy: Vec<f32, INTERIOR>,
+    /// The used pixels' values and gradients `[T, gx, gy]`, row by row: the order of every
+    /// sum (together, as the iterations read them).
+    tg: Vec<[f32; 3], INTERIOR>,
     h: (f32, f32, f32),
     det: f32,
     t_mean: f32,
@@ -86,9 +85,7 @@ impl LkTemplate {
             used: [0; MAX_SIDE],
             iw: 0,
             ih: 0,
-            tv: Vec::new(),
-            gx: Vec::new(),
-            gy: Vec::new(),
+            tg: Vec::new(),
             h: (0.0, 0.0, 0.0),
             det: 0.0,
             t_mean: 0.0,
@@ -117,8 +114,8 @@ impl LkTemplate {
         }
         let mut packed = [0u8; MAX_SIDE * MAX_SIDE];
         let tpl = if tpl.step() == 1 { *tpl } else { tpl.pack_into(&mut packed)? };
-        let (tv, gx, gy) = (&mut self.tv, &mut self.gx, &mut self.gy);
-        (tv.clear(), gx.clear(), gy.clear());
+        let tg = &mut self.tg;
+        tg.clear();
         for (j, &bits) in used.iter().enumerate().take(ih) {
             let (up, mid, down) = (tpl.row(j)?, tpl.row(j + 1)?, tpl.row(j + 2)?);
             // Interior pixel i: pixels i, i+1 and i+2 of its row, i+1 of the rows above and below.
@@ -128,25 +125,23 @@ impl LkTemplate {
             let mut bit = bits;
             for (((&l, &c), &r), (&u, &d)) in columns {
                 if bit & 1 == 1 {
-                    tv.push(f32::from(c)).ok()?;
-                    gx.push((f32::from(r) - f32::from(l)) / 2.0).ok()?;
-                    gy.push((f32::from(d) - f32::from(u)) / 2.0).ok()?;
+                    tg.push([f32::from(c), (f32::from(r) - f32::from(l)) / 2.0, (f32::from(d) - f32::from(u)) / 2.0]).ok()?;
                 }
                 bit >>= 1;
             }
         }
-        let n = tv.len();
+        let n = tg.len();
         if n == 0 {
             return None;
         }
-        let dot = |a: &[f32], b: &[f32]| a.iter().zip(b).map(|(p, q)| p * q).sum::<f32>();
-        let (h11, h12, h22) = (dot(gx, gx), dot(gx, gy), dot(gy, gy));
+        let dot = |a: usize, b: usize| tg.iter().map(|v| v[a] * v[b]).sum::<f32>();
+        let (h11, h12, h22) = (dot(1, 1), dot(1, 2), dot(2, 2));
         let det = h11 * h22 - h12 * h12;
         if det.is_nan() || det <= 1e-3 * (h11 + h22) * (h11 + h22) {
             return None;
         }
-        let t_mean = tv.iter().sum::<f32>() / n as f32;
-        let t_dev = sqrtf(tv.iter().map(|v| (v - t_mean) * (v - t_mean)).sum());
+        let t_mean = tg.iter().map(|v| v[0]).sum::<f32>() / n as f32;
+        let t_dev = sqrtf(tg.iter().map(|v| (v[0] - t_mean) * (v[0] - t_mean)).sum());
         (self.iw, self.ih, self.h, self.det, self.t_mean, self.t_dev) = (iw, ih, (h11, h12, h22), det, t_mean, t_dev);
         Some(())
     }
@@ -157,8 +152,8 @@ impl LkTemplate {
         if !self.ready || !x.is_finite() || !y.is_finite() {
             return None;
         }
-        let LkTemplate { used, iw, ih, tv, gx, gy, h: (h11, h12, h22), det, t_mean, t_dev, .. } = self;
-        let n = tv.len() as f32;
+        let LkTemplate { used, iw, ih, tg, h: (h11, h12, h22), det, t_mean, t_dev, .. } = self;
+        let n = tg.len() as f32;
         let mut w = Vec::<f32, INTERIOR>::new();
         let (mut px, mut py) = (x, y);
         for _ in 0..ITERATIONS {
@@ -170,7 +165,7 @@ impl LkTemplate {
             }
             let gain = t_dev / w_dev;
             let (mut b1, mut b2) = (0.0f32, 0.0f32);
-            for ((wk, tk), (gxk, gyk)) in w.iter().zip(tv).zip(gx.iter().zip(gy)) {
+            for (wk, [tk, gxk, gyk]) in w.iter().zip(tg) {
                 let e = (wk - w_mean) * gain + t_mean - tk;
                 b1 += gxk * e;
                 b2 += gyk * e;
