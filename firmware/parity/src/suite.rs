@@ -6,6 +6,7 @@ use crate::pgm::{self, PgmError};
 use crate::stream::{Stream, StreamError};
 use coopwin_firmware::kernels::confidence::{ConfidencePolicy, KalmanCoop, SseCoop};
 use coopwin_firmware::kernels::corner::{CornerDetector, CornerParams};
+use coopwin_firmware::kernels::fmath::sqrtf;
 use coopwin_firmware::kernels::info::{corner_information, edge_information, edge_information_with_prior};
 use coopwin_firmware::kernels::matching::{best_match, best_match_decimated, Match, MatchError, Method};
 use coopwin_firmware::kernels::motion::detect_motion;
@@ -201,7 +202,7 @@ fn float_formats<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), S
         sums.map(|(p, e)| p as f64 / libm::sqrt(e_r as f64 * e as f64))
     });
     let f32s = meter.kernel("ncc_norm25_f32", &mut || {
-        sums.map(|(p, e)| p as f32 / libm::sqrtf(e_r as f32 * e as f32))
+        sums.map(|(p, e)| p as f32 / sqrtf(e_r as f32 * e as f32))
     });
     let q15s = meter.kernel("ncc_norm25_q15", &mut || {
         // P / sqrt(E_R E_I) in Q1.15: P and both energies are under 2^25 (400 * 255²), so

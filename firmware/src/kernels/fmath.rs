@@ -16,7 +16,7 @@
 #[cfg(all(target_arch = "arm", target_abi = "eabihf"))]
 #[inline]
 #[allow(unsafe_code)]
-pub(crate) fn sqrtf(x: f32) -> f32 {
+pub fn sqrtf(x: f32) -> f32 {
     let bits: u32;
     // SAFETY: register-only instructions on the FPU that every hard-float Arm target has;
     // `s0` is pushed and popped around its use, so no register the compiler allocated
@@ -39,7 +39,7 @@ pub(crate) fn sqrtf(x: f32) -> f32 {
 /// `sqrt(x)`, correctly rounded: `VSQRT.F32` on a hard-float Arm target, `libm` elsewhere.
 #[cfg(not(all(target_arch = "arm", target_abi = "eabihf")))]
 #[inline]
-pub(crate) fn sqrtf(x: f32) -> f32 {
+pub fn sqrtf(x: f32) -> f32 {
     libm::sqrtf(x)
 }
 
