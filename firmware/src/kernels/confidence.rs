@@ -129,7 +129,11 @@ pub fn least_squares(samples: &[(f64, f64)]) -> Option<LineFit> {
         .iter()
         .enumerate()
         .map(|(i, &(t, p))| {
-            let t = dt.get(i).copied().unwrap_or_else(|| t - t0);
+            // Past the kept times (a longer slice), taken again: soft-float work only then.
+            let t = match dt.get(i) {
+                Some(&d) => d,
+                None => t - t0,
+            };
             let e = p - (a * t + b_shifted);
             e * e
         })

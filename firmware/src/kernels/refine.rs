@@ -12,7 +12,10 @@
 //!   `W(i,j) = I(x+i, y+j)`, normalises it, `Ŵ = (W - mean W) σ_T / σ_W + mean T`, and steps
 //!   `(x, y) -= H⁻¹ Σ g (Ŵ - T)` until the step is under 0.01 px (at most 8 iterations).
 //!
-//! Arithmetic is `f32` (the Cortex-M4F's single-precision FPU); no allocation, no panic.
+//! Arithmetic is `f32` (the Cortex-M4F's single-precision FPU); no allocation, no panic. The
+//! template's side (its pixels, gradients, `H`, mean and deviation) does not depend on the
+//! window, so a tracker prepares it once per template ([`LkTemplate`]); an iteration then
+//! samples only the used pixels, each window column converted once.
 
 use crate::kernels::support::Support;
 use crate::kernels::fmath::{cmp_hypotf, sqrtf};

@@ -23,7 +23,6 @@
 //!    side's ray (the merged bands at the apex) or, after the first, farther than
 //!    [`OUTLIER_DIST`] from their own line.
 //! 4. **Apex**: the intersection of the two lines.
-
 //!
 //! Cost (the Cortex-M4F runs it, `docs/firmware-target.md`): each point's orientation and
 //! magnitude are computed once, when it is collected, and the passes (2-means rounds,
