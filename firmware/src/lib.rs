@@ -13,7 +13,9 @@
 //!
 //! Dependencies go one way: `types` <- `kernels` <- `processors` <- `ports`.
 #![no_std]
-#![forbid(unsafe_code)]
+// Two exceptions, `kernels::fmath::sqrtf` and `kernels::dsp::smlad`: one instruction each
+// through `asm!`.
+#![deny(unsafe_code)]
 #![warn(missing_docs)]
 
 #[cfg(test)]

@@ -6,6 +6,7 @@ use crate::pgm::{self, PgmError};
 use crate::stream::{Stream, StreamError};
 use coopwin_firmware::kernels::confidence::{ConfidencePolicy, KalmanCoop, SseCoop};
 use coopwin_firmware::kernels::corner::{CornerDetector, CornerParams};
+use coopwin_firmware::kernels::fmath::sqrtf;
 use coopwin_firmware::kernels::info::{corner_information, edge_information, edge_information_with_prior};
 use coopwin_firmware::kernels::matching::{best_match, best_match_decimated, Match, MatchError, Method};
 use coopwin_firmware::kernels::motion::detect_motion;
@@ -201,7 +202,7 @@ fn float_formats<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), S
         sums.map(|(p, e)| p as f64 / libm::sqrt(e_r as f64 * e as f64))
     });
     let f32s = meter.kernel("ncc_norm25_f32", &mut || {
-        sums.map(|(p, e)| p as f32 / libm::sqrtf(e_r as f32 * e as f32))
+        sums.map(|(p, e)| p as f32 / sqrtf(e_r as f32 * e as f32))
     });
     let q15s = meter.kernel("ncc_norm25_q15", &mut || {
         // P / sqrt(E_R E_I) in Q1.15: P and both energies are under 2^25 (400 * 255²), so
@@ -321,11 +322,15 @@ impl CoopPair {
         let step = meter.once("coop_frame", &mut || {
             let _own = master.on_window(view, t);
             let theirs = partner.on_window(view, t);
-            let mut decided = None;
-            for (_, m) in theirs.sends.iter().filter(|(d, _)| *d == Dest::Foveal) {
-                decided = Some(master.on_message(m, t));
+            // The step answering the partner's last result is returned as the call makes it:
+            // a `Step` is over 4 KiB, and a copy into a variable would be metered too.
+            let sends = theirs.sends.as_slice();
+            let (earlier, last) = sends.split_at(sends.iter().rposition(|(d, _)| *d == Dest::Foveal)?);
+            for (_, m) in earlier.iter().filter(|(d, _)| *d == Dest::Foveal) {
+                master.on_message(m, t);
             }
-            decided
+            let (_, m) = last.first()?;
+            Some(master.on_message(m, t))
         })?;
         for m in to_partner(&step) {
             self.partner.on_message(m, t);

@@ -99,15 +99,22 @@ impl LsqTrack {
 /// samples, `SS_tt = 0`, or a non-finite result.
 pub fn least_squares(samples: &[(f64, f64)]) -> Option<LineFit> {
     let t0 = samples.first()?.0;
-    let (mut n, mut st, mut sp, mut stp, mut stt) = (0.0f64, 0.0, 0.0, 0.0, 0.0);
-    for &(t, p) in samples {
+    let (mut st, mut sp, mut stp, mut stt) = (0.0f64, 0.0, 0.0, 0.0);
+    // The first samples' times from the first are kept for the second pass (soft-float
+    // `f64` on the Cortex-M4F: each operation counts).
+    let mut dt = [0.0f64; MAX_SAMPLES];
+    for (i, &(t, p)) in samples.iter().enumerate() {
         let t = t - t0;
-        n += 1.0;
+        if let Some(d) = dt.get_mut(i) {
+            *d = t;
+        }
         st += t;
         sp += p;
         stp += t * p;
         stt += t * t;
     }
+    // The count, exactly as a sum of ones in `f64` would give it.
+    let n = samples.len() as f64;
     if n < 2.0 {
         return None;
     }
@@ -120,8 +127,14 @@ pub fn least_squares(samples: &[(f64, f64)]) -> Option<LineFit> {
     let b_shifted = sp / n - a * st / n;
     let sse = samples
         .iter()
-        .map(|&(t, p)| {
-            let e = p - (a * (t - t0) + b_shifted);
+        .enumerate()
+        .map(|(i, &(t, p))| {
+            // Past the kept times (a longer slice), taken again: soft-float work only then.
+            let t = match dt.get(i) {
+                Some(&d) => d,
+                None => t - t0,
+            };
+            let e = p - (a * t + b_shifted);
             e * e
         })
         .sum::<f64>();

@@ -9,9 +9,14 @@
 //! * [`corner`]: the window-based corner detector (ch. 3);
 //! * [`info`]: information content measures (3.4.1);
 //! * [`confidence`]: the least-squares window confidence measure (4.3) and a Kalman-filter
-//!   policy (5.2).
+//!   policy (5.2);
+//! * [`fmath`]: the FPU's square root (and `dsp`, the DSP extension's dual multiply-add, for
+//!   the matching), through `asm!` on the Cortex-M4F and portable elsewhere.
 pub mod confidence;
 pub mod corner;
+#[cfg(any(test, target_arch = "arm"))]
+mod dsp;
+pub mod fmath;
 pub mod info;
 pub mod matching;
 pub mod motion;

@@ -12,10 +12,16 @@
 //!   `W(i,j) = I(x+i, y+j)`, normalises it, `Ŵ = (W - mean W) σ_T / σ_W + mean T`, and steps
 //!   `(x, y) -= H⁻¹ Σ g (Ŵ - T)` until the step is under 0.01 px (at most 8 iterations).
 //!
-//! Arithmetic is `f32` (the Cortex-M4F's single-precision FPU); no allocation, no panic.
+//! Arithmetic is `f32` (the Cortex-M4F's single-precision FPU); no allocation, no panic. The
+//! template's side (its pixels, gradients, `H`, mean and deviation) does not depend on the
+//! window, so a tracker prepares it once per template ([`LkTemplate`]); an iteration then
+//! samples only the used pixels, each window column converted once.
 
 use crate::kernels::support::Support;
+use crate::kernels::fmath::{cmp_hypotf, sqrtf};
+use core::cmp::Ordering::{Greater, Less};
 use crate::kernels::view::WindowView;
+use heapless::Vec;
 
 /// Iterations at most.
 const ITERATIONS: usize = 8;
@@ -34,90 +40,160 @@ const INTERIOR: usize = (MAX_SIDE - 2) * (MAX_SIDE - 2);
 /// has no texture in some direction (singular `H`), the window is flat, a sample would fall
 /// outside the window, or the iteration walks more than a pixel.
 pub fn refine_translation(win: &WindowView<'_>, tpl: &WindowView<'_>, x: f32, y: f32) -> Option<(f32, f32)> {
-    refine(win, tpl, None, x, y)
+    let mut lk = LkTemplate::new();
+    lk.prepare(tpl, None).then(|| lk.refine(win, x, y)).flatten()
 }
 
 /// [`refine_translation`] with the sums over the template pixels in `support` only (the
 /// object's part of a corner template, see [`super::support`]); `None` also when the
 /// support is not the template's size.
 pub fn refine_translation_on(win: &WindowView<'_>, tpl: &WindowView<'_>, support: &Support, x: f32, y: f32) -> Option<(f32, f32)> {
-    if support.size() != (tpl.width(), tpl.height()) {
-        return None;
-    }
-    refine(win, tpl, Some(support), x, y)
+    let mut lk = LkTemplate::new();
+    lk.prepare(tpl, Some(support)).then(|| lk.refine(win, x, y)).flatten()
 }
 
-fn refine(win: &WindowView<'_>, tpl: &WindowView<'_>, support: Option<&Support>, x: f32, y: f32) -> Option<(f32, f32)> {
-    let (tw, th) = (tpl.width(), tpl.height());
-    if !(3..=MAX_SIDE).contains(&tw) || !(3..=MAX_SIDE).contains(&th) || !x.is_finite() || !y.is_finite() {
-        return None;
-    }
-    // The template's interior pixels (those in the support) and their central-difference
-    // gradients, row by row.
-    let (iw, ih) = (tw - 2, th - 2);
-    let used = |i: usize, j: usize| support.is_none_or(|s| s.contains(i + 1, j + 1));
-    let (mut tv, mut gx, mut gy) = ([0f32; INTERIOR], [0f32; INTERIOR], [0f32; INTERIOR]);
-    let t = |i: usize, j: usize| tpl.get(i, j).map(f32::from);
-    let mut n = 0;
-    for j in 0..ih {
-        for i in (0..iw).filter(|&i| used(i, j)) {
-            *tv.get_mut(n)? = t(i + 1, j + 1)?;
-            *gx.get_mut(n)? = (t(i + 2, j + 1)? - t(i, j + 1)?) / 2.0;
-            *gy.get_mut(n)? = (t(i + 1, j + 2)? - t(i + 1, j)?) / 2.0;
-            n += 1;
-        }
-    }
-    if n == 0 {
-        return None;
-    }
-    let (tv, gx, gy) = (tv.get(..n)?, gx.get(..n)?, gy.get(..n)?);
-    let dot = |a: &[f32], b: &[f32]| a.iter().zip(b).map(|(p, q)| p * q).sum::<f32>();
-    let (h11, h12, h22) = (dot(gx, gx), dot(gx, gy), dot(gy, gy));
-    let det = h11 * h22 - h12 * h12;
-    if det.is_nan() || det <= 1e-3 * (h11 + h22) * (h11 + h22) {
-        return None;
-    }
-    let t_mean = tv.iter().sum::<f32>() / n as f32;
-    let t_dev = libm::sqrtf(tv.iter().map(|v| (v - t_mean) * (v - t_mean)).sum());
-    let (mut block, mut w) = ([0f32; INTERIOR], [0f32; INTERIOR]);
-    let (mut px, mut py) = (x, y);
-    for _ in 0..ITERATIONS {
-        sample(win, px + 1.0, py + 1.0, iw, ih, block.get_mut(..iw * ih)?)?;
-        let picked = block.iter().enumerate().filter(|(k, _)| used(k % iw, k / iw)).map(|(_, v)| *v);
-        for (dst, v) in w.iter_mut().zip(picked) {
-            *dst = v;
-        }
-        let wv = w.get(..n)?;
-        let w_sum: f32 = wv.iter().sum();
-        let w_mean = w_sum / n as f32;
-        let w_dev = libm::sqrtf(wv.iter().map(|v| (v - w_mean) * (v - w_mean)).sum());
-        if w_dev.is_nan() || w_dev <= 0.0 {
-            return None;
-        }
-        let gain = t_dev / w_dev;
-        let (mut b1, mut b2) = (0.0f32, 0.0f32);
-        for ((wk, tk), (gxk, gyk)) in wv.iter().zip(tv).zip(gx.iter().zip(gy)) {
-            let e = (wk - w_mean) * gain + t_mean - tk;
-            b1 += gxk * e;
-            b2 += gyk * e;
-        }
-        let (dx, dy) = ((h22 * b1 - h12 * b2) / det, (h11 * b2 - h12 * b1) / det);
-        px -= dx;
-        py -= dy;
-        if libm::hypotf(px - x, py - y) > MAX_WALK || !px.is_finite() || !py.is_finite() {
-            return None;
-        }
-        if libm::hypotf(dx, dy) < CONVERGED {
-            break;
-        }
-    }
-    Some((px, py))
+/// The template's side of the refinement (its used interior pixels, their gradients, `H` and
+/// the template's mean and deviation), which does not depend on the window: a tracker that
+/// refines every frame with one template prepares it once ([`LkTemplate::prepare`]) and
+/// refines with it ([`LkTemplate::refine`]), with the results of [`refine_translation`] (or
+/// [`refine_translation_on`] with a support). Prepared in place: it is 11 KiB.
+#[derive(Clone, Debug)]
+pub struct LkTemplate {
+    /// A template was prepared and can refine.
+    ready: bool,
+    /// Bit `i` of `used[j]`: interior pixel `(i, j)` is summed over.
+    used: [u32; MAX_SIDE],
+    iw: usize,
+    ih: usize,
+    /// The used pixels' values and gradients `[T, gx, gy]`, row by row: the order of every
+    /// sum (together, as the iterations read them).
+    tg: Vec<[f32; 3], INTERIOR>,
+    h: (f32, f32, f32),
+    det: f32,
+    t_mean: f32,
+    t_dev: f32,
 }
 
-/// The `iw` x `ih` block of `win` whose top-left sample sits at real-valued `(x, y)`, by
-/// bilinear interpolation (a translation: one set of weights for every pixel), into `out`;
-/// `None` when it would reach outside the window.
-fn sample(win: &WindowView<'_>, x: f32, y: f32, iw: usize, ih: usize, out: &mut [f32]) -> Option<()> {
+impl Default for LkTemplate {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl LkTemplate {
+    /// Nothing prepared: refines nothing.
+    pub const fn new() -> Self {
+        LkTemplate {
+            ready: false,
+            used: [0; MAX_SIDE],
+            iw: 0,
+            ih: 0,
+            tg: Vec::new(),
+            h: (0.0, 0.0, 0.0),
+            det: 0.0,
+            t_mean: 0.0,
+            t_dev: 0.0,
+        }
+    }
+
+    /// Prepares `tpl` for refinement, over the pixels in `support` if there is one; `false`
+    /// (and it refines nothing) when the template is under 3 or over [`MAX_SIDE`] pixels a
+    /// side, the support is not its size or holds no interior pixel, or `H` is singular.
+    pub fn prepare(&mut self, tpl: &WindowView<'_>, support: Option<&Support>) -> bool {
+        self.ready = false;
+        self.ready = self.fill(tpl, support).is_some();
+        self.ready
+    }
+
+    fn fill(&mut self, tpl: &WindowView<'_>, support: Option<&Support>) -> Option<()> {
+        let (tw, th) = (tpl.width(), tpl.height());
+        if !(3..=MAX_SIDE).contains(&tw) || !(3..=MAX_SIDE).contains(&th) || support.is_some_and(|s| s.size() != (tw, th)) {
+            return None;
+        }
+        let (iw, ih) = (tw - 2, th - 2);
+        let used = &mut self.used;
+        for (j, u) in used.iter_mut().enumerate() {
+            *u = (0..iw).filter(|&i| j < ih && support.is_none_or(|s| s.contains(i + 1, j + 1))).fold(0, |b, i| b | 1 << i);
+        }
+        let mut packed = [0u8; MAX_SIDE * MAX_SIDE];
+        let tpl = if tpl.step() == 1 { *tpl } else { tpl.pack_into(&mut packed)? };
+        let tg = &mut self.tg;
+        tg.clear();
+        for (j, &bits) in used.iter().enumerate().take(ih) {
+            let (up, mid, down) = (tpl.row(j)?, tpl.row(j + 1)?, tpl.row(j + 2)?);
+            // Interior pixel i: pixels i, i+1 and i+2 of its row, i+1 of the rows above and below.
+            let [left, centre, right, above, below] =
+                [mid.get(..iw), mid.get(1..=iw), mid.get(2..iw + 2), up.get(1..=iw), down.get(1..=iw)];
+            let columns = left?.iter().zip(centre?).zip(right?).zip(above?.iter().zip(below?));
+            let mut bit = bits;
+            for (((&l, &c), &r), (&u, &d)) in columns {
+                if bit & 1 == 1 {
+                    tg.push([f32::from(c), (f32::from(r) - f32::from(l)) / 2.0, (f32::from(d) - f32::from(u)) / 2.0]).ok()?;
+                }
+                bit >>= 1;
+            }
+        }
+        let n = tg.len();
+        if n == 0 {
+            return None;
+        }
+        let dot = |a: usize, b: usize| tg.iter().map(|v| v[a] * v[b]).sum::<f32>();
+        let (h11, h12, h22) = (dot(1, 1), dot(1, 2), dot(2, 2));
+        let det = h11 * h22 - h12 * h12;
+        if det.is_nan() || det <= 1e-3 * (h11 + h22) * (h11 + h22) {
+            return None;
+        }
+        let t_mean = tg.iter().map(|v| v[0]).sum::<f32>() / n as f32;
+        let t_dev = sqrtf(tg.iter().map(|v| (v[0] - t_mean) * (v[0] - t_mean)).sum());
+        (self.iw, self.ih, self.h, self.det, self.t_mean, self.t_dev) = (iw, ih, (h11, h12, h22), det, t_mean, t_dev);
+        Some(())
+    }
+
+    /// The refined top-left placement of the prepared template in `win` from `(x, y)`, as
+    /// [`refine_translation`] finds it; `None` also when nothing is prepared.
+    pub fn refine(&self, win: &WindowView<'_>, x: f32, y: f32) -> Option<(f32, f32)> {
+        if !self.ready || !x.is_finite() || !y.is_finite() {
+            return None;
+        }
+        let LkTemplate { used, iw, ih, tg, h: (h11, h12, h22), det, t_mean, t_dev, .. } = self;
+        let n = tg.len() as f32;
+        let mut w = Vec::<f32, INTERIOR>::new();
+        let (mut px, mut py) = (x, y);
+        for _ in 0..ITERATIONS {
+            let w_sum = sample(win, px + 1.0, py + 1.0, *iw, used.get(..*ih)?, &mut w)?;
+            let w_mean = w_sum / n;
+            let w_dev = sqrtf(w.iter().map(|v| (v - w_mean) * (v - w_mean)).sum());
+            if w_dev.is_nan() || w_dev <= 0.0 {
+                return None;
+            }
+            let gain = t_dev / w_dev;
+            let (mut b1, mut b2) = (0.0f32, 0.0f32);
+            for (wk, [tk, gxk, gyk]) in w.iter().zip(tg) {
+                let e = (wk - w_mean) * gain + t_mean - tk;
+                b1 += gxk * e;
+                b2 += gyk * e;
+            }
+            let (dx, dy) = ((h22 * b1 - h12 * b2) / det, (h11 * b2 - h12 * b1) / det);
+            px -= dx;
+            py -= dy;
+            if cmp_hypotf(px - x, py - y, MAX_WALK) == Some(Greater) || !px.is_finite() || !py.is_finite() {
+                return None;
+            }
+            if cmp_hypotf(dx, dy, CONVERGED) == Some(Less) {
+                break;
+            }
+        }
+        Some((px, py))
+    }
+}
+
+/// The `used` pixels (bit `i` of `used[j]` for pixel `(i, j)`) of the `iw x used.len()`
+/// block of `win` whose top-left sample sits at real-valued `(x, y)`, by bilinear
+/// interpolation (a translation: one set of weights for every pixel), row by row into `out`;
+/// their sum (as `Iterator::sum` adds them, from `-0.0` in order), or `None` when the block
+/// would reach outside the window.
+fn sample(win: &WindowView<'_>, x: f32, y: f32, iw: usize, used: &[u32], out: &mut Vec<f32, INTERIOR>) -> Option<f32> {
+    out.clear();
     if !(x >= 0.0 && y >= 0.0) {
         return None;
     }
@@ -126,23 +202,37 @@ fn sample(win: &WindowView<'_>, x: f32, y: f32, iw: usize, ih: usize, out: &mut 
     let (x0, y0) = (fx as usize, fy as usize);
     // A zero weight never reads the next column or row, so a block ending on the window's
     // last one is inside.
-    let (cols, rows) = (iw + usize::from(ax > 0.0), ih + usize::from(ay > 0.0));
+    let (cols, rows) = (iw + usize::from(ax > 0.0), used.len() + usize::from(ay > 0.0));
     if x0 + cols > win.width() || y0 + rows > win.height() {
         return None;
     }
     let w = [(1.0 - ax) * (1.0 - ay), ax * (1.0 - ay), (1.0 - ax) * ay, ax * ay];
-    for j in 0..ih {
+    let mut sum = -0.0f32;
+    // With `ax = 0` the right-hand pixels weigh `+0`: they may be the left ones, which are
+    // always inside (the block may end on the window's last column), for the same sum.
+    let right = usize::from(ax > 0.0);
+    for (j, &bits) in used.iter().enumerate() {
         let top = win.row(y0 + j)?.get(x0..x0 + cols)?;
         let bottom = if ay > 0.0 { win.row(y0 + j + 1)?.get(x0..x0 + cols)? } else { top };
-        let dst = out.get_mut(j * iw..(j + 1) * iw)?;
-        for (i, d) in dst.iter_mut().enumerate() {
-            let right = |r: &[u8]| if ax > 0.0 { r.get(i + 1).copied().map(f32::from) } else { Some(0.0) };
-            let (a, b) = (f32::from(*top.get(i)?), right(top)?);
-            let (c, e) = (f32::from(*bottom.get(i)?), right(bottom)?);
-            *d = w[0] * a + w[1] * b + w[2] * c + w[3] * e;
+        // Each run of used pixels (a support's row is one) without a test per pixel; each
+        // column converted once, as a sample's right-hand column and the next one's left.
+        let mut rest = bits;
+        while rest != 0 {
+            let (i, run) = (rest.trailing_zeros() as usize, (rest >> rest.trailing_zeros()).trailing_ones() as usize);
+            rest &= rest.wrapping_add(rest & rest.wrapping_neg());
+            let (t, b) = (top.get(i..i + run + right)?, bottom.get(i..i + run + right)?);
+            let mut columns = t.iter().zip(b).map(|(&t, &b)| (f32::from(t), f32::from(b)));
+            let mut left = columns.next()?;
+            for _ in 0..run {
+                let r = if right == 1 { columns.next()? } else { left };
+                let v = w[0] * left.0 + w[1] * r.0 + w[2] * left.1 + w[3] * r.1;
+                out.push(v).ok()?;
+                sum += v;
+                left = if right == 1 { r } else { columns.next().unwrap_or(left) };
+            }
         }
     }
-    Some(())
+    Some(sum)
 }
 
 #[cfg(test)]

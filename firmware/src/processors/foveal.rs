@@ -9,15 +9,35 @@ use super::step::{placements, Mode, Step, Work};
 use super::template::Template;
 use crate::kernels::corner::{CornerDetector, CornerParams};
 use crate::kernels::matching::{best_match, Method};
-use crate::kernels::refine::{refine_translation, refine_translation_on};
+use crate::kernels::refine::LkTemplate;
 use crate::kernels::support::{best_match_on, Support};
 use crate::kernels::view::WindowView;
 use crate::types::{Decimation, Point, Source};
 
+/// Lucas-Kanade's side of the template ([`LkTemplate`]), prepared once per template and
+/// kept while it is; `over` says for which pixels (`Some(true)`: its support, `Some(false)`:
+/// the whole template, `None`: not prepared).
+struct LkCache {
+    over: Option<bool>,
+    template: LkTemplate,
+}
+
+impl LkCache {
+    /// The template prepared over `support` (or all of it), as it is or prepared now.
+    fn prepared(&mut self, tpl: &WindowView<'_>, support: Option<&Support>) -> &LkTemplate {
+        if self.over != Some(support.is_some()) {
+            self.template.prepare(tpl, support);
+            self.over = Some(support.is_some());
+        }
+        &self.template
+    }
+}
+
 /// NCC tracking of `tpl` in `win`: the new point (the best placement, refined to sub-pixel
-/// accuracy by [`refine_translation`]) and its score, or `None` if the best score is under
-/// `ncc_min` (the target has left the window, or no longer looks like the template).
-fn ncc_track(win: &WindowView<'_>, tpl: &Template, support: Option<&Support>, p: &Params) -> (Option<(Point, f32)>, Work) {
+/// accuracy by Lucas-Kanade, [`crate::kernels::refine`]) and its score, or `None` if the best
+/// score is under `ncc_min` (the target has left the window, or no longer looks like the
+/// template). `lk` holds the template prepared for the refinement.
+fn ncc_track(win: &WindowView<'_>, tpl: &Template, support: Option<&Support>, lk: &mut LkCache, p: &Params) -> (Option<(Point, f32)>, Work) {
     let n = tpl.side();
     // The cost model counts the whole template: the support is a part of it.
     let work = Work::Match { method: Method::Ncc, template: (n * n) as u32, placements: placements(win, n, 1) };
@@ -38,10 +58,7 @@ fn ncc_track(win: &WindowView<'_>, tpl: &Template, support: Option<&Support>, p:
     }
     // Lucas-Kanade from the parabola's placement; the parabola's own when it is refused.
     let (ox, oy) = win.origin();
-    let refined = match support {
-        Some(s) => refine_translation_on(win, &tv, s, m.sub_x, m.sub_y),
-        None => refine_translation(win, &tv, m.sub_x, m.sub_y),
-    };
+    let refined = lk.prepared(&tv, support).refine(win, m.sub_x, m.sub_y);
     let (x, y) = refined.map_or((m.frame_x, m.frame_y), |(x, y)| (x + ox as f32, y + oy as f32));
     (Some((tpl.point_at(x, y), score)), work)
 }
@@ -77,6 +94,7 @@ pub struct Foveal {
     template: Option<Template>,
     /// The object's part of a corner template ([`crate::kernels::support`]), when it is one.
     support: Option<Support>,
+    lk: LkCache,
     detector: CornerDetector,
     tracking: Option<Point>,
     params: Params,
@@ -94,6 +112,7 @@ impl Foveal {
             kind,
             template: None,
             support: None,
+            lk: LkCache { over: None, template: LkTemplate::new() },
             detector: CornerDetector::default(),
             tracking: None,
             params,
@@ -113,6 +132,11 @@ impl Foveal {
         self.support = tpl.view().and_then(|v| {
             Support::of_template(&v, (a.x, a.y), &mut self.detector, &CornerParams::new(self.params.corner_threshold))
         });
+        // Prepared now (outside the frames), over the support that NCC tries first.
+        self.lk.over = None;
+        if let Some(v) = tpl.view() {
+            self.lk.prepared(&v, self.support.as_ref());
+        }
         self.template = Some(tpl);
     }
 
@@ -132,12 +156,12 @@ impl Foveal {
     fn start(&mut self, p: Point, exact: bool) -> Step {
         self.tracking = Some(p);
         self.coop.begin(p, exact);
-        let step = Step::new(Work::None).ask(Some(self.params.foveal_window(p)));
+        let mut step = Step::new(Work::None);
+        step.ask(Some(self.params.foveal_window(p)));
         if self.kind == FovealKind::CoopMaster {
-            step.send(Dest::FovealCd, Msg::Follow(p))
-        } else {
-            step
+            step.send(Dest::FovealCd, Msg::Follow(p));
         }
+        step
     }
 
     /// Whether a COOP master's track is coasting: tracking, but with no current position.
@@ -164,7 +188,9 @@ impl Foveal {
             Msg::Approx(p) if self.tracking.is_none() => self.start(*p, false),
             Msg::Follow(p) => {
                 self.tracking = Some(*p);
-                Step::new(Work::None).ask(Some(self.params.foveal_window(*p)))
+                let mut step = Step::new(Work::None);
+                step.ask(Some(self.params.foveal_window(*p)));
+                step
             }
             Msg::Result(r) if self.kind == FovealKind::CoopMaster => {
                 self.partner = Some(*r);
@@ -183,16 +209,17 @@ impl Foveal {
         match self.kind {
             FovealKind::Cd | FovealKind::CoopPartner => {
                 let (found, work) = cd_track(win, &mut self.detector, &self.params);
-                let step = Step::new(work);
+                let mut step = Step::new(work);
                 if self.kind == FovealKind::CoopPartner {
-                    step.send(Dest::Foveal, Msg::Result(found))
+                    step.send(Dest::Foveal, Msg::Result(found));
                 } else {
-                    self.follow(step, found, Source::Cd, None)
+                    self.follow(&mut step, found, Source::Cd, None);
                 }
+                step
             }
             FovealKind::Ncc | FovealKind::CoopMaster => {
                 let (found, work) = match &self.template {
-                    Some(tpl) => ncc_track(win, tpl, self.support.as_ref(), &self.params),
+                    Some(tpl) => ncc_track(win, tpl, self.support.as_ref(), &mut self.lk, &self.params),
                     None => (None, Work::None),
                 };
                 if self.kind == FovealKind::CoopMaster {
@@ -201,7 +228,9 @@ impl Foveal {
                     s.work = work;
                     s
                 } else {
-                    self.follow(Step::new(work), found.map(|(p, _)| p), Source::Ncc, found.map(|(_, s)| s))
+                    let mut step = Step::new(work);
+                    self.follow(&mut step, found.map(|(p, _)| p), Source::Ncc, found.map(|(_, s)| s));
+                    step
                 }
             }
         }
@@ -214,41 +243,44 @@ impl Foveal {
         self.own = None;
         self.partner = None;
         let chosen = self.coop.decide(t, own, partner);
+        let mut step = Step::new(Work::Decision);
         if let Some(q) = chosen.is_none().then(|| self.coop.coast(t)).flatten() {
             // Nothing measured the point: look where it should be next, report nothing.
             let side = self.params.foveal + 2 * COAST_MARGIN;
-            return Step::new(Work::Decision)
-                .ask(Some(self.params.window(q, side, Decimation::Full)))
-                .send(Dest::FovealCd, Msg::Follow(q));
+            step.ask(Some(self.params.window(q, side, Decimation::Full))).send(Dest::FovealCd, Msg::Follow(q));
+            return step;
         }
         let (found, source) = (chosen.map(|c| c.0), chosen.map_or(Source::Ncc, |c| c.1));
         // NCC vouches for the point it measured, or one fused with it.
         let score = own.zip(found).filter(|((n, _), p)| libm::hypotf(n.x - p.x, n.y - p.y) <= VOUCH).map(|((_, s), _)| s);
-        let step = self.follow(Step::new(Work::Decision), found, source, score);
+        self.follow(&mut step, found, source, score);
         match (step.request, found, step.lost) {
-            (Some(_), Some(p), _) => step.send(Dest::FovealCd, Msg::Follow(p)),
+            (Some(_), Some(p), _) => {
+                step.send(Dest::FovealCd, Msg::Follow(p));
+            }
             // The partner stops with the master; the Peripheral takes over.
-            (_, _, Some(last)) => step.send(Dest::FovealCd, Msg::Lost(last)),
-            _ => step,
+            (_, _, Some(last)) => {
+                step.send(Dest::FovealCd, Msg::Lost(last));
+            }
+            _ => {}
         }
+        step
     }
 
-    fn follow(&mut self, step: Step, found: Option<Point>, source: Source, score: Option<f32>) -> Step {
+    fn follow(&mut self, step: &mut Step, found: Option<Point>, source: Source, score: Option<f32>) {
         match (found, self.tracking) {
             (Some(p), _) => {
                 self.tracking = Some(p);
-                let mut s = step.ask(Some(self.params.foveal_window(p))).send(Dest::Peripheral, Msg::Tracked(p));
-                s.report = Some((p, source));
-                s.score = score;
-                s
+                step.ask(Some(self.params.foveal_window(p))).send(Dest::Peripheral, Msg::Tracked(p));
+                step.report = Some((p, source));
+                step.score = score;
             }
             (None, Some(last)) => {
                 self.tracking = None;
-                let mut s = step.send(Dest::Peripheral, Msg::Lost(last));
-                s.lost = Some(last);
-                s
+                step.send(Dest::Peripheral, Msg::Lost(last));
+                step.lost = Some(last);
             }
-            (None, None) => step,
+            (None, None) => {}
         }
     }
 }

@@ -55,7 +55,9 @@ impl Peripheral {
     /// Starts searching at `p` (used when the target is given).
     pub fn start_at(&mut self, p: Point) -> Step {
         self.state = State::Search { at: p, k: 0 };
-        Step::new(Work::None).ask(Some(self.params.window(p, self.params.peripheral[0], Decimation::Quarter)))
+        let mut step = Step::new(Work::None);
+        step.ask(Some(self.params.window(p, self.params.peripheral[0], Decimation::Quarter)));
+        step
     }
 
     /// Stops locating: back to waiting for motion (SPMF returning to its Watch mode).
@@ -73,11 +75,10 @@ impl Peripheral {
 
     /// A message arrived.
     pub fn on_message(&mut self, m: &Msg) -> Step {
-        let idle = Step::new(Work::None);
+        let mut step = Step::new(Work::None);
         match (m, self.state) {
             (Msg::Template(t), _) => {
                 self.template = Some(t.clone());
-                idle
             }
             (Msg::Motion { xmin, xmax, ymin, ymax }, State::Idle) => {
                 // The variable window of Table 2.2: the motion area with a template's margin.
@@ -86,26 +87,26 @@ impl Peripheral {
                 let side = span.clamp(self.params.peripheral[0], 128);
                 self.state = State::Search { at, k: 0 };
                 self.foveal_waiting = true;
-                idle.ask(Some(self.params.window(at, side, Decimation::Quarter)))
+                step.ask(Some(self.params.window(at, side, Decimation::Quarter)));
             }
             (Msg::Tracked(p), State::Follow { .. }) | (Msg::Tracked(p), State::Search { .. }) => {
                 self.state = State::Follow { at: *p };
                 self.foveal_waiting = false;
-                idle
             }
             (Msg::Lost(p), State::Follow { at }) => {
                 // Hand over the latest location at once (2.3.2); search again from there.
                 self.foveal_waiting = true;
                 self.state = State::Search { at: *p, k: 0 };
-                idle.send(Dest::Foveal, Msg::Approx(at))
+                step.send(Dest::Foveal, Msg::Approx(at));
             }
             (Msg::Lost(p), _) => {
                 self.foveal_waiting = true;
                 self.state = State::Search { at: *p, k: 0 };
-                idle.ask(Some(self.params.window(*p, self.params.peripheral[0], Decimation::Quarter)))
+                step.ask(Some(self.params.window(*p, self.params.peripheral[0], Decimation::Quarter)));
             }
-            _ => idle,
+            _ => {}
         }
+        step
     }
 
     /// A Peripheral window arrived.
@@ -115,34 +116,32 @@ impl Peripheral {
             return Step::new(Work::None);
         };
         let (found, work) = ssd_locate(win, tpl, &self.params);
-        let step = Step::new(work);
+        let mut step = Step::new(work);
         let side = |k: usize| self.params.peripheral[k.min(1)];
         match (found, self.state) {
             (Some(p), _) => {
                 let was_waiting = self.foveal_waiting;
                 self.state = State::Follow { at: p };
-                let step = step.ask(Some(self.params.window(p, side(0), Decimation::Quarter)));
+                step.ask(Some(self.params.window(p, side(0), Decimation::Quarter)));
                 if was_waiting {
                     self.foveal_waiting = false;
-                    step.send(Dest::Foveal, Msg::Approx(p))
-                } else {
-                    step
+                    step.send(Dest::Foveal, Msg::Approx(p));
                 }
             }
             (None, State::Follow { at }) => {
                 self.state = State::Search { at, k: 0 };
-                step.ask(Some(self.params.window(at, side(0), Decimation::Quarter)))
+                step.ask(Some(self.params.window(at, side(0), Decimation::Quarter)));
             }
             (None, State::Search { at, k }) if k < 1 => {
                 self.state = State::Search { at, k: k + 1 };
-                step.ask(Some(self.params.window(at, side(k + 1), Decimation::Quarter)))
+                step.ask(Some(self.params.window(at, side(k + 1), Decimation::Quarter)));
             }
             (None, _) => {
                 // Both Detection sizes failed: back to waiting for the Watch processor.
                 self.state = State::Idle;
-                step
             }
         }
+        step
     }
 }
 

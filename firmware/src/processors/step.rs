@@ -63,16 +63,18 @@ pub struct Step {
     pub lost: Option<Point>,
 }
 
+// A step holds four messages, each as large as a template: over 4 KiB, so it is built in
+// place rather than passed through builder calls by value (each a copy).
 impl Step {
     pub(super) fn new(work: Work) -> Self {
         Step { work, request: None, sends: heapless::Vec::new(), report: None, score: None, lost: None }
     }
-    pub(super) fn send(mut self, d: Dest, m: Msg) -> Self {
+    pub(super) fn send(&mut self, d: Dest, m: Msg) -> &mut Self {
         // Four slots cover every processor's sends; a fifth is a bug, dropped rather than panic.
         let _ = self.sends.push((d, m));
         self
     }
-    pub(super) fn ask(mut self, r: Option<WindowRequest>) -> Self {
+    pub(super) fn ask(&mut self, r: Option<WindowRequest>) -> &mut Self {
         self.request = r;
         self
     }

@@ -29,13 +29,16 @@ impl<'b> Watch<'b> {
 
     /// The first request.
     pub fn start(&self) -> Step {
-        Step::new(Work::None).ask(Some(self.region))
+        let mut step = Step::new(Work::None);
+        step.ask(Some(self.region));
+        step
     }
 
     /// A Watch window arrived.
     pub fn on_window(&mut self, win: &WindowView<'_>) -> Step {
         let pixels = (win.width() * win.height()) as u32;
-        let mut step = Step::new(Work::Motion { pixels }).ask(Some(self.region));
+        let mut step = Step::new(Work::Motion { pixels });
+        step.ask(Some(self.region));
         let Some(prev_buf) = self.prev.get(..pixels as usize) else { return step };
         if self.have_prev {
             let (ox, oy) = win.origin();
@@ -43,7 +46,7 @@ impl<'b> Watch<'b> {
             if let Ok(prev) = prev {
                 if let Ok(Some(area)) = detect_motion(&prev, win, self.params.motion_threshold) {
                     if area.count >= self.params.motion_min_pixels {
-                        step = self.report(step, win, area);
+                        self.report(&mut step, win, area);
                     }
                 }
             }
@@ -54,19 +57,18 @@ impl<'b> Watch<'b> {
         step
     }
 
-    fn report(&mut self, step: Step, win: &WindowView<'_>, a: MotionArea) -> Step {
+    fn report(&mut self, step: &mut Step, win: &WindowView<'_>, a: MotionArea) {
         let c = Point { x: (a.xmin + a.xmax) as f32 / 2.0, y: (a.ymin + a.ymax) as f32 / 2.0 };
-        let mut step = step;
         if !self.template_sent {
             if let Some(t) = Template::capture(win, c, self.params.template as usize) {
                 self.template_sent = true;
-                step = step.send(Dest::Peripheral, Msg::Template(t.clone())).send(Dest::Foveal, Msg::Template(t));
+                step.send(Dest::Peripheral, Msg::Template(t.clone())).send(Dest::Foveal, Msg::Template(t));
             }
         }
         step.send(
             Dest::Peripheral,
             Msg::Motion { xmin: a.xmin as u16, xmax: a.xmax as u16, ymin: a.ymin as u16, ymax: a.ymax as u16 },
-        )
+        );
     }
 }
 

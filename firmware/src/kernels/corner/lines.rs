@@ -17,31 +17,88 @@
 //!    `m`), so both polarities and either direction of a gradient give the same line
 //!    orientation.
 //! 3. **Lines**: per side, a line through the `m`-weighted centroid of its points
-//!    whose orientation is within [`SIDE_TOL_DEG`] of the side's, along the mean of
+//!    whose orientation is within 20° of the side's ([`COS_2_SIDE_TOL`]), along the mean of
 //!    their total least squares direction and gradient orientation ([`fit_side`]);
 //!    then three more fits without the points closer than [`MERGE_DIST`] to the other
 //!    side's ray (the merged bands at the apex) or, after the first, farther than
 //!    [`OUTLIER_DIST`] from their own line.
 //! 4. **Apex**: the intersection of the two lines.
+//!
+//! Cost (the Cortex-M4F runs it, `docs/firmware-target.md`): each point's orientation and
+//! magnitude are computed once, when it is collected, and the passes (2-means rounds,
+//! fits, rays) only read them; which points a pass takes is kept as per-point flags, so a
+//! fit whose points did not change is not redone and the iterations stop once nothing
+//! moves (the results are those of running every round: each round is a pure function of
+//! what changed). Angles that do not depend on the points are constants ([`SIN_MIN_ANGLE`],
+//! [`CENTRES`]), with the bits `libm` gives, checked by the tests.
 
 use super::{NoCorner, MAX_DIM};
+use crate::kernels::fmath::sqrtf;
 
-/// Most sub-pixel edge points kept (16 KiB of `i16`). A point is a pixel, so windows
-/// up to 45x45 never reach it; larger windows keep the first ones in raster order.
+/// Most sub-pixel edge points kept (34 KiB). A point is a pixel, so windows up to 45x45
+/// never reach it; larger windows keep the first ones in raster order.
 const MAX_POINTS: usize = 2048;
 
 /// Sub-pixel positions are stored in fixed point with this many steps per pixel.
 const FIX: f32 = 256.0;
 
-/// A point belongs to a side when its edge orientation is within this many degrees of
-/// the side's (the two sides of a 45-135° wedge are at least 45° apart).
-const SIDE_TOL_DEG: f32 = 20.0;
+/// A point belongs to a side when its edge orientation is within 20° of the side's (the
+/// two sides of a 45-135° wedge are at least 45° apart): when the dot product of their
+/// doubled-angle orientations is at least this, `cos 40°` as `libm::cosf` computes it.
+const COS_2_SIDE_TOL: f32 = f32::from_bits(0x3f44_1b7d);
 
 /// Bins of the orientation histogram seeding the 2-means (10° of doubled angle each).
 const BINS: usize = 36;
 
 /// Sides closer than this many degrees to parallel are one straight edge.
 const MIN_ANGLE_DEG: f32 = 30.0;
+
+/// `sin(MIN_ANGLE_DEG)` as `libm::sinf` computes it (0.5 exactly).
+const SIN_MIN_ANGLE: f32 = f32::from_bits(0x3f00_0000);
+
+/// `cos(2 MIN_ANGLE_DEG)` as `libm::cosf` computes it (one ulp under 0.5).
+const COS_2_MIN_ANGLE: f32 = f32::from_bits(0x3eff_ffff);
+
+/// `(cos a, sin a)` of the centre `a = (i + ½)·2π/BINS - π` of histogram bin `i`, as
+/// `libm::cosf` and `libm::sinf` compute them (their last bits are not symmetric).
+const CENTRES: [(u32, u32); BINS] = [
+    (0xbf7f_069e, 0xbdb2_7ea8),
+    (0xbf77_46eb, 0xbe84_83ea),
+    (0xbf68_03c9, 0xbed8_616e),
+    (0xbf51_b3f3, 0xbf12_d5e8),
+    (0xbf35_04f3, 0xbf35_04f3),
+    (0xbf12_d5e8, 0xbf51_b3f2),
+    (0xbed8_616e, 0xbf68_03c9),
+    (0xbe84_83ee, 0xbf77_46ea),
+    (0xbdb2_7eb9, 0xbf7f_069e),
+    (0x3db2_7ebe, 0xbf7f_069e),
+    (0x3e84_83ef, 0xbf77_46ea),
+    (0x3ed8_616b, 0xbf68_03ca),
+    (0x3f12_d5e7, 0xbf51_b3f3),
+    (0x3f35_04f5, 0xbf35_04f1),
+    (0x3f51_b3f4, 0xbf12_d5e6),
+    (0x3f68_03ca, 0xbed8_6169),
+    (0x3f77_46ea, 0xbe84_83ec),
+    (0x3f7f_069e, 0xbdb2_7eb3),
+    (0x3f7f_069e, 0x3db2_7eb3),
+    (0x3f77_46e9, 0x3e84_83f4),
+    (0x3f68_03c8, 0x3ed8_6170),
+    (0x3f51_b3f2, 0x3f12_d5e9),
+    (0x3f35_04f2, 0x3f35_04f4),
+    (0x3f12_d5e7, 0x3f51_b3f3),
+    (0x3ed8_616b, 0x3f68_03ca),
+    (0x3e84_83ef, 0x3f77_46ea),
+    (0x3db2_7ebe, 0x3f7f_069e),
+    (0xbdb2_7ee9, 0x3f7f_069d),
+    (0xbe84_83f9, 0x3f77_46e9),
+    (0xbed8_6175, 0x3f68_03c7),
+    (0xbf12_d5ec, 0x3f51_b3f0),
+    (0xbf35_04f6, 0x3f35_04f0),
+    (0xbf51_b3f5, 0x3f12_d5e5),
+    (0xbf68_03cb, 0x3ed8_6166),
+    (0xbf77_46eb, 0x3e84_83ea),
+    (0xbf7f_069e, 0x3db2_7ea8),
+];
 
 /// Points closer than this to the other side's ray are left out (px): the Sobel band
 /// of a blurred edge is about 4 px wide, so within 3 px the two bands overlap.
@@ -59,14 +116,26 @@ const MIN_SIDE_POINTS: usize = 2;
 /// Fewest points per side for a total least squares direction.
 const MIN_TLS_POINTS: usize = 5;
 
+/// Per-point flag: the 2-means puts the point with the second centre.
+const SECOND: u8 = 1;
+/// Per-point flags: the point is on side 0, 1 (its orientation is within the tolerance).
+const ON_SIDE: [u8; 2] = [2, 4];
+/// Per-point flags: the point is among those side 0, 1's current line was fitted to.
+const IN_FIT: [u8; 2] = [8, 16];
+
 /// The sub-pixel edge points of one window (structure of arrays, fixed capacity).
 pub(super) struct EdgePoints {
     /// Position in 1/[`FIX`] px.
     x: [i16; MAX_POINTS],
     y: [i16; MAX_POINTS],
-    /// Sobel gradient at the edge pixel.
-    gx: [i16; MAX_POINTS],
-    gy: [i16; MAX_POINTS],
+    /// Unit doubled-angle orientation `(cos 2θ, sin 2θ)` of the gradient at the edge
+    /// pixel, and its magnitude `m` (0 for a zero gradient: such a point takes no part).
+    c2: [f32; MAX_POINTS],
+    s2: [f32; MAX_POINTS],
+    m: [f32; MAX_POINTS],
+    /// What the passes of [`apex_from_points`] found about each point ([`SECOND`],
+    /// [`ON_SIDE`], [`IN_FIT`]).
+    flags: [u8; MAX_POINTS],
     n: usize,
 }
 
@@ -75,48 +144,64 @@ impl EdgePoints {
         Self {
             x: [0; MAX_POINTS],
             y: [0; MAX_POINTS],
-            gx: [0; MAX_POINTS],
-            gy: [0; MAX_POINTS],
+            c2: [0.0; MAX_POINTS],
+            s2: [0.0; MAX_POINTS],
+            m: [0.0; MAX_POINTS],
+            flags: [0; MAX_POINTS],
             n: 0,
         }
     }
 
-    /// Point `i`: position (px), unit doubled-angle orientation `(cos 2θ, sin 2θ)` of
-    /// its gradient and the gradient magnitude.
-    fn get(&self, i: usize) -> Option<EdgePoint> {
-        if i >= self.n {
-            return None;
-        }
-        let (gx, gy) = (f32::from(*self.gx.get(i)?), f32::from(*self.gy.get(i)?));
-        let m2 = gx * gx + gy * gy;
-        if m2 <= 0.0 {
-            return None;
-        }
-        Some(EdgePoint {
-            x: f32::from(*self.x.get(i)?) / FIX,
-            y: f32::from(*self.y.get(i)?) / FIX,
-            c2: (gx * gx - gy * gy) / m2,
-            s2: 2.0 * gx * gy / m2,
-            m: libm::sqrtf(m2),
-        })
-    }
-
-    /// Appends a point; `false` when full. `|g| <= 4·255` and positions below
-    /// `64·FIX` fit `i16`.
-    fn push(&mut self, x: f32, y: f32, gx: i32, gy: i32) -> bool {
+    /// Appends a point with Sobel gradient `(gx, gy)` of magnitude `m = sqrt(gx² + gy²)`;
+    /// `false` when full. `|g| <= 4·255`, so `gx²`, `gy²` and their sum are below 2²⁴ and
+    /// exact in `f32`, and positions below `64·FIX` fit `i16`.
+    fn push(&mut self, x: f32, y: f32, gx: i32, gy: i32, m: f32) -> bool {
         let i = self.n;
-        let slots = (self.x.get_mut(i), self.y.get_mut(i), self.gx.get_mut(i), self.gy.get_mut(i));
-        let (Some(sx), Some(sy), Some(sgx), Some(sgy)) = slots else { return false };
+        let slots = (self.x.get_mut(i), self.y.get_mut(i), self.c2.get_mut(i), self.s2.get_mut(i), self.m.get_mut(i));
+        let (Some(sx), Some(sy), Some(sc), Some(ss), Some(sm)) = slots else { return false };
         *sx = libm::roundf(x * FIX) as i16;
         *sy = libm::roundf(y * FIX) as i16;
-        *sgx = gx as i16;
-        *sgy = gy as i16;
+        let (gx, gy) = (gx as f32, gy as f32);
+        let m2 = gx * gx + gy * gy;
+        (*sc, *ss, *sm) = if m2 > 0.0 { ((gx * gx - gy * gy) / m2, 2.0 * gx * gy / m2, m) } else { (0.0, 0.0, 0.0) };
         self.n = i + 1;
         true
     }
 
-    fn iter(&self) -> impl Iterator<Item = EdgePoint> + '_ {
-        (0..self.n).filter_map(|i| self.get(i))
+    /// The points with a gradient, each with its flags, in the order collected.
+    fn iter(&self) -> impl Iterator<Item = (EdgePoint, u8)> + '_ {
+        self.x
+            .iter()
+            .zip(&self.y)
+            .zip(&self.c2)
+            .zip(&self.s2)
+            .zip(&self.m)
+            .zip(&self.flags)
+            .take(self.n)
+            .filter_map(|(((((&x, &y), &c2), &s2), &m), &f)| {
+                (m > 0.0).then_some((EdgePoint { x: f32::from(x) / FIX, y: f32::from(y) / FIX, c2, s2, m }, f))
+            })
+    }
+
+    /// The points with a gradient whose flags include `flag`.
+    fn with(&self, flag: u8) -> impl Iterator<Item = EdgePoint> + '_ {
+        self.iter().filter(move |(_, f)| f & flag != 0).map(|(p, _)| p)
+    }
+
+    /// Sets or clears the flags `flag` (one or more bits) of every point with a gradient by
+    /// `set` (given the point and its flags); whether any point's flags changed.
+    fn mark(&mut self, flag: u8, set: impl Fn(&EdgePoint, u8) -> bool) -> bool {
+        let mut changed = false;
+        let points = self.x.iter().zip(&self.y).zip(&self.c2).zip(&self.s2).zip(&self.m).zip(self.flags.iter_mut());
+        for (((((&x, &y), &c2), &s2), &m), f) in points.take(self.n) {
+            if m > 0.0 {
+                let on = set(&EdgePoint { x: f32::from(x) / FIX, y: f32::from(y) / FIX, c2, s2, m }, *f);
+                let new = if on { *f | flag } else { *f & !flag };
+                changed |= new != *f;
+                *f = new;
+            }
+        }
+        changed
     }
 }
 
@@ -145,7 +230,7 @@ fn grad(wide: &[[i16; MAX_DIM]; MAX_DIM], w: usize, h: usize, x: usize, y: usize
 /// Gradient magnitude at an interior pixel, `None` outside the interior.
 fn mag(wide: &[[i16; MAX_DIM]; MAX_DIM], w: usize, h: usize, x: usize, y: usize) -> Option<f32> {
     let (gx, gy) = grad(wide, w, h, x, y)?;
-    Some(libm::sqrtf((gx * gx + gy * gy) as f32))
+    Some(sqrtf((gx * gx + gy * gy) as f32))
 }
 
 /// Collects the sub-pixel edge points (step 1) of the clean edge pixels `rows` (bit `x`
@@ -173,7 +258,7 @@ pub(super) fn collect_points(
                 (y.checked_sub(1).and_then(|ym| mag(wide, w, h, x, ym)), mag(wide, w, h, x, y + 1))
             };
             let (Some(m0), Some(m2)) = (before, after) else { continue };
-            let m1 = libm::sqrtf((gx * gx + gy * gy) as f32);
+            let m1 = sqrtf((gx * gx + gy * gy) as f32);
             // A maximum; ties broken towards the lower index, so a plateau of two gives
             // one point.
             if m1 < m0 || m1 <= m2 {
@@ -182,7 +267,7 @@ pub(super) fn collect_points(
             let curv = m0 - 2.0 * m1 + m2;
             let off = if curv < 0.0 { (0.5 * (m0 - m2) / curv).clamp(-0.5, 0.5) } else { 0.0 };
             let (px, py) = if horizontal { (x as f32 + off, y as f32) } else { (x as f32, y as f32 + off) };
-            if !pts.push(px, py, gx, gy) {
+            if !pts.push(px, py, gx, gy, m1) {
                 return;
             }
         }
@@ -203,8 +288,8 @@ impl Line {
     }
 }
 
-/// The line of one side through the `m`-weighted centroid of the points for which
-/// `keep` holds. With at least [`MIN_TLS_POINTS`] points its normal is the mean, in
+/// The line of one side through the `m`-weighted centroid of the points flagged `side`.
+/// With at least [`MIN_TLS_POINTS`] points its normal is the mean, in
 /// doubled angles, of two estimates: the normal of the principal axis of the weighted
 /// scatter, `a = ½ atan2(2 Sxy, Sxx - Syy)` (total least squares), and the mean
 /// gradient orientation `θ = ½ atan2(Σ m sin 2θᵢ, Σ m cos 2θᵢ)`; with fewer (a side cut
@@ -212,9 +297,9 @@ impl Line {
 /// noisy over a short side and the gradients are independent evidence: the mean
 /// lowers the worst errors (1.85 to 1.14 px over 6000 random wedges). `None` with
 /// fewer than [`MIN_SIDE_POINTS`] points.
-fn fit_side(pts: &EdgePoints, keep: impl Fn(&EdgePoint) -> bool) -> Option<Line> {
+fn fit_side(pts: &EdgePoints, side: u8) -> Option<Line> {
     let (mut sw, mut sx, mut sy, mut sc, mut ss, mut n) = (0.0f32, 0.0f32, 0.0f32, 0.0f32, 0.0f32, 0usize);
-    for p in pts.iter().filter(|p| keep(p)) {
+    for p in pts.with(side) {
         sw += p.m;
         sx += p.m * p.x;
         sy += p.m * p.y;
@@ -228,7 +313,7 @@ fn fit_side(pts: &EdgePoints, keep: impl Fn(&EdgePoint) -> bool) -> Option<Line>
     let (mx, my) = (sx / sw, sy / sw);
     let (nx, ny) = if n >= MIN_TLS_POINTS {
         let (mut sxx, mut sxy, mut syy) = (0.0f32, 0.0f32, 0.0f32);
-        for p in pts.iter().filter(|p| keep(p)) {
+        for p in pts.with(side) {
             let (dx, dy) = (p.x - mx, p.y - my);
             sxx += p.m * dx * dx;
             sxy += p.m * dx * dy;
@@ -236,7 +321,7 @@ fn fit_side(pts: &EdgePoints, keep: impl Fn(&EdgePoint) -> bool) -> Option<Line>
         }
         // The scatter's normal in doubled angles is 2a + π, i.e. -(cos 2a, sin 2a).
         let a = 0.5 * libm::atan2f(2.0 * sxy, sxx - syy);
-        let g = libm::sqrtf(sc * sc + ss * ss).max(f32::MIN_POSITIVE);
+        let g = sqrtf(sc * sc + ss * ss).max(f32::MIN_POSITIVE);
         let b = 0.5 * libm::atan2f(ss / g - libm::sinf(2.0 * a), sc / g - libm::cosf(2.0 * a));
         (libm::cosf(b), libm::sinf(b))
     } else {
@@ -250,17 +335,17 @@ fn fit_side(pts: &EdgePoints, keep: impl Fn(&EdgePoint) -> bool) -> Option<Line>
 /// parallel.
 fn intersect(a: &Line, b: &Line) -> Option<(f32, f32)> {
     let det = a.nx * b.ny - a.ny * b.nx;
-    if det.abs() < libm::sinf(MIN_ANGLE_DEG.to_radians()) {
+    if det.abs() < SIN_MIN_ANGLE {
         return None;
     }
     Some(((a.d * b.ny - b.d * a.ny) / det, (a.nx * b.d - b.nx * a.d) / det))
 }
 
 /// Unit direction of `line` pointing from `apex` towards the weighted mass of the
-/// points for which `keep` holds (where the side's edge lies).
-fn ray(line: &Line, apex: (f32, f32), pts: &EdgePoints, keep: impl Fn(&EdgePoint) -> bool) -> (f32, f32) {
+/// points flagged `side` (where the side's edge lies).
+fn ray(line: &Line, apex: (f32, f32), pts: &EdgePoints, side: u8) -> (f32, f32) {
     let (tx, ty) = (line.ny, -line.nx);
-    let s: f32 = pts.iter().filter(|p| keep(p)).map(|p| p.m * ((p.x - apex.0) * tx + (p.y - apex.1) * ty)).sum();
+    let s: f32 = pts.with(side).map(|p| p.m * ((p.x - apex.0) * tx + (p.y - apex.1) * ty)).sum();
     if s >= 0.0 {
         (tx, ty)
     } else {
@@ -273,25 +358,26 @@ fn ray_dist(x: f32, y: f32, apex: (f32, f32), t: (f32, f32)) -> f32 {
     let (dx, dy) = (x - apex.0, y - apex.1);
     let along = dx * t.0 + dy * t.1;
     if along <= 0.0 {
-        libm::sqrtf(dx * dx + dy * dy)
+        sqrtf(dx * dx + dy * dy)
     } else {
         (dx * t.1 - dy * t.0).abs()
     }
 }
 
-/// 2-means of the points' doubled-angle orientations (step 2): the two unit centres.
+/// 2-means of the points' doubled-angle orientations (step 2): the two unit centres;
+/// leaves each point's [`SECOND`] flag telling its centre.
 /// Seeds: the two highest peaks, at least `2·MIN_ANGLE_DEG` apart, of the `m`-weighted
 /// histogram of doubled angles in [`BINS`] bins smoothed by `[1 2 1]`. (Seeding from
 /// single points fails when a strong pixel where the bands merge has an orientation
 /// between the sides.)
-fn two_sides(pts: &EdgePoints) -> Option<[(f32, f32); 2]> {
+fn two_sides(pts: &mut EdgePoints) -> Option<[(f32, f32); 2]> {
     let mut hist = [0.0f32; BINS];
     let width = 2.0 * core::f32::consts::PI / BINS as f32;
     let bin = |p: &EdgePoint| {
         let a = libm::atan2f(p.s2, p.c2) + core::f32::consts::PI;
         ((a / width) as usize).min(BINS - 1)
     };
-    for p in pts.iter() {
+    for (p, _) in pts.iter() {
         if let Some(hb) = hist.get_mut(bin(&p)) {
             *hb += p.m;
         }
@@ -305,23 +391,25 @@ fn two_sides(pts: &EdgePoints) -> Option<[(f32, f32); 2]> {
         let d = i.abs_diff(first);
         d.min(BINS - d) >= apart
     })?;
-    let centre = |i: usize| {
-        let a = (i as f32 + 0.5) * width - core::f32::consts::PI;
-        (libm::cosf(a), libm::sinf(a))
-    };
-    let mut c = [centre(first), centre(second)];
-    // Converges in a few rounds; a fixed count keeps the time bounded.
-    for _ in 0..8 {
+    let centre = |i: usize| CENTRES.get(i).map(|&(c, s)| (f32::from_bits(c), f32::from_bits(s)));
+    let mut c = [centre(first)?, centre(second)?];
+    // Converges in a few rounds; a fixed count keeps the time bounded. A round that
+    // assigns every point as the one before would compute the same centres again, and so
+    // would every later round: the iteration stops there.
+    for round in 0..8 {
+        let moved = pts.mark(SECOND, |p, _| p.c2 * c[1].0 + p.s2 * c[1].1 > p.c2 * c[0].0 + p.s2 * c[0].1);
+        if round > 0 && !moved {
+            break;
+        }
         let mut acc = [(0.0f32, 0.0f32); 2];
-        for p in pts.iter() {
-            let k = usize::from(p.c2 * c[1].0 + p.s2 * c[1].1 > p.c2 * c[0].0 + p.s2 * c[0].1);
-            if let Some(a) = acc.get_mut(k) {
+        for (p, f) in pts.iter() {
+            if let Some(a) = acc.get_mut(usize::from(f & SECOND != 0)) {
                 a.0 += p.m * p.c2;
                 a.1 += p.m * p.s2;
             }
         }
         for (ck, a) in c.iter_mut().zip(acc) {
-            let norm = libm::sqrtf(a.0 * a.0 + a.1 * a.1);
+            let norm = sqrtf(a.0 * a.0 + a.1 * a.1);
             if norm > 0.0 {
                 *ck = (a.0 / norm, a.1 / norm);
             }
@@ -338,48 +426,75 @@ fn two_sides(pts: &EdgePoints) -> Option<[(f32, f32); 2]> {
 /// [`NoCorner::TooFewPoints`] when a side keeps fewer once the points near the apex
 /// are left out, and [`NoCorner::OutsideWindow`] when the apex is not within
 /// `[0, w-1] x [0, h-1]`.
-pub(super) fn apex_from_points(pts: &EdgePoints, w: usize, h: usize) -> Result<((f32, f32), Rays), NoCorner> {
+pub(super) fn apex_from_points(pts: &mut EdgePoints, w: usize, h: usize) -> Result<((f32, f32), Rays), NoCorner> {
     let c = two_sides(pts).ok_or(NoCorner::TooFewPoints)?;
     // Doubled angles: sides θ apart have centres 2θ apart.
-    if c[0].0 * c[1].0 + c[0].1 * c[1].1 > libm::cosf(2.0 * MIN_ANGLE_DEG.to_radians()) {
+    if c[0].0 * c[1].0 + c[0].1 * c[1].1 > COS_2_MIN_ANGLE {
         return Err(NoCorner::StraightLine);
     }
-    let cos_tol = libm::cosf(2.0 * SIDE_TOL_DEG.to_radians());
-    let on_side = |k: usize, p: &EdgePoint| c.get(k).is_some_and(|ck| p.c2 * ck.0 + p.s2 * ck.1 >= cos_tol);
-    // A side without points: one edge orientation only.
+    // Each side's points, and the first lines, through all of them. A side without points:
+    // one edge orientation only.
+    for ((&ck, &side), &fit) in c.iter().zip(&ON_SIDE).zip(&IN_FIT) {
+        pts.mark(side | fit, |p, _| p.c2 * ck.0 + p.s2 * ck.1 >= COS_2_SIDE_TOL);
+    }
     let mut lines = [
-        fit_side(pts, |p| on_side(0, p)).ok_or(NoCorner::StraightLine)?,
-        fit_side(pts, |p| on_side(1, p)).ok_or(NoCorner::StraightLine)?,
+        fit_side(pts, IN_FIT[0]).ok_or(NoCorner::StraightLine)?,
+        fit_side(pts, IN_FIT[1]).ok_or(NoCorner::StraightLine)?,
     ];
     let mut apex = intersect(&lines[0], &lines[1]).ok_or(NoCorner::StraightLine)?;
+    let rays_of = |pts: &EdgePoints, lines: &[Line; 2], apex| {
+        [ray(&lines[0], apex, pts, ON_SIDE[0]), ray(&lines[1], apex, pts, ON_SIDE[1])]
+    };
+    let mut rays = rays_of(pts, &lines, apex);
     for round in 0..3 {
-        let rays = [
-            ray(&lines[0], apex, pts, |p| on_side(0, p)),
-            ray(&lines[1], apex, pts, |p| on_side(1, p)),
-        ];
+        // Each side's points away from the other side's ray and, after the first round
+        // (whose lines still lean towards the merged bands), near its own line. A side whose
+        // points are those of its line keeps the line; when both do after the first round,
+        // every later round would find the same.
         let prev = lines;
-        let keep = |k: usize, p: &EdgePoint| {
-            // The first lines still lean towards the merged bands, so the outlier test
-            // waits until they are fitted without them.
-            on_side(k, p)
-                && (round == 0 || prev.get(k).is_some_and(|l| l.dist(p.x, p.y) <= OUTLIER_DIST))
-                && rays.get(k ^ 1).is_some_and(|&t| ray_dist(p.x, p.y, apex, t) >= MERGE_DIST)
-        };
-        lines = [
-            fit_side(pts, |p| keep(0, p)).ok_or(NoCorner::TooFewPoints)?,
-            fit_side(pts, |p| keep(1, p)).ok_or(NoCorner::TooFewPoints)?,
-        ];
-        apex = intersect(&lines[0], &lines[1]).ok_or(NoCorner::StraightLine)?;
+        let mut moved = false;
+        for (k, (line, (&side, &fit))) in lines.iter_mut().zip(ON_SIDE.iter().zip(&IN_FIT)).enumerate() {
+            let (own, other) = (prev.get(k), rays.get(k ^ 1));
+            let keep = |p: &EdgePoint, f: u8| {
+                f & side != 0
+                    && (round == 0 || own.is_some_and(|l| l.dist(p.x, p.y) <= OUTLIER_DIST))
+                    && other.is_some_and(|&t| ray_dist(p.x, p.y, apex, t) >= MERGE_DIST)
+            };
+            if pts.mark(fit, keep) {
+                *line = fit_side(pts, fit).ok_or(NoCorner::TooFewPoints)?;
+                moved = true;
+            }
+        }
+        if moved {
+            apex = intersect(&lines[0], &lines[1]).ok_or(NoCorner::StraightLine)?;
+            rays = rays_of(pts, &lines, apex);
+        } else if round > 0 {
+            break;
+        }
     }
     let inside = |v: f32, n: usize| v.is_finite() && v >= 0.0 && v <= n.saturating_sub(1) as f32;
     if inside(apex.0, w) && inside(apex.1, h) {
-        let rays = [
-            ray(&lines[0], apex, pts, |p| on_side(0, p)),
-            ray(&lines[1], apex, pts, |p| on_side(1, p)),
-        ];
         Ok((apex, rays))
     } else {
         Err(NoCorner::OutsideWindow)
     }
 }
 
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The angle constants are the bits `libm` computes for them.
+    #[test]
+    fn constants_are_libm_s() {
+        let bits = |v: f32| v.to_bits();
+        assert_eq!(bits(SIN_MIN_ANGLE), bits(libm::sinf(MIN_ANGLE_DEG.to_radians())));
+        assert_eq!(bits(COS_2_MIN_ANGLE), bits(libm::cosf(2.0 * MIN_ANGLE_DEG.to_radians())));
+        assert_eq!(bits(COS_2_SIDE_TOL), bits(libm::cosf(2.0 * 20f32.to_radians())));
+        let width = 2.0 * core::f32::consts::PI / BINS as f32;
+        for (i, &(c, s)) in CENTRES.iter().enumerate() {
+            let a = (i as f32 + 0.5) * width - core::f32::consts::PI;
+            assert_eq!((c, s), (bits(libm::cosf(a)), bits(libm::sinf(a))), "bin {i}");
+        }
+    }
+}

@@ -27,7 +27,7 @@
 //!      and either polarity.
 //!
 //! Windows up to [`MAX_DIM`] x [`MAX_DIM`] are handled with fixed buffers held by a
-//! [`CornerDetector`] (about 43 KiB, so it can live in a `static` on a microcontroller).
+//! [`CornerDetector`] (about 61 KiB, so it can live in a `static` on a microcontroller).
 
 mod bounds;
 mod labelling;
@@ -267,7 +267,11 @@ impl CornerDetector {
         for (dst, &r) in self.edges.chunks_exact_mut(w).zip(rows.iter()) {
             for (k, d) in dst.chunks_mut(8).enumerate() {
                 let bytes = BYTES[((r >> (8 * k)) & 0xff) as usize].to_le_bytes();
-                d.copy_from_slice(bytes.get(..d.len()).unwrap_or(&[]));
+                // Whole chunks as one store (a copy of under 8 bytes is a library call).
+                match <&mut [u8; 8]>::try_from(&mut *d) {
+                    Ok(d) => *d = bytes,
+                    Err(_) => d.iter_mut().zip(bytes).for_each(|(d, b)| *d = b),
+                }
             }
         }
         if clean == 0 {
@@ -275,7 +279,7 @@ impl CornerDetector {
         }
         let (x, y, case, rays) = if params.refine {
             collect_points(&self.wide, rows, w, h, &mut self.points);
-            let ((x, y), rays) = apex_from_points(&self.points, w, h)?;
+            let ((x, y), rays) = apex_from_points(&mut self.points, w, h)?;
             (x, y, CornerCase::Lines, Some(rays))
         } else {
             let b = bounding_points_bits(rows).ok_or(NoCorner::FilteredOut)?;

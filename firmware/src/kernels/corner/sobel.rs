@@ -36,10 +36,11 @@ pub fn sobel_at(view: &WindowView<'_>, x: usize, y: usize) -> Option<(i32, i32)>
     Some((gx, gy))
 }
 
-/// Sobel + threshold of the `w x h` window in `wide` into bit rows `bits`, with `N`-pixel
-/// fixed-length rows (`w <= N`; `M = N + 2`) so every loop is whole SIMD vectors.
-/// Pixels beyond `w` are computed from whatever the rows hold there and masked off.
-/// Returns the number of edge pixels.
+/// Sobel + threshold of the `w x h` window in `wide` into bit rows `bits`, with rows of `N`
+/// pixels at most (`w <= N`; `M = N + 2`), each computed over `w` rounded up to a multiple
+/// of 8 so every loop is whole SIMD vectors (the Cortex-M4 has none: there the rounding up
+/// costs little, a row of `N` would). Pixels beyond `w` are computed from whatever the rows
+/// and the buffers hold there and masked off. Returns the number of edge pixels.
 pub(super) fn sobel_rows<const N: usize, const M: usize>(
     wide: &[[i16; MAX_DIM]; MAX_DIM],
     bits: &mut [u64; MAX_DIM],
@@ -53,7 +54,9 @@ pub(super) fn sobel_rows<const N: usize, const M: usize>(
     };
     let mask = row_mask(w);
     let (l, r) = (reflect(-1, w), reflect(w as isize, w));
+    let len = w.next_multiple_of(8).min(N);
     let mut count = 0;
+    let (mut smooth, mut diff) = ([0i16; M], [0i16; M]);
     for (y, out) in bits.iter_mut().enumerate().take(h) {
         let (up, mid, dn) = (
             fixed(reflect(y as isize - 1, h)),
@@ -62,24 +65,24 @@ pub(super) fn sobel_rows<const N: usize, const M: usize>(
         );
         // Vertical pass: smooth = up + 2 mid + down, diff = down - up, at index x + 1,
         // then the reflect-101 margins at 0 and w + 1.
-        let mut smooth = [0i16; M];
-        let mut diff = [0i16; M];
-        for x in 0..N {
-            smooth[x + 1] = up[x] + 2 * mid[x] + dn[x];
-            diff[x + 1] = dn[x] - up[x];
+        let column = up.iter().zip(mid).zip(dn).take(len);
+        for ((s, d), ((&u, &m), &v)) in smooth.iter_mut().skip(1).zip(diff.iter_mut().skip(1)).zip(column) {
+            *s = u + 2 * m + v;
+            *d = v - u;
         }
         smooth[0] = smooth[l + 1];
         diff[0] = diff[l + 1];
         smooth[w + 1] = smooth[r + 1];
         diff[w + 1] = diff[r + 1];
         let mut edge = [0u8; N];
-        for x in 0..N {
-            let gx = i32::from(smooth[x + 2] - smooth[x]);
-            let gy = i32::from(diff[x] + 2 * diff[x + 1] + diff[x + 2]);
-            edge[x] = u8::from(gx * gx + gy * gy > th2);
+        for (e, (s, d)) in edge.iter_mut().zip(smooth.windows(3).zip(diff.windows(3))).take(len) {
+            if let ([s0, _, s2], [d0, d1, d2]) = (s, d) {
+                let (gx, gy) = (i32::from(s2 - s0), i32::from(d0 + 2 * d1 + d2));
+                *e = u8::from(gx * gx + gy * gy > th2);
+            }
         }
         let mut b = 0u64;
-        for (k, c) in edge.chunks_exact(8).enumerate() {
+        for (k, c) in edge.chunks_exact(8).take(len / 8).enumerate() {
             if let Ok(c) = <&[u8; 8]>::try_from(c) {
                 b |= pack8(c) << (8 * k);
             }

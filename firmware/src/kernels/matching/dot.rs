@@ -5,13 +5,17 @@
 //! placement come from running column sums, updated by one row in and one row out per
 //! placement row, and a running sum along the row, so each placement costs only the
 //! dot product `Σ R·I`. SSD uses `Σ R² + Σ I² - 2 Σ R·I`, so it costs the same dot
-//! product. The dot products of all placements come from column strips widened to `i16`
-//! (see `strip_dot_products`), in which every patch is one contiguous run; four
-//! placements share each template load and LLVM turns the 16-lane `i16·i16 -> i32`
-//! reduction into `pmaddwd` on baseline x86-64. Windows too large for the strips use
-//! per-row `u8` dot products.
+//! product. The dot products of all placements ([`dot_products`]) come, on x86-64, from
+//! column strips widened to `i16` (see `strip_dot_products`), in which every patch is one
+//! contiguous run; four placements share each template load and LLVM turns the 16-lane
+//! `i16·i16 -> i32` reduction into `pmaddwd`. A 32-bit Arm core (the Cortex-M4) has no such
+//! vectors, so widening the window buys nothing there; its DSP extension multiplies pairs
+//! of 16-bit halves instead, fed straight from the pixel rows (`row_dot_products`).
+//! Windows too large for either use per-row `u8` dot products.
 //!
 use super::SCORE_CACHE;
+#[cfg(any(test, target_arch = "arm"))]
+use crate::kernels::dsp::{pair, smlad};
 use crate::kernels::view::WindowView;
 use heapless::Vec;
 
@@ -140,6 +144,7 @@ const STRIP_CAP: usize = 4096;
 /// this copies fixed 8-pixel chunks (the last one overlapping the previous, if the
 /// length is not a multiple of 8), so each chunk is one load, one unpack and one store
 /// instead of a call to a generic loop.
+#[cfg(not(target_arch = "arm"))]
 #[inline(always)]
 fn widen_into(dst: &mut [i16], src: &[u8]) {
     let n = dst.len().min(src.len());
@@ -170,6 +175,7 @@ fn widen_into(dst: &mut [i16], src: &[u8]) {
 
 /// Widens columns `px..px+tw` of every row of `view` into consecutive `tw`-pixel rows of
 /// `dst`; `None` if `dst` is too short or the columns are outside the view.
+#[cfg(not(target_arch = "arm"))]
 #[inline(never)]
 fn fill_strip(dst: &mut [i16], view: &WindowView<'_>, px: usize, tw: usize) -> Option<()> {
     let rows = dst.get_mut(..tw.checked_mul(view.height())?)?;
@@ -189,27 +195,28 @@ fn fill_strip(dst: &mut [i16], view: &WindowView<'_>, px: usize, tw: usize) -> O
 /// window row and placement column, far less than the `tw·th` multiply-adds per
 /// placement.
 ///
-/// `None` (use the other paths) when the strip or the placement count exceed their
-/// capacities.
-pub(super) fn strip_dot_products(win: &WindowView<'_>, tpl: &WindowView<'_>) -> Option<Vec<u32, SCORE_CACHE>> {
+/// The products go into `dots` (row-major placements; a 4 KiB vector is not returned by
+/// value, which would copy it). `None` (use the other paths) when the strip or the placement
+/// count exceed their capacities.
+#[cfg(not(target_arch = "arm"))]
+pub(super) fn strip_dot_products(win: &WindowView<'_>, tpl: &WindowView<'_>, dots: &mut Vec<u32, SCORE_CACHE>) -> Option<()> {
     // Small windows use small buffers: zeroing two 8 KiB arrays would cost as much as
     // the whole Foveal match.
     if tpl.width().checked_mul(win.height())? <= SMALL_STRIP_CAP {
-        strip_dot_products_in::<SMALL_STRIP_CAP>(win, tpl)
+        strip_dot_products_in::<SMALL_STRIP_CAP>(win, tpl, dots)
     } else {
-        strip_dot_products_in::<STRIP_CAP>(win, tpl)
+        strip_dot_products_in::<STRIP_CAP>(win, tpl, dots)
     }
 }
 
 /// Capacity of the strip buffers for small windows (Foveal 20 x 24 = 480 pixels,
 /// Peripheral 16 x 40 = 640).
+#[cfg(not(target_arch = "arm"))]
 const SMALL_STRIP_CAP: usize = 1024;
 
 /// [`strip_dot_products`] with strip buffers of `CAP <= STRIP_CAP` pixels.
-fn strip_dot_products_in<const CAP: usize>(
-    win: &WindowView<'_>,
-    tpl: &WindowView<'_>,
-) -> Option<Vec<u32, SCORE_CACHE>> {
+#[cfg(not(target_arch = "arm"))]
+fn strip_dot_products_in<const CAP: usize>(win: &WindowView<'_>, tpl: &WindowView<'_>, dots: &mut Vec<u32, SCORE_CACHE>) -> Option<()> {
     let (tw, th, ww, wh) = (tpl.width(), tpl.height(), win.width(), win.height());
     let nx = ww.checked_sub(tw)? + 1;
     let ny = wh.checked_sub(th)? + 1;
@@ -219,13 +226,16 @@ fn strip_dot_products_in<const CAP: usize>(
     if nx * ny > SCORE_CACHE || tw.checked_mul(wh)? > CAP.min(STRIP_CAP) || tw == 0 {
         return None;
     }
-    let mut tbuf = [0i16; CAP];
+    // Buffers of the sizes used (the rest of a zeroed array would cost its zeroing).
+    let mut tbuf: Vec<i16, CAP> = Vec::new();
+    tbuf.resize(n, 0).ok()?;
     fill_strip(&mut tbuf, tpl, 0, tw)?;
     let t = tbuf.get(..n)?;
     let body = n - n % 16;
-    let mut dots: Vec<u32, SCORE_CACHE> = Vec::new();
+    dots.clear();
     dots.resize(nx * ny, 0).ok()?;
-    let mut strip = [0i16; CAP];
+    let mut strip: Vec<i16, CAP> = Vec::new();
+    strip.resize(tw * wh, 0).ok()?;
     for px in 0..nx {
         fill_strip(&mut strip, win, px, tw)?;
         let mut py = 0;
@@ -245,10 +255,11 @@ fn strip_dot_products_in<const CAP: usize>(
             py += 1;
         }
     }
-    Some(dots)
+    Some(())
 }
 
 /// Scalar `Σ a·b` of two short runs (the last `n % 16` pixels of [`dot_long4`]).
+#[cfg(not(target_arch = "arm"))]
 #[inline(never)]
 fn dot_tail(a: &[i16], b: &[i16]) -> i32 {
     a.iter().zip(b).fold(0i32, |s, (&p, &q)| s.wrapping_add(i32::from(p) * i32::from(q)))
@@ -256,6 +267,7 @@ fn dot_tail(a: &[i16], b: &[i16]) -> i32 {
 
 /// `Σ a·b` of two equally long `i16` runs of non-negative pixels (`len <= STRIP_CAP`,
 /// so `i32` cannot overflow). 16 lanes: LLVM folds the pairs into `pmaddwd`.
+#[cfg(not(target_arch = "arm"))]
 #[inline(never)]
 fn dot_long(a: &[i16], b: &[i16]) -> i32 {
     let mut lanes = [0i32; 16];
@@ -282,6 +294,7 @@ fn mac16(l: &mut [i32; 16], t: &[i16; 16], a: &[i16; 16]) {
 }
 
 /// The four runs of `n` values of `s` starting at `0`, `step`, `2·step` and `3·step`.
+#[cfg(not(target_arch = "arm"))]
 #[inline(always)]
 fn four_runs(s: &[i16], step: usize, n: usize) -> Option<[&[i16]; 4]> {
     Some([s.get(..n)?, s.get(step..step + n)?, s.get(2 * step..2 * step + n)?, s.get(3 * step..3 * step + n)?])
@@ -293,7 +306,7 @@ fn four_runs(s: &[i16], step: usize, n: usize) -> Option<[&[i16]; 4]> {
 /// function stops the SLP vectoriser, so the tail is summed by the caller.)
 #[cfg(not(target_arch = "arm"))]
 #[inline(never)]
-pub(super) fn dot_long4(t: &[i16], s: &[i16], step: usize) -> [i32; 4] {
+fn dot_long4(t: &[i16], s: &[i16], step: usize) -> [i32; 4] {
     let Some([s0, s1, s2, s3]) = four_runs(s, step, t.len()) else { return [0; 4] };
     let (mut l0, mut l1, mut l2, mut l3) = ([0i32; 16], [0i32; 16], [0i32; 16], [0i32; 16]);
     let ct = t.chunks_exact(16);
@@ -323,36 +336,115 @@ pub(super) fn dot_long4(t: &[i16], s: &[i16], step: usize) -> [i32; 4] {
     [f(&l0), f(&l1), f(&l2), f(&l3)]
 }
 
-/// [`dot_long4`] for 32-bit Arm (Cortex-M4, thesis 2.6's processors on a microcontroller):
-/// 64 lanes of accumulators spill on its 13 registers, so here four scalar sums, one per
-/// placement, take the template two pixels at a time, the shape LLVM's parallel-DSP pass
-/// turns into `SMLAD` (two 16-bit products a cycle). Exact integers either way, so the
-/// results are the same bits (checked against x86 by `scripts/board.sh`, and against
-/// [`dot_long4`] by a unit test).
+/// `Σ R·I` of every placement into `dots` (row-major), or `None` (then the other paths are
+/// taken) when the placements or the template exceed the strips' capacities: column strips
+/// on x86-64, pixel rows on 32-bit Arm (see the module docs). Exact integers either way, so
+/// the same products (compared by a unit test, and x86 against the Cortex-M4 by
+/// `scripts/board.sh`).
+#[cfg(not(target_arch = "arm"))]
+pub(super) use strip_dot_products as dot_products;
+#[cfg(target_arch = "arm")]
+pub(super) use row_dot_products as dot_products;
+
+/// [`dot_products`] for 32-bit Arm (Cortex-M4, thesis 2.6's processors on a
+/// microcontroller). `SMLAD` ([`crate::kernels::dsp`]) adds the products of two pairs of
+/// 16-bit halves, and `UXTB16` (LLVM's for `w & 0x00ff_00ff`) spreads a word of four window
+/// pixels `(w0, w1, w2, w3)` over two such pairs, `(w0, w2)` and `(w1, w3)`; so the template
+/// is rearranged once into those halves, `(t0, t2)` and `(t1, t3)` per group of four
+/// pixels, and four placements of a column (rows `py..py+4`) share each template word. A
+/// row's last `tw % 4` pixels and the last `ny % 4` placement rows are summed one at a time.
+/// The sums stay under `4096·255² < 2³¹`.
 #[cfg(any(test, target_arch = "arm"))]
-#[inline(never)]
-pub(super) fn dot_long4_pairs(t: &[i16], s: &[i16], step: usize) -> [i32; 4] {
-    let Some([s0, s1, s2, s3]) = four_runs(s, step, t.len()) else { return [0; 4] };
-    let (mut a0, mut a1, mut a2, mut a3) = (0i32, 0i32, 0i32, 0i32);
-    let it = t
-        .chunks_exact(2)
-        .zip(s0.chunks_exact(2))
-        .zip(s1.chunks_exact(2))
-        .zip(s2.chunks_exact(2))
-        .zip(s3.chunks_exact(2));
-    let dot2 = |t: &[i16], x: &[i16]| match (t, x) {
-        (&[t0, t1], &[x0, x1]) => (i32::from(t0) * i32::from(x0)).wrapping_add(i32::from(t1) * i32::from(x1)),
-        _ => 0,
-    };
-    for ((((tc, a), b), c), d) in it {
-        a0 = a0.wrapping_add(dot2(tc, a));
-        a1 = a1.wrapping_add(dot2(tc, b));
-        a2 = a2.wrapping_add(dot2(tc, c));
-        a3 = a3.wrapping_add(dot2(tc, d));
+pub(super) fn row_dot_products(win: &WindowView<'_>, tpl: &WindowView<'_>, dots: &mut Vec<u32, SCORE_CACHE>) -> Option<()> {
+    let (tw, th, ww, wh) = (tpl.width(), tpl.height(), win.width(), win.height());
+    let nx = ww.checked_sub(tw)? + 1;
+    let ny = wh.checked_sub(th)? + 1;
+    if nx * ny > SCORE_CACHE || tw.checked_mul(wh)? > STRIP_CAP || tw == 0 {
+        return None;
     }
-    [a0, a1, a2, a3]
+    let body = tw - tw % 4;
+    let mut words: Vec<u32, { STRIP_CAP / 2 }> = Vec::new();
+    for v in 0..th {
+        for g in tpl.row(v)?.get(..body)?.chunks_exact(4) {
+            if let &[t0, t1, t2, t3] = g {
+                let half = |p: u8| i16::from(p);
+                words.push(pair(half(t0), half(t2))).ok()?;
+                words.push(pair(half(t1), half(t3))).ok()?;
+            }
+        }
+    }
+    let (data, stride) = win.raw()?;
+    dots.clear();
+    dots.resize(nx * ny, 0).ok()?;
+    for px in 0..nx {
+        let mut py = 0;
+        while py < ny {
+            // Four placements at a time, then one at a time.
+            let (k, sums) = if py + 4 <= ny { (4, dot_rows4(&words, data, stride, py * stride + px, tw, th)?) } else { (1, [dot_rows(&words, data, stride, py * stride + px, tw, th)?, 0, 0, 0]) };
+            for (j, &sum) in sums.iter().enumerate().take(k) {
+                // The last `tw % 4` pixels of each row.
+                let mut tail = 0u32;
+                for v in (0..th).filter(|_| body < tw) {
+                    let start = (py + j + v) * stride + px;
+                    let (t, w) = (tpl.row(v)?.get(body..)?, data.get(start + body..start + tw)?);
+                    tail = t.iter().zip(w).fold(tail, |s, (&t, &w)| s.wrapping_add(u32::from(t) * u32::from(w)));
+                }
+                *dots.get_mut((py + j) * nx + px)? = (sum as u32).wrapping_add(tail);
+            }
+            py += k;
+        }
+    }
+    Some(())
 }
 
-#[cfg(target_arch = "arm")]
-use dot_long4_pairs as dot_long4;
+/// The products of the template words (halves `(t0, t2)`, `(t1, t3)` per group of four
+/// pixels, row by row, see [`row_dot_products`]) with the patches at `at`, `at + stride`,
+/// `at + 2·stride` and `at + 3·stride` of the window pixels `data` (four placement rows of a
+/// column, sharing each word); a row's last `tw % 4` pixels are left out. Zipped chunks let
+/// LLVM load each window word at once.
+#[cfg(any(test, target_arch = "arm"))]
+#[inline(never)]
+fn dot_rows4(words: &[u32], data: &[u8], stride: usize, at: usize, tw: usize, th: usize) -> Option<[i32; 4]> {
+    let mut a = [0i32; 4];
+    for (v, t) in words.chunks(2 * (tw / 4).max(1)).take(th).enumerate() {
+        let row = |k: usize| data.get(at + (v + k) * stride..at + (v + k) * stride + tw);
+        let it = t.chunks_exact(2).zip(row(0)?.chunks_exact(4)).zip(row(1)?.chunks_exact(4)).zip(row(2)?.chunks_exact(4)).zip(row(3)?.chunks_exact(4));
+        for ((((t, c0), c1), c2), c3) in it {
+            if let &[even, odd] = t {
+                a = [group(a[0], even, odd, c0), group(a[1], even, odd, c1), group(a[2], even, odd, c2), group(a[3], even, odd, c3)];
+            }
+        }
+    }
+    Some(a)
+}
 
+/// [`dot_rows4`] for the one placement at `at`.
+#[cfg(any(test, target_arch = "arm"))]
+#[inline(never)]
+fn dot_rows(words: &[u32], data: &[u8], stride: usize, at: usize, tw: usize, th: usize) -> Option<i32> {
+    let mut a = 0i32;
+    for (v, t) in words.chunks(2 * (tw / 4).max(1)).take(th).enumerate() {
+        let row = data.get(at + v * stride..at + v * stride + tw)?;
+        a = t.chunks_exact(2).zip(row.chunks_exact(4)).fold(a, |s, (t, c)| match t {
+            &[even, odd] => group(s, even, odd, c),
+            _ => s,
+        });
+    }
+    Some(a)
+}
+
+/// `acc` plus the products of one group: the window word's pixels `(w0, w1, w2, w3)` spread
+/// over the halves `(w0, w2)` and `(w1, w3)` (`UXTB16`), each pair multiplied and added by
+/// one `SMLAD`.
+#[cfg(any(test, target_arch = "arm"))]
+#[inline(always)]
+fn group(acc: i32, even: u32, odd: u32, w: &[u8]) -> i32 {
+    // The four bytes as one array (one load), not four (which LLVM would mask apart).
+    match <&[u8; 4]>::try_from(w) {
+        Ok(&bytes) => {
+            let w = u32::from_le_bytes(bytes);
+            smlad(smlad(acc, even, w & 0x00ff_00ff), odd, (w >> 8) & 0x00ff_00ff)
+        }
+        Err(_) => acc,
+    }
+}

@@ -1,6 +1,6 @@
 //! Scores of placements from exact integer sums (thesis 2.4's SSD, SAD and NCC, and ZNCC): the
 //! window energies from running column sums, the dot products from [`super::dot`].
-use super::dot::{dot_placement, dot_row, sad_row, strip_dot_products, PaddedTemplate};
+use super::dot::{dot_placement, dot_products, dot_row, sad_row, PaddedTemplate};
 use super::{MatchError, Method, MAX_SEARCH_WIDTH};
 use crate::kernels::view::WindowView;
 use heapless::Vec;
@@ -164,7 +164,8 @@ fn for_each_score_in<C: ColSum>(
         _ => {}
     }
     let needs_energy = method != Method::Sad;
-    let strip_dots = if needs_energy { strip_dot_products(win, tpl) } else { None };
+    let mut dots = Vec::new();
+    let strip_dots = (needs_energy && dot_products(win, tpl, &mut dots).is_some()).then_some(&dots);
     let padded = if needs_energy && strip_dots.is_none() { PaddedTemplate::new(tpl) } else { None };
     // Column sums of I² and I over the `th` rows of the current placement row.
     let mut col_sq: Vec<C, MAX_SEARCH_WIDTH> = Vec::new();

@@ -1,24 +1,31 @@
-use super::dot::{dot_long4, dot_long4_pairs};
+use super::dot::{row_dot_products, strip_dot_products};
 use super::subpixel::parabola;
 use super::*;
 
 #[test]
-fn the_arm_pairwise_dot_products_equal_the_lane_ones() {
-    // Pixels from a fixed LCG; template lengths multiples of 16 as the caller passes.
+fn the_arm_row_dot_products_equal_the_strip_ones() {
+    // Pixels from a fixed LCG; the Foveal and Peripheral sizes, a remainder of placement
+    // rows (ny % 4), widths not a multiple of 4 and under 4.
     let mut x = 12345u32;
     let mut px = || {
         x = x.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-        (x >> 24) as i16
+        (x >> 24) as u8
     };
-    for (n, step) in [(16, 16), (400, 20), (256, 16), (4096, 64)] {
-        let t: std::vec::Vec<i16> = (0..n).map(|_| px()).collect();
-        let s: std::vec::Vec<i16> = (0..n + 3 * step).map(|_| px()).collect();
-        let want: std::vec::Vec<i32> = (0..4)
-            .map(|k| t.iter().zip(&s[k * step..]).map(|(&a, &b)| i32::from(a) * i32::from(b)).sum())
+    let sizes = [(20, 20, 24, 24), (16, 16, 40, 40), (8, 8, 20, 20), (7, 5, 13, 11), (20, 20, 20, 20), (33, 3, 40, 9), (3, 6, 9, 9), (64, 64, 64, 64)];
+    for (tw, th, ww, wh) in sizes {
+        let t: std::vec::Vec<u8> = (0..tw * th).map(|_| px()).collect();
+        let w: std::vec::Vec<u8> = (0..ww * wh).map(|_| px()).collect();
+        let (tv, wv) = (v(&t, tw, th), v(&w, ww, wh));
+        let (mut rows, mut strips) = (Vec::new(), Vec::new());
+        let (r, s) = (row_dot_products(&wv, &tv, &mut rows), strip_dot_products(&wv, &tv, &mut strips));
+        assert_eq!((r, s), (Some(()), Some(())), "{tw}x{th} in {ww}x{wh}");
+        let want: std::vec::Vec<u32> = (0..(ww - tw + 1) * (wh - th + 1))
+            .map(|k| {
+                let (ox, oy) = (k % (ww - tw + 1), k / (ww - tw + 1));
+                (0..tw * th).map(|i| u32::from(t[i]) * u32::from(w[(oy + i / tw) * ww + ox + i % tw])).sum()
+            })
             .collect();
-        assert_eq!(dot_long4_pairs(&t, &s, step).to_vec(), want, "n {n}");
-        #[cfg(not(target_arch = "arm"))]
-        assert_eq!(dot_long4(&t, &s, step).to_vec(), want, "n {n}");
+        assert_eq!((&rows[..], &strips[..]), (&want[..], &want[..]), "{tw}x{th} in {ww}x{wh}");
     }
 }
 
