@@ -48,7 +48,7 @@ report() { # top, files...
   echo
   echo "\`window_network\` holds $(grep -c 'window_unit unit_' "$v/window_network.v") units. Yosys merges flip-flops"
   echo "that the units share exactly (the camera synchronisers and the data delay), so the network"
-  echo "is smaller than that many single units. The aims in issue #2 are 150 MHz or more for the"
+  echo "is smaller than that many single units. The design aims are 150 MHz or more for the"
   echo "4-unit network and at most 200 LUTs a unit. The thesis needs about 8 MHz."
 } > "$root/docs/synthesis.md"
 cat "$root/docs/synthesis.md"

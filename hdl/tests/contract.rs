@@ -1,5 +1,5 @@
-//! The window unit against the exported module's contract (issue #2), driven clock by clock
-//! with the direct-stepping driver. Reference: the software crop of each frame
+//! The window unit against the exported module's contract (`docs/window-logic.md`), driven
+//! clock by clock with the direct-stepping driver. Reference: the software crop of each frame
 //! (`Window::crop`), an independent model of what must be delivered.
 use coopwin_hdl::ARM_MARGIN;
 use coopwin_hdl::sim::camera::{RasterTiming, Window};
