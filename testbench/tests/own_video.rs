@@ -175,3 +175,31 @@ fn scene_writes_frames_at_the_size_and_in_the_colour_asked() {
         assert_eq!(coopwin(&["scene", "--size", bad, "--out", s(&d.join("x"))]).status.code(), Some(2), "{bad}");
     }
 }
+
+#[test]
+fn the_search_margin_and_the_frame_rate_change_what_the_foveal_window_can_follow() {
+    // The swing at 240 px/s moves the object about 2 px a frame at 114 frames/s, 3.3 at its
+    // fastest. Reference: the ground truth (the target is the object's centre at frame 0).
+    let d = scratch("own_video_search");
+    let seq = d.join("seq");
+    ok(&["scene", "--photo", "--path", "swing", "--speed", "240", "--frames", "60", "--noise", "1", "--size", "160x120", "--out", s(&seq)]);
+    let truth = truth_centres(&seq);
+    let run = |extra: &[&str], name: &str| {
+        let csv = d.join(name);
+        let mut args = vec!["track", "--frames", s(&seq), "--target", "80,66", "--out", s(&csv)];
+        args.extend_from_slice(extra);
+        ok(&args);
+        rows(&csv)
+    };
+    let lost = |rows: &[Row]| rows.iter().filter(|r| !r.ok || (r.x - truth[r.measured].0).hypot(r.y - truth[r.measured].1) > 3.0).count();
+    // A Foveal window 1 px wider than the template a side cannot keep up; 4 px can.
+    assert!(lost(&run(&["--search", "1"], "s1.csv")) > 30, "a 1 px margin follows a 3 px/frame object");
+    assert_eq!(lost(&run(&["--search", "4"], "s4.csv")), 0);
+    // With the C40's 18 ms Foveal update, at 114 frames/s (8.8 ms a frame) a frame's position
+    // was measured in an earlier frame; at 30 frames/s (33 ms a frame) the update fits in the
+    // frame, and a third or more of the positions are the frame's own.
+    let fresh = |rows: &[Row]| rows.iter().enumerate().filter(|(k, r)| r.measured == *k).count();
+    let at114 = fresh(&run(&["--profile", "c40", "--search", "4"], "c114.csv"));
+    let at30 = fresh(&run(&["--profile", "c40", "--search", "4", "--fps", "30"], "c30.csv"));
+    assert!(at114 == 0 && at30 >= 20, "positions measured in their own frame: {at114} at 114 frames/s, {at30} at 30");
+}
