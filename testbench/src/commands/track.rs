@@ -216,7 +216,7 @@ pub fn track_folder(args: TrackArgs) -> Result<(), CliError> {
     let fps = args.fps.or(input.declared_fps());
     if let Some(fps) = fps {
         // The pixel clock that gives this frame rate with the camera's blanking.
-        let clocks = Clocks::for_frames(input.source(), None).timing.frame_clocks() as f64;
+        let clocks = Clocks::camera_timing(input.source().size()).frame_clocks() as f64;
         cfg.pixel_clock_hz = clocks * fps;
     }
     let started = std::time::Instant::now();
@@ -340,7 +340,7 @@ pub fn track_frames(frames: &mut dyn FrameSource, cfg: &SystemConfig, vcd: Optio
         }
     }
     if let Some(phase) = cfg.write_phase {
-        let clocks = Clocks::for_frames(frames, cfg.jitter).timing.frame_clocks() as u64;
+        let clocks = Clocks::camera_timing((w, h)).frame_clocks() as u64;
         if phase >= clocks {
             return Err(CliError::arg(format!("--write-phase {phase}: a {w}x{h} frame has {clocks} clocks (0..{})", clocks - 1)));
         }

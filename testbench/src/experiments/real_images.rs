@@ -21,7 +21,7 @@ use std::path::{Path, PathBuf};
 /// Error beyond which a frame counts as lost (5 px, as in the OpenCV script).
 pub const LOSS_PX: f64 = 5.0;
 
-pub use crate::analysis::metrics::MAX_AGE;
+use crate::analysis::metrics::MAX_AGE;
 
 /// Which point of the object is tracked.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -161,8 +161,10 @@ impl<'b> Roster<'b> {
 
     /// What each processor does, in processor order.
     pub(super) fn processor_roles(&self) -> Vec<Role> {
-        (0..self.processors.len())
-            .map(|k| match &self.processors[k] {
+        self.processors
+            .iter()
+            .enumerate()
+            .map(|(k, p)| match p {
                 Processor::Watch(_) => Role::Watch,
                 Processor::Peripheral(_) => Role::Peripheral,
                 Processor::Foveal(_) if self.roles.partner == Some(k) => Role::FovealCd,

@@ -23,8 +23,12 @@ impl Clocks {
     /// The raster for a source's frame size: the CA-D1's blanking, scaled to the frame, with
     /// `jitter`'s extra blanking if any.
     pub fn for_frames(source: &dyn FrameSource, jitter: Option<Jitter>) -> Self {
-        let (w, h) = source.size();
-        Clocks::new(RasterTiming { width: w, height: h, h_blank: 16, v_blank_lines: 2 }, source.len(), jitter)
+        Clocks::new(Clocks::camera_timing(source.size()), source.len(), jitter)
+    }
+
+    /// The nominal raster of `(width, height)` frames: the CA-D1's blanking, scaled to them.
+    pub fn camera_timing((width, height): (usize, usize)) -> RasterTiming {
+        RasterTiming { width, height, h_blank: 16, v_blank_lines: 2 }
     }
 
     /// `frames` frames of `timing`, with `jitter`'s extra blanking if any.
