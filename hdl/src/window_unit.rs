@@ -12,32 +12,39 @@
 //! Departures from the thesis are listed in `docs/window-logic.md`: rows count from 0 (the
 //! thesis's Y count 1..256), coordinates are double-buffered (`CoordPort` holds the pending
 //! set, `xn..yx` here the active one, swapped at FVAL rising), a decimation bit gives the 25%
-//! window, and the counter width `W` is a parameter.
+//! window, a pixel-valid input lets a line hold gaps, a synchronous reset, and the sensor's size
+//! is a parameter: `C`-bit counters that stop at their top so a longer line or frame never wraps,
+//! `P`-bit pixels.
+//!
+//! `hdl/src/rtl/window_unit.v` is the same logic written out as readable, parametric Verilog,
+//! register for register under the same names; the tests replay runs of this block in Icarus
+//! Verilog and Verilator and compare every clock.
 use crate::coord_port::CoordPort;
 use crate::reg::Reg;
 use rust_hdl::prelude::*;
 
-/// Clocks from a coordinate set's completion (the clock its fourth byte is taken: CRDY1 rises)
+/// Clocks from a coordinate set's completion (the clock its last byte is taken: CRDY1 rises)
 /// to the first FVAL rise it can arm: the set passes the port's validity check and reaches the
 /// pending set registers in these clocks, so a set completed on clock `s` applies to the first
 /// frame whose FVAL rises on clock `s + ARM_MARGIN` or later (thesis B1.1 steps 1-2).
 pub const ARM_MARGIN: usize = 2;
 
-/// One window unit: `W`-bit position counters and coordinates (8 for the 256x256 CA-D1).
-#[derive(Clone, Debug, Default, LogicBlock)]
-pub struct WindowUnit<const W: usize> {
+/// One window unit for a sensor of up to 2^`C` columns and rows (`C` = 8 for the 256x256
+/// CA-D1) with `P`-bit pixels.
+#[derive(Clone, Debug, LogicBlock)]
+pub struct WindowUnit<const C: usize, const P: usize> {
     /// Pixel clock (thesis STROBE, inverted into PVC).
     pub clock: Signal<In, Clock>,
     /// Frame valid (thesis FVAL).
     pub fval: Signal<In, Bit>,
-    /// Line valid (thesis LVAL).
+    /// Line valid (thesis LVAL); one pulse is one line.
     pub lval: Signal<In, Bit>,
-    /// Camera data (thesis OD0-OD7), one pixel per clock while `fval & lval`.
-    pub pixel: Signal<In, Bits<8>>,
+    /// Camera data (thesis OD0-OD7), a pixel on each clock with `fval & lval & pixel_valid`.
+    pub pixel: Signal<In, Bits<P>>,
     /// Coordinate byte offered (thesis CSTRB1).
     pub coord_strobe: Signal<In, Bit>,
-    /// Coordinate byte, xmin, xmax, ymin, ymax in turn (thesis port 1 D0-D7).
-    pub coord_data: Signal<In, Bits<W>>,
+    /// Coordinate byte (thesis port 1 D0-D7).
+    pub coord_data: Signal<In, Bits<8>>,
     /// Coordinate byte taken (thesis CRDY1).
     pub coord_ready: Signal<Out, Bit>,
     /// 25% resolution for the window of the set being completed.
@@ -45,16 +52,24 @@ pub struct WindowUnit<const W: usize> {
     /// High for exactly one clock per delivered pixel (thesis CSTRB4, active high here).
     pub pixel_strobe: Signal<Out, Bit>,
     /// The delivered pixel, valid while `pixel_strobe` (thesis port 4 D0-D7).
-    pub pixel_out: Signal<Out, Bits<8>>,
+    pub pixel_out: Signal<Out, Bits<P>>,
     /// The last complete coordinate set was invalid and was refused.
     pub coord_error: Signal<Out, Bit>,
-    port: CoordPort<W>,
+    /// A pixel is on `pixel` this clock (with `fval & lval`); low clocks are gaps in the line.
+    pub pixel_valid: Signal<In, Bit>,
+    /// Synchronous reset, active high: back to the power-on state, nothing armed.
+    pub reset: Signal<In, Bit>,
+    port: CoordPort<C>,
+    /// The counters' top, where they stop.
+    count_max: Constant<Bits<C>>,
     /// Thesis FVC: frame valid synchronised to the pixel clock.
     fvc: Reg<Bit>,
     /// Thesis LVC: line valid synchronised to the pixel clock.
     lvc: Reg<Bit>,
+    /// Pixel valid synchronised with LVC.
+    pvc: Reg<Bit>,
     /// First data delay stage: the pixel sampled with `lvc`.
-    pxc: Reg<Bits<8>>,
+    pxc: Reg<Bits<P>>,
     /// FVC one clock later, to find its transitions from flip-flops alone.
     fvd: Reg<Bit>,
     /// LVC one clock later.
@@ -65,10 +80,12 @@ pub struct WindowUnit<const W: usize> {
     fvhl: Signal<Local, Bit>,
     /// Thesis LVHL: line valid high-to-low transition inside a frame (a line ends).
     lvhl: Signal<Local, Bit>,
-    /// Thesis X0-X7: column of the pixel in `pxc`.
-    xcount: Reg<Bits<W>>,
-    /// Thesis Y0-Y7: row of the current line (0-based; the thesis counts 1..256).
-    ycount: Reg<Bits<W>>,
+    /// A pixel is in `pxc` (LVC and its pixel valid).
+    pv: Signal<Local, Bit>,
+    /// Thesis X count: column of the pixel in `pxc`.
+    xcount: Reg<Bits<C>>,
+    /// Thesis Y count: row of the current line (0-based; the thesis counts 1..256).
+    ycount: Reg<Bits<C>>,
     /// Thesis START: a valid set is pending for a coming frame.
     start: Reg<Bit>,
     /// Thesis WLEN: window logic enabled, a set pending while between frames (START & NFV).
@@ -80,14 +97,14 @@ pub struct WindowUnit<const W: usize> {
     strben: Reg<Bit>,
     /// Thesis WLRST: the window logic is reset (end of frame, or last window line done).
     wlrst: Signal<Local, Bit>,
-    /// Active window, thesis XN0-XN7 (minimum column), loaded from the pending set at FVLH.
-    xn: Reg<Bits<W>>,
-    /// Active window, thesis XX0-XX7 (maximum column).
-    xx: Reg<Bits<W>>,
-    /// Active window, thesis YN0-YN7 (minimum row).
-    yn: Reg<Bits<W>>,
-    /// Active window, thesis YX0-YX7 (maximum row).
-    yx: Reg<Bits<W>>,
+    /// Active window, thesis XN (minimum column), loaded from the pending set at FVLH.
+    xn: Reg<Bits<C>>,
+    /// Active window, thesis XX (maximum column).
+    xx: Reg<Bits<C>>,
+    /// Active window, thesis YN (minimum row).
+    yn: Reg<Bits<C>>,
+    /// Active window, thesis YX (maximum row).
+    yx: Reg<Bits<C>>,
     /// Active window is decimated.
     dec: Reg<Bit>,
     /// Thesis XMIN: the X count equals xmin.
@@ -110,17 +127,81 @@ pub struct WindowUnit<const W: usize> {
     decok: Signal<Local, Bit>,
     /// Second data delay stage and CSTRB4.
     strobe: Reg<Bit>,
-    data: Reg<Bits<8>>,
+    data: Reg<Bits<P>>,
 }
 
-impl<const W: usize> Logic for WindowUnit<W> {
+impl<const C: usize, const P: usize> Default for WindowUnit<C, P> {
+    /// The unit of a 2^C x 2^C sensor: the CA-D1's 256x256 for C = 8.
+    fn default() -> Self {
+        Self::new(1 << C, 1 << C)
+    }
+}
+
+impl<const C: usize, const P: usize> WindowUnit<C, P> {
+    /// The unit of a `width` x `height` sensor (each from 16 to 2^C, at most 4096).
+    pub fn new(width: usize, height: usize) -> Self {
+        Self {
+            clock: Default::default(),
+            fval: Default::default(),
+            lval: Default::default(),
+            pixel: Default::default(),
+            coord_strobe: Default::default(),
+            coord_data: Default::default(),
+            coord_ready: Default::default(),
+            decimate: Default::default(),
+            pixel_strobe: Default::default(),
+            pixel_out: Default::default(),
+            coord_error: Default::default(),
+            pixel_valid: Default::default(),
+            reset: Default::default(),
+            port: CoordPort::new(width, height),
+            count_max: Constant::new(((1u64 << C) - 1).into()),
+            fvc: Default::default(),
+            lvc: Default::default(),
+            pvc: Default::default(),
+            pxc: Default::default(),
+            fvd: Default::default(),
+            lvd: Default::default(),
+            fvlh: Default::default(),
+            fvhl: Default::default(),
+            lvhl: Default::default(),
+            pv: Default::default(),
+            xcount: Default::default(),
+            ycount: Default::default(),
+            start: Default::default(),
+            wlen: Default::default(),
+            arm: Default::default(),
+            strben: Default::default(),
+            wlrst: Default::default(),
+            xn: Default::default(),
+            xx: Default::default(),
+            yn: Default::default(),
+            yx: Default::default(),
+            dec: Default::default(),
+            xmin: Default::default(),
+            xmax: Default::default(),
+            ymin: Default::default(),
+            ymax: Default::default(),
+            xrun: Default::default(),
+            yrun: Default::default(),
+            yval: Default::default(),
+            xyval: Default::default(),
+            decok: Default::default(),
+            strobe: Default::default(),
+            data: Default::default(),
+        }
+    }
+}
+
+impl<const C: usize, const P: usize> Logic for WindowUnit<C, P> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, fvc, lvc, pxc, fvd, lvd, xcount, ycount, start, strben, xn, xx, yn, yx,
-            dec, arm, ymin, ymax, xrun, yrun, strobe, data
+            self, clock, fvc, lvc, pvc, pxc, fvd, lvd, xcount, ycount, start, strben, xn, xx, yn,
+            yx, dec, arm, ymin, ymax, xrun, yrun, strobe, data
         );
         self.port.clock.next = self.clock.val();
+        self.port.reset.next = self.reset.val();
         self.port.coord_strobe.next = self.coord_strobe.val();
         self.port.coord_data.next = self.coord_data.val();
         self.port.decimate.next = self.decimate.val();
@@ -133,19 +214,24 @@ impl<const W: usize> Logic for WindowUnit<W> {
         // as the thesis's transition flags are (B1.2 step 9).
         self.fvc.d.next = self.fval.val();
         self.lvc.d.next = self.lval.val();
+        self.pvc.d.next = self.pixel_valid.val();
         self.pxc.d.next = self.pixel.val();
         self.fvd.d.next = self.fvc.q.val();
         self.lvd.d.next = self.lvc.q.val();
         self.fvlh.next = self.fvc.q.val() & !self.fvd.q.val();
         self.fvhl.next = !self.fvc.q.val() & self.fvd.q.val();
         self.lvhl.next = !self.lvc.q.val() & self.lvd.q.val() & self.fvc.q.val();
+        self.pv.next = self.lvc.q.val() & self.pvc.q.val();
 
-        // Position counters.
-        self.xcount.d.next = 0.into();
-        if self.lvc.q.val() {
+        // Position counters: X advances past each pixel of the line, Y at each line end; both
+        // stop at their top.
+        if !self.lvc.q.val() {
+            self.xcount.d.next = 0.into();
+        }
+        if self.pv.val() & (self.xcount.q.val() != self.count_max.val()) {
             self.xcount.d.next = self.xcount.q.val() + 1;
         }
-        if self.lvhl.val() {
+        if self.lvhl.val() & (self.ycount.q.val() != self.count_max.val()) {
             self.ycount.d.next = self.ycount.q.val() + 1;
         }
 
@@ -155,13 +241,16 @@ impl<const W: usize> Logic for WindowUnit<W> {
         self.ymin.d.next = self.ycount.q.val() == self.yn.q.val();
         self.ymax.d.next = self.ycount.q.val() == self.yx.q.val();
         self.yval.next = self.strben.q.val() & (self.yrun.q.val() | self.ymin.q.val());
-        self.xyval.next =
-            self.lvc.q.val() & (self.xrun.q.val() | self.xmin.val()) & self.yval.val();
+        self.xyval.next = self.pv.val() & (self.xrun.q.val() | self.xmin.val()) & self.yval.val();
         self.decok.next = !self.dec.q.val()
             | ((self.xcount.q.val().get_bit(0) == self.xn.q.val().get_bit(0))
                 & (self.ycount.q.val().get_bit(0) == self.yn.q.val().get_bit(0)));
-        self.xrun.d.next =
-            self.lvc.q.val() & (self.xrun.q.val() | self.xmin.val()) & !self.xmax.val();
+        if !self.lvc.q.val() {
+            self.xrun.d.next = false;
+        }
+        if self.pv.val() {
+            self.xrun.d.next = (self.xrun.q.val() | self.xmin.val()) & !self.xmax.val();
+        }
         if self.lvhl.val() {
             self.yrun.d.next = self.yval.val() & !self.ymax.q.val();
         }
@@ -184,6 +273,31 @@ impl<const W: usize> Logic for WindowUnit<W> {
         if self.fvlh.val() {
             self.ycount.d.next = 0.into();
             self.yrun.d.next = false;
+        }
+
+        if self.reset.val() {
+            self.fvc.d.next = false;
+            self.lvc.d.next = false;
+            self.pvc.d.next = false;
+            self.pxc.d.next = 0.into();
+            self.fvd.d.next = false;
+            self.lvd.d.next = false;
+            self.xcount.d.next = 0.into();
+            self.ycount.d.next = 0.into();
+            self.start.d.next = false;
+            self.arm.d.next = false;
+            self.strben.d.next = false;
+            self.xn.d.next = 0.into();
+            self.xx.d.next = 0.into();
+            self.yn.d.next = 0.into();
+            self.yx.d.next = 0.into();
+            self.dec.d.next = false;
+            self.ymin.d.next = false;
+            self.ymax.d.next = false;
+            self.xrun.d.next = false;
+            self.yrun.d.next = false;
+            self.strobe.d.next = false;
+            self.data.d.next = 0.into();
         }
     }
 }
@@ -237,10 +351,10 @@ pub struct Flags {
     /// Thesis CSTRB4.
     pub pixel_strobe: bool,
     /// Thesis Port 4 data.
-    pub pixel_out: u8,
+    pub pixel_out: u16,
 }
 
-impl<const W: usize> WindowUnit<W> {
+impl<const C: usize, const P: usize> WindowUnit<C, P> {
     /// The flags as they stand now.
     pub fn flags(&self) -> Flags {
         Flags {
@@ -266,7 +380,7 @@ impl<const W: usize> WindowUnit<W> {
             yval: self.yval.val(),
             xyval: self.xyval.val(),
             pixel_strobe: self.pixel_strobe.val(),
-            pixel_out: self.pixel_out.val().index() as u8,
+            pixel_out: self.pixel_out.val().index() as u16,
         }
     }
 }

@@ -74,20 +74,21 @@ impl CoordinateWriter {
     /// with xmin = xmax or ymin = ymax (`coord_error`); only what cannot be encoded is refused
     /// here.
     pub fn write(&mut self, req: &WindowRequest) -> Result<(), WriteError> {
-        self.write_bytes(coordinate_bytes(req)?, req.decimation == Decimation::Quarter)
+        self.write_bytes(&coordinate_bytes(req)?, req.decimation == Decimation::Quarter)
     }
 
-    /// Queues four coordinate bytes (xmin, xmax, ymin, ymax) as they are, behind any waiting,
-    /// for the window logic to judge: a set with xmin >= xmax or ymin >= ymax is refused there
+    /// Queues a set's coordinate bytes as they are, behind any waiting, for the window logic to
+    /// judge: xmin, xmax, ymin, ymax, or each as two bytes (high first) for a unit on a sensor
+    /// over 256 wide or high. A set with xmin >= xmax or ymin >= ymax is refused there
     /// (`coord_error`), which is how the window unit's tests write a set [`write`](Self::write)
-    /// would not.
-    pub fn write_bytes(&mut self, bytes: [u8; 4], decimate: bool) -> Result<(), WriteError> {
+    /// would not. [`WriteError::QueueFull`] when the whole set does not fit the queue.
+    pub fn write_bytes(&mut self, bytes: &[u8], decimate: bool) -> Result<(), WriteError> {
         if self.queue.capacity() - self.queue.len() < bytes.len() {
             return Err(WriteError::QueueFull);
         }
         for b in bytes {
             // Room was checked above.
-            let _ = self.queue.push_back((b, decimate));
+            let _ = self.queue.push_back((*b, decimate));
         }
         Ok(())
     }
@@ -97,7 +98,7 @@ impl CoordinateWriter {
         !self.queue.is_empty() || self.strobe
     }
 
-    /// Complete sets the window logic has taken (fourth byte answered by CRDY1).
+    /// Complete four-byte sets the window logic has taken (fourth byte answered by CRDY1).
     pub fn sets_taken(&self) -> u32 {
         self.bytes_taken / 4
     }

@@ -4,7 +4,8 @@
 //! diagrams (Figs. B1.1-B1.5) are located in the record for tests and drawings.
 use super::camera::{CameraBus, RasterTiming, Window};
 use super::vcd::Latch;
-use crate::window_unit::{Flags, WindowUnit};
+use crate::window_unit::Flags;
+use crate::CaD1Unit;
 use rust_hdl::prelude::*;
 use std::io::Write;
 use std::sync::{Arc, Mutex};
@@ -109,14 +110,14 @@ pub fn simulate_acquisition(
     let max_time = 125_000 * (clocks.len() as u64 + 16);
     let record = Arc::new(Mutex::new(Vec::with_capacity(clocks.len())));
     let out = record.clone();
-    let mut uut = WindowUnit::<{ crate::CA_D1_BITS }>::default();
+    let mut uut = CaD1Unit::default();
     uut.connect_all();
     let mut sim = Simulation::new();
     // 125 000 ps: the CA-D1's 8 MHz pixel clock, toggled every half period.
-    sim.add_clock(62_500, |x: &mut Box<WindowUnit<8>>| {
+    sim.add_clock(62_500, |x: &mut Box<CaD1Unit>| {
         x.clock.next = !x.clock.val()
     });
-    sim.add_testbench(move |mut sim: Sim<WindowUnit<8>>| {
+    sim.add_testbench(move |mut sim: Sim<CaD1Unit>| {
         let mut x = sim.init()?;
         let bytes = window.bytes();
         let mut next_byte = 4;
@@ -184,8 +185,9 @@ impl std::fmt::Display for AcquisitionError {
 
 impl std::error::Error for AcquisitionError {}
 
-fn drive(x: &mut WindowUnit<8>, cam: CameraBus) {
+fn drive(x: &mut CaD1Unit, cam: CameraBus) {
     x.fval.next = cam.fval;
     x.lval.next = cam.lval;
+    x.pixel_valid.next = cam.pixel_valid;
     x.pixel.next = (cam.pixel as u64).into();
 }

@@ -14,8 +14,10 @@ pub struct CameraBus {
     pub fval: bool,
     /// Line valid (LVAL).
     pub lval: bool,
-    /// Pixel value (OD0-OD7); meaningful while `fval & lval`.
-    pub pixel: u8,
+    /// Pixel value (OD0-OD7, up to 16 bits); meaningful while `fval & lval & pixel_valid`.
+    pub pixel: u16,
+    /// A pixel is on the bus this clock (with `fval & lval`); the CA-D1 holds it high.
+    pub pixel_valid: bool,
 }
 
 /// Geometry and blanking of the raster.
@@ -65,7 +67,7 @@ impl RasterTiming {
     /// Clock 0 is the rising edge of `fval`, with `lval` low; `h_blank` clocks later the first
     /// line starts. After the last line `fval` falls `h_blank` clocks after `lval`, then each
     /// blanking line has `lval` high for `width` clocks starting `h_blank` clocks into it.
-    pub fn bus_at(&self, t: usize, image: impl Fn(usize, usize) -> u8) -> CameraBus {
+    pub fn bus_at<T: Into<u16>>(&self, t: usize, image: impl Fn(usize, usize) -> T) -> CameraBus {
         let line = self.line_clocks();
         let active_end = self.h_blank + self.height * line;
         if t < self.h_blank {
@@ -73,15 +75,17 @@ impl RasterTiming {
                 fval: true,
                 lval: false,
                 pixel: 0,
+                pixel_valid: true,
             }
         } else if t < active_end {
             let (y, in_line) = ((t - self.h_blank) / line, (t - self.h_blank) % line);
             let lval = in_line < self.width;
-            let pixel = if lval { image(in_line, y) } else { 0 };
+            let pixel = if lval { image(in_line, y).into() } else { 0 };
             CameraBus {
                 fval: true,
                 lval,
                 pixel,
+                pixel_valid: true,
             }
         } else {
             // Blanking: lval pulses for `width` clocks after `h_blank` clocks of each line slot.
@@ -91,6 +95,7 @@ impl RasterTiming {
                 fval: false,
                 lval,
                 pixel: 0,
+                pixel_valid: true,
             }
         }
     }
@@ -176,8 +181,8 @@ impl FrameRaster {
     }
 
     /// The camera bus on clock `t` of the frame (0 is FVAL rising), `image(x, y)` the pixels.
-    pub fn bus_at(&self, t: usize, image: impl Fn(usize, usize) -> u8) -> CameraBus {
-        let idle = |fval| CameraBus { fval, lval: false, pixel: 0 };
+    pub fn bus_at<T: Into<u16>>(&self, t: usize, image: impl Fn(usize, usize) -> T) -> CameraBus {
+        let idle = |fval| CameraBus { fval, lval: false, pixel: 0, pixel_valid: true };
         // The last line whose inserted blanking has started by `t`.
         let nominal = match self.lines.partition_point(|l| l.0 <= t).checked_sub(1) {
             None => t,
@@ -211,9 +216,23 @@ pub struct Window {
 }
 
 impl Window {
-    /// The four coordinate bytes in the order the port takes them.
+    /// The four coordinates in the order the port takes them.
     pub fn bytes(&self) -> [u32; 4] {
         [self.xmin, self.xmax, self.ymin, self.ymax]
+    }
+
+    /// The set's bytes as the port takes them: one a coordinate, or two (high byte first) when
+    /// `wide`; `None` when a coordinate does not fit.
+    pub fn port_bytes(&self, wide: bool) -> Option<Vec<u8>> {
+        let mut out = Vec::with_capacity(8);
+        for c in self.bytes() {
+            if wide {
+                out.extend(u16::try_from(c).ok()?.to_be_bytes());
+            } else {
+                out.push(u8::try_from(c).ok()?);
+            }
+        }
+        Some(out)
     }
 
     /// Valid iff xmin < xmax and ymin < ymax (thesis 2.2.1, rows made 0-based).
@@ -223,17 +242,13 @@ impl Window {
 
     /// The software crop the window unit must deliver: the pixels of the window in raster
     /// order, every other pixel of every other row when `decimate`.
-    pub fn crop(&self, frame: &[u8], width: usize, decimate: bool) -> Vec<u8> {
+    pub fn crop<T: Copy + Into<u16>>(&self, frame: &[T], width: usize, decimate: bool) -> Vec<u16> {
         let step = if decimate { 2 } else { 1 };
         let (x0, x1) = (self.xmin as usize, self.xmax as usize + 1);
         let mut out = Vec::with_capacity((x1 - x0).div_ceil(step) * (self.ymax - self.ymin + 1) as usize);
         for y in (self.ymin as usize..=self.ymax as usize).step_by(step) {
             let row = &frame[y * width + x0..y * width + x1];
-            if decimate {
-                out.extend(row.iter().step_by(2));
-            } else {
-                out.extend_from_slice(row);
-            }
+            out.extend(row.iter().step_by(step).map(|&p| p.into()));
         }
         out
     }
@@ -262,7 +277,7 @@ mod tests {
             .map(|c| t.bus_at(c, |x, y| (10 * y + x) as u8))
             .collect();
         // Hand count: 3 lines of 5 pixels inside fval, 2 blanking pulses of 5 outside.
-        let active: Vec<u8> = buses
+        let active: Vec<u16> = buses
             .iter()
             .filter(|b| b.fval && b.lval)
             .map(|b| b.pixel)
@@ -306,8 +321,8 @@ mod tests {
             let f = FrameRaster::new(t, Some(j), k);
             let buses: Vec<_> = (0..f.len()).map(|c| f.bus_at(c, image)).collect();
             // The same pixels in the same order, the same LVAL pulses, FVAL one run from 0.
-            let active: Vec<u8> = buses.iter().filter(|b| b.fval && b.lval).map(|b| b.pixel).collect();
-            let expected: Vec<u8> = (0..5).flat_map(|y| (0..6).map(move |x| image(x, y))).collect();
+            let active: Vec<u16> = buses.iter().filter(|b| b.fval && b.lval).map(|b| b.pixel).collect();
+            let expected: Vec<u16> = (0..5).flat_map(|y| (0..6).map(move |x| image(x, y).into())).collect();
             assert_eq!(active, expected);
             assert_eq!(buses.iter().filter(|b| !b.fval && b.lval).count(), 2 * 6);
             let fall = buses.iter().position(|b| !b.fval).unwrap();
@@ -315,7 +330,7 @@ mod tests {
             // Every pixel is where `pixel_clock` says.
             for (x, y) in (0..5).flat_map(|y| (0..6).map(move |x| (x, y))) {
                 let b = buses[f.pixel_clock(x, y)];
-                assert!(b.fval && b.lval && b.pixel == image(x, y), "pixel ({x}, {y})");
+                assert!(b.fval && b.lval && b.pixel == image(x, y).into(), "pixel ({x}, {y})");
             }
             // Line gaps vary, never shorter than the nominal blanking.
             let mut run = 0;

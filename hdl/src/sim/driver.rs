@@ -31,7 +31,7 @@ pub struct UnitOutputs {
     /// CSTRB4.
     pub pixel_strobe: bool,
     /// Port 4 data.
-    pub pixel_out: u8,
+    pub pixel_out: u16,
     /// The last complete set was refused.
     pub coord_error: bool,
 }
@@ -51,23 +51,29 @@ fn settle<B: Block>(b: &mut B) -> usize {
 }
 
 /// A `WindowUnit` stepped one pixel clock at a time.
-pub struct UnitDriver<const W: usize> {
-    uut: WindowUnit<W>,
+pub struct UnitDriver<const C: usize, const P: usize> {
+    uut: WindowUnit<C, P>,
     passes: u64,
 }
 
-impl<const W: usize> Default for UnitDriver<W> {
+impl<const C: usize, const P: usize> Default for UnitDriver<C, P> {
+    /// The unit of a 2^C x 2^C sensor.
     fn default() -> Self {
-        let mut uut = WindowUnit::<W>::default();
+        Self::new(1 << C, 1 << C)
+    }
+}
+
+impl<const C: usize, const P: usize> UnitDriver<C, P> {
+    /// The unit of a `width` x `height` sensor at power-on.
+    pub fn new(width: usize, height: usize) -> Self {
+        let mut uut = WindowUnit::<C, P>::new(width, height);
         uut.connect_all();
         settle(&mut uut);
         Self { uut, passes: 0 }
     }
-}
 
-impl<const W: usize> UnitDriver<W> {
     /// The block, for reading its signals.
-    pub fn unit(&self) -> &WindowUnit<W> {
+    pub fn unit(&self) -> &WindowUnit<C, P> {
         &self.uut
     }
 
@@ -79,13 +85,16 @@ impl<const W: usize> UnitDriver<W> {
     /// Applies `cam` and `port` with the clock low, takes the rising edge, and returns the
     /// outputs as they are after that edge.
     pub fn step(&mut self, cam: CameraBus, port: CoordBus) -> UnitOutputs {
-        self.apply(cam, port);
-        self.rise()
+        self.step_reset(cam, port, false)
     }
 
-    fn apply(&mut self, cam: CameraBus, port: CoordBus) {
+    /// [`step`](Self::step) with the unit's synchronous `reset` input driven too.
+    pub fn step_reset(&mut self, cam: CameraBus, port: CoordBus, reset: bool) -> UnitOutputs {
         set_inputs(&mut self.uut, cam, port);
+        self.uut.reset.next = reset;
+        self.uut.reset.update_all();
         self.passes += settle(&mut self.uut) as u64;
+        self.rise()
     }
 
     fn rise(&mut self) -> UnitOutputs {
@@ -99,15 +108,17 @@ impl<const W: usize> UnitDriver<W> {
 ///
 /// The inputs take their new values at once rather than on the first settling pass (nothing
 /// inside the block drives them), which saves that pass.
-fn set_inputs<const W: usize>(u: &mut WindowUnit<W>, cam: CameraBus, port: CoordBus) {
+fn set_inputs<const C: usize, const P: usize>(u: &mut WindowUnit<C, P>, cam: CameraBus, port: CoordBus) {
     u.fval.next = cam.fval;
     u.lval.next = cam.lval;
+    u.pixel_valid.next = cam.pixel_valid;
     u.pixel.next = (cam.pixel as u64).into();
     u.coord_strobe.next = port.strobe;
     u.coord_data.next = (port.data as u64).into();
     u.decimate.next = port.decimate;
     u.fval.update_all();
     u.lval.update_all();
+    u.pixel_valid.update_all();
     u.pixel.update_all();
     u.coord_strobe.update_all();
     u.coord_data.update_all();
@@ -115,16 +126,16 @@ fn set_inputs<const W: usize>(u: &mut WindowUnit<W>, cam: CameraBus, port: Coord
     set_clock(u, false);
 }
 
-fn set_clock<const W: usize>(u: &mut WindowUnit<W>, level: bool) {
+fn set_clock<const C: usize, const P: usize>(u: &mut WindowUnit<C, P>, level: bool) {
     u.clock.next = level.into();
     u.clock.update_all();
 }
 
-fn outputs<const W: usize>(u: &WindowUnit<W>) -> UnitOutputs {
+fn outputs<const C: usize, const P: usize>(u: &WindowUnit<C, P>) -> UnitOutputs {
     UnitOutputs {
         coord_ready: u.coord_ready.val(),
         pixel_strobe: u.pixel_strobe.val(),
-        pixel_out: u.pixel_out.val().index() as u8,
+        pixel_out: u.pixel_out.val().index() as u16,
         coord_error: u.coord_error.val(),
     }
 }
@@ -132,14 +143,14 @@ fn outputs<const W: usize>(u: &WindowUnit<W>) -> UnitOutputs {
 /// Units on one camera bus, each with its own coordinate port (the thesis's network of
 /// windowing units, 2.2.2: "additional windowing units operate independently and in parallel"),
 /// settled together as one rust-hdl block tree so one VCD can hold them all (`uut$k`).
-pub struct NetworkDriver<const W: usize> {
-    units: Vec<WindowUnit<W>>,
+pub struct NetworkDriver<const C: usize, const P: usize> {
+    units: Vec<WindowUnit<C, P>>,
 }
 
-impl<const W: usize> NetworkDriver<W> {
-    /// `n` units at power-on.
+impl<const C: usize, const P: usize> NetworkDriver<C, P> {
+    /// `n` units of a 2^C x 2^C sensor at power-on.
     pub fn new(n: usize) -> Self {
-        let mut units: Vec<WindowUnit<W>> = (0..n).map(|_| WindowUnit::default()).collect();
+        let mut units: Vec<WindowUnit<C, P>> = (0..n).map(|_| WindowUnit::default()).collect();
         units.connect_all();
         settle(&mut units);
         Self { units }
@@ -193,7 +204,7 @@ impl<const W: usize> NetworkDriver<W> {
     }
 
     /// The units, traced as `uut$0`, `uut$1`, ...
-    pub fn block(&self) -> &Vec<WindowUnit<W>> {
+    pub fn block(&self) -> &Vec<WindowUnit<C, P>> {
         &self.units
     }
 }
@@ -234,17 +245,15 @@ pub fn write_step(writer: &mut CoordinateWriter, last: &UnitOutputs) -> CoordBus
     bus
 }
 
-/// Queues `w`'s four bytes (xmin, xmax, ymin, ymax) on `writer` as they are, valid or not:
-/// [`WriteError::OutOfRange`] when a coordinate does not fit the processor's 8-bit port,
-/// [`WriteError::QueueFull`] when the writer holds its most sets.
+/// Queues `w`'s bytes (xmin, xmax, ymin, ymax; two bytes each, high first, when `wide`) on
+/// `writer` as they are, valid or not: [`WriteError::OutOfRange`] when a coordinate does not
+/// fit its bytes, [`WriteError::QueueFull`] when the writer has no room for the set.
 pub fn queue_window(
     writer: &mut CoordinateWriter,
     w: Window,
     decimate: bool,
+    wide: bool,
 ) -> Result<(), WriteError> {
-    let [a, b, c, d] = w.bytes().map(u8::try_from);
-    match (a, b, c, d) {
-        (Ok(a), Ok(b), Ok(c), Ok(d)) => writer.write_bytes([a, b, c, d], decimate),
-        _ => Err(WriteError::OutOfRange),
-    }
+    let bytes = w.port_bytes(wide).ok_or(WriteError::OutOfRange)?;
+    writer.write_bytes(&bytes, decimate)
 }

@@ -25,16 +25,18 @@ void* wn_new() {
     auto* ctx = new VerilatedContext;
     auto* m = new Vwindow_network{ctx};
     m->clock = 0;
+    m->reset = 0;
     m->eval();
     return m;
 }
-// cam: fval | lval << 1 | pixel << 2; ports[k]: data | strobe << 8 | decimate << 9.
+// cam: fval | lval << 1 | pixel << 2 | pixel_valid << 10; ports[k]: data | strobe << 8 | decimate << 9.
 // outs[k] after the rising edge: ready | strobe << 1 | pixel << 2 | error << 10.
 void wn_step(void* p, uint32_t cam, const uint32_t* ports, uint32_t* outs) {
     auto* m = static_cast<Vwindow_network*>(p);
     m->fval = cam & 1;
     m->lval = (cam >> 1) & 1;
     m->pixel = (cam >> 2) & 0xff;
+    m->pixel_valid = (cam >> 10) & 1;
     for (int k = 0; k < 4; k++) set_port(m, k, ports[k]);
     m->clock = 0;
     m->eval();

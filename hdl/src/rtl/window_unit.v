@@ -1,0 +1,199 @@
+// window_unit: one windowing unit of the cooperative-windowing tracker (thesis 2.2.2,
+// Figs. 2.3, A1.1, A1.2, Appendix B). A processor writes a window's coordinates over a
+// byte-wide strobe/ready port; the unit counts the camera's pixels and lines and strobes
+// exactly the window's pixels out, one window per coordinate set, at frame rate.
+//
+// The same logic as the rust-hdl blocks WindowUnit and CoordPort (hdl/src/window_unit.rs,
+// hdl/src/coord_port.rs), register for register and under the same names; coopwin's tests
+// replay rust-hdl runs in Icarus Verilog and Verilator and compare every clock.
+// Contract and timing: docs/window-logic.md.
+//
+// Coordinates: with WIDTH and HEIGHT <= 256 a set is 4 bytes (xmin, xmax, ymin, ymax);
+// otherwise 8 bytes, each coordinate high byte first. A set is valid iff
+// xmin < xmax < WIDTH and ymin < ymax < HEIGHT; an invalid set raises coord_error and is
+// refused. Pixels beyond column WIDTH-1 or lines beyond HEIGHT-1 are never delivered.
+`default_nettype none
+
+module window_unit #(
+    parameter integer WIDTH = 256,      // pixels per line (16..4096)
+    parameter integer HEIGHT = 256,     // lines per frame (16..4096)
+    parameter integer PIXEL_BITS = 8    // bits per pixel (8..16)
+) (
+    input  wire                  clock,        // pixel clock (thesis STROBE, PVC): all logic on its rising edge
+    input  wire                  fval,         // frame valid (thesis FVAL)
+    input  wire                  lval,         // line valid (thesis LVAL); one pulse is one line
+    input  wire [PIXEL_BITS-1:0] pixel,        // camera data (thesis OD0-OD7)
+    input  wire                  coord_strobe, // coordinate byte offered (thesis CSTRB1)
+    input  wire [7:0]            coord_data,   // coordinate byte (thesis port 1 D0-D7)
+    output wire                  coord_ready,  // coordinate byte taken (thesis CRDY1)
+    input  wire                  decimate,     // 25% resolution for the set being completed
+    output wire                  pixel_strobe, // high one clock per delivered pixel (thesis CSTRB4)
+    output wire [PIXEL_BITS-1:0] pixel_out,    // the delivered pixel, valid with pixel_strobe (port 4)
+    output wire                  coord_error,  // the last complete set was invalid and was refused
+    input  wire                  pixel_valid,  // a pixel is on `pixel` this clock (with fval & lval)
+    input  wire                  reset         // synchronous, active high: back to the power-on state
+);
+    // Counter and coordinate width: enough for the larger of WIDTH and HEIGHT.
+    localparam integer LARGEST = WIDTH > HEIGHT ? WIDTH : HEIGHT;
+    localparam integer CBITS = $clog2(LARGEST);
+    // Two bytes per coordinate once a coordinate no longer fits one.
+    localparam [0:0] WIDE = LARGEST > 256;
+    localparam [2:0] LAST_BYTE = WIDE ? 3'd7 : 3'd3;
+    // The counters stop here, so a longer line or frame never wraps onto window coordinates.
+    localparam [CBITS-1:0] COUNT_MAX = {CBITS{1'b1}};
+
+    // ---------------------------------------------------------------------------------------
+    // Coordinate port (Fig. A1.1): a synchronous four-phase handshake, the bytes shifted in,
+    // the set checked on the clock after its last byte.
+    // ---------------------------------------------------------------------------------------
+    reg                 strobe_r = 1'b0;    // CSTRB1 registered on arrival
+    reg           [7:0] data_r = 8'd0;      // port 1 data registered on arrival
+    reg                 decimate_r = 1'b0;  // decimate registered on arrival
+    reg                 ready = 1'b0;       // thesis CRDY1
+    reg           [2:0] index = 3'd0;       // which byte of the set comes next
+    // The thesis's shift registers: each byte taken enters at sh7 and moves one on, so after
+    // the set's last byte sh4..sh7 hold xmin, xmax, ymin, ymax (sh0..sh7 their high/low
+    // bytes when WIDE).
+    reg           [7:0] sh0 = 8'd0, sh1 = 8'd0, sh2 = 8'd0, sh3 = 8'd0;
+    reg           [7:0] sh4 = 8'd0, sh5 = 8'd0, sh6 = 8'd0, sh7 = 8'd0;
+    reg                 sh_dec = 1'b0;      // decimate sampled with the last byte taken
+    reg                 check = 1'b0;       // the set's last byte arrived on the last edge
+    reg     [CBITS-1:0] set_xn = {CBITS{1'b0}};  // pending window: minimum column (thesis XN)
+    reg     [CBITS-1:0] set_xx = {CBITS{1'b0}};  // pending window: maximum column (thesis XX)
+    reg     [CBITS-1:0] set_yn = {CBITS{1'b0}};  // pending window: minimum row (thesis YN)
+    reg     [CBITS-1:0] set_yx = {CBITS{1'b0}};  // pending window: maximum row (thesis YX)
+    reg                 set_dec = 1'b0;     // pending window is decimated
+    reg                 error = 1'b0;       // the last complete set was refused
+
+    wire take = strobe_r & ~ready;          // a byte offered and not yet taken
+    wire [15:0] in_xmin = WIDE ? {sh0, sh1} : {8'd0, sh4};
+    wire [15:0] in_xmax = WIDE ? {sh2, sh3} : {8'd0, sh5};
+    wire [15:0] in_ymin = WIDE ? {sh4, sh5} : {8'd0, sh6};
+    wire [15:0] in_ymax = WIDE ? {sh6, sh7} : {8'd0, sh7};
+    // A valid set is latched on this edge (the thesis's AC pulse that sets START).
+    wire loaded = check & (in_xmin < in_xmax) & ({16'd0, in_xmax} < WIDTH)
+                        & (in_ymin < in_ymax) & ({16'd0, in_ymax} < HEIGHT);
+
+    always @(posedge clock) begin
+        if (reset) begin
+            strobe_r <= 1'b0; data_r <= 8'd0; decimate_r <= 1'b0;
+            ready <= 1'b0; index <= 3'd0; check <= 1'b0;
+            sh0 <= 8'd0; sh1 <= 8'd0; sh2 <= 8'd0; sh3 <= 8'd0;
+            sh4 <= 8'd0; sh5 <= 8'd0; sh6 <= 8'd0; sh7 <= 8'd0; sh_dec <= 1'b0;
+            set_xn <= {CBITS{1'b0}}; set_xx <= {CBITS{1'b0}};
+            set_yn <= {CBITS{1'b0}}; set_yx <= {CBITS{1'b0}};
+            set_dec <= 1'b0; error <= 1'b0;
+        end else begin
+            strobe_r <= coord_strobe;
+            data_r <= coord_data;
+            decimate_r <= decimate;
+            check <= take & (index == LAST_BYTE);
+            if (take) begin
+                ready <= 1'b1;
+                index <= index == LAST_BYTE ? 3'd0 : index + 3'd1;
+                {sh0, sh1, sh2, sh3, sh4, sh5, sh6} <= {sh1, sh2, sh3, sh4, sh5, sh6, sh7};
+                sh7 <= data_r;
+                sh_dec <= decimate_r;
+            end
+            if (~strobe_r & ready) ready <= 1'b0;
+            if (loaded) begin
+                set_xn <= in_xmin[CBITS-1:0]; set_xx <= in_xmax[CBITS-1:0];
+                set_yn <= in_ymin[CBITS-1:0]; set_yx <= in_ymax[CBITS-1:0];
+                set_dec <= sh_dec;
+            end
+            if (check) error <= ~loaded;
+        end
+    end
+
+    // ---------------------------------------------------------------------------------------
+    // Window logic (Fig. A1.2, Appendix B). Edge k registers the camera (FVC, LVC, first data
+    // delay) and sets the X count to that pixel's column; edge k+1 registers the window test's
+    // result with the pixel (CSTRB4, second data delay).
+    // ---------------------------------------------------------------------------------------
+    reg                  fvc = 1'b0;        // thesis FVC: frame valid synchronised
+    reg                  lvc = 1'b0;        // thesis LVC: line valid synchronised
+    reg                  pvc = 1'b0;        // pixel valid synchronised
+    reg [PIXEL_BITS-1:0] pxc = {PIXEL_BITS{1'b0}};  // first data delay: the pixel under test
+    reg                  fvd = 1'b0;        // FVC one clock later, for its transitions
+    reg                  lvd = 1'b0;        // LVC one clock later
+    reg      [CBITS-1:0] xcount = {CBITS{1'b0}};  // thesis X count: column of the pixel in pxc
+    reg      [CBITS-1:0] ycount = {CBITS{1'b0}};  // thesis Y count: row of the line (from 0)
+    reg                  start = 1'b0;      // thesis START: a valid set waits for a frame
+    reg                  arm = 1'b0;        // the pending set becomes the active one
+    reg                  strben = 1'b0;     // thesis STRBEN: strobes enabled for this frame
+    reg      [CBITS-1:0] xn = {CBITS{1'b0}};  // active window: minimum column (thesis XN)
+    reg      [CBITS-1:0] xx = {CBITS{1'b0}};  // active window: maximum column (thesis XX)
+    reg      [CBITS-1:0] yn = {CBITS{1'b0}};  // active window: minimum row (thesis YN)
+    reg      [CBITS-1:0] yx = {CBITS{1'b0}};  // active window: maximum row (thesis YX)
+    reg                  dec = 1'b0;        // active window is decimated
+    reg                  ymin = 1'b0;       // thesis YMIN: the Y count equals ymin
+    reg                  ymax = 1'b0;       // thesis YMAX: the Y count equals ymax
+    reg                  xrun = 1'b0;       // columns from xmin on reached, xmax not yet passed
+    reg                  yrun = 1'b0;       // rows after ymin reached, ymax not yet passed
+    reg                  strobe = 1'b0;     // thesis CSTRB4
+    reg [PIXEL_BITS-1:0] data = {PIXEL_BITS{1'b0}};  // second data delay: the delivered pixel
+
+    wire fvlh = fvc & ~fvd;                 // thesis FVLH: a frame starts
+    wire fvhl = ~fvc & fvd;                 // thesis FVHL: a frame ends
+    wire lvhl = ~lvc & lvd & fvc;           // thesis LVHL: a line of the frame ends
+    wire pv = lvc & pvc;                    // a pixel is in pxc
+    wire wlen = start & ~fvc;               // thesis WLEN: a set pending between frames
+    wire xmin = xcount == xn;               // thesis XMIN
+    wire xmax = xcount == xx;               // thesis XMAX
+    wire yval = strben & (yrun | ymin);     // thesis YVAL: this line lies in the window
+    wire xyval = pv & (xrun | xmin) & yval; // thesis XYVAL: the pixel in pxc lies in the window
+    wire wlrst = fvhl | (lvhl & ymax & yval);  // thesis WLRST: frame or window over
+    // On the 25% grid anchored at (xmin, ymin), or decimation off.
+    wire decok = ~dec | ((xcount[0] == xn[0]) & (ycount[0] == yn[0]));
+
+    always @(posedge clock) begin
+        if (reset) begin
+            fvc <= 1'b0; lvc <= 1'b0; pvc <= 1'b0; pxc <= {PIXEL_BITS{1'b0}};
+            fvd <= 1'b0; lvd <= 1'b0;
+            xcount <= {CBITS{1'b0}}; ycount <= {CBITS{1'b0}};
+            start <= 1'b0; arm <= 1'b0; strben <= 1'b0;
+            xn <= {CBITS{1'b0}}; xx <= {CBITS{1'b0}};
+            yn <= {CBITS{1'b0}}; yx <= {CBITS{1'b0}}; dec <= 1'b0;
+            ymin <= 1'b0; ymax <= 1'b0; xrun <= 1'b0; yrun <= 1'b0;
+            strobe <= 1'b0; data <= {PIXEL_BITS{1'b0}};
+        end else begin
+            fvc <= fval;
+            lvc <= lval;
+            pvc <= pixel_valid;
+            pxc <= pixel;
+            fvd <= fvc;
+            lvd <= lvc;
+
+            // Position counters: X advances past each pixel of the line, Y at each line end.
+            if (~lvc) xcount <= {CBITS{1'b0}};
+            else if (pvc & (xcount != COUNT_MAX)) xcount <= xcount + 1'b1;
+            if (fvlh) ycount <= {CBITS{1'b0}};
+            else if (lvhl & (ycount != COUNT_MAX)) ycount <= ycount + 1'b1;
+
+            // Comparators and the window test.
+            ymin <= ycount == yn;
+            ymax <= ycount == yx;
+            if (~lvc) xrun <= 1'b0;
+            else if (pvc) xrun <= (xrun | xmin) & ~xmax;
+            if (fvlh) yrun <= 1'b0;
+            else if (lvhl) yrun <= yval & ~ymax;
+            strobe <= xyval & decok;
+            data <= pxc;
+
+            // START -> WLEN -> STRBEN -> WLRST (Appendix B); the pending set armed at FVAL rising.
+            start <= loaded | (start & ~arm);
+            arm <= fval & wlen;
+            strben <= arm | (strben & ~wlrst);
+            if (arm) begin
+                xn <= set_xn; xx <= set_xx; yn <= set_yn; yx <= set_yx; dec <= set_dec;
+            end
+        end
+    end
+
+    assign coord_ready = ready;
+    assign coord_error = error;
+    assign pixel_strobe = strobe;
+    assign pixel_out = data;
+endmodule
+
+`default_nettype wire
