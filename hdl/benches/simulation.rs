@@ -17,7 +17,7 @@ fn frame_speed(c: &mut Criterion) {
     g.sample_size(10);
     g.bench_function("direct_stepping", |b| {
         let frames = vec![frame.clone()];
-        b.iter(|| run_unit::<8>(&t, &frames, &[Request { at: 0, window: w, decimate: false }]))
+        b.iter(|| run_unit::<8, 8>(&t, &frames, &[Request { at: 0, window: w, decimate: false }]))
     });
     // The Appendix B run spans the blanking before the frame and two lines after it.
     g.throughput(Throughput::Elements((t.frame_clocks() + 2 * t.line_clocks()) as u64));

@@ -7,9 +7,9 @@ use coopwin_hdl::sim::driver::{queue_window, write_step, UnitDriver, UnitOutputs
 
 fn main() {
     let t = RasterTiming::CA_D1;
-    let mut unit = UnitDriver::<8>::default();
+    let mut unit = UnitDriver::<8, 8>::default();
     let mut writer = CoordinateWriter::new();
-    queue_window(&mut writer, Window { xmin: 100, xmax: 139, ymin: 100, ymax: 139 }, false).expect("an 8-bit window");
+    queue_window(&mut writer, Window { xmin: 100, xmax: 139, ymin: 100, ymax: 139 }, false, false).expect("an 8-bit window");
     let mut last = UnitOutputs::default();
     // The blanking lines, so the set arms the frame, then the frame.
     let lead = t.v_blank_lines * t.line_clocks();

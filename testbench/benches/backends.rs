@@ -20,7 +20,7 @@ fn backends(c: &mut Criterion) {
     g.bench_function("camera_raster_only", |b| {
         b.iter(|| (0..n).map(|k| t.bus_at(k, |x, y| frame[y * 256 + x]).pixel as u64).sum::<u64>())
     });
-    let mut units: Vec<UnitDriver<8>> = (0..4).map(|_| UnitDriver::default()).collect();
+    let mut units: Vec<UnitDriver<8, 8>> = (0..4).map(|_| UnitDriver::default()).collect();
     g.bench_function("rust_hdl_4_units", |b| {
         b.iter(|| {
             for k in 0..n {

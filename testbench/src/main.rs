@@ -49,7 +49,8 @@ CSV columns: frame,x,y,mode,source,measured_frame,file,box_x,box_y,box_w,box_h,c
 
 #[derive(Subcommand)]
 enum Command {
-    /// Export the window logic as Verilog (window_unit.v, window_network.v)
+    /// Export the window logic as Verilog (window_unit.v, window_network.v) for a sensor's size
+    #[command(after_help = verilog::VERILOG_EXAMPLES)]
     Verilog(verilog::VerilogArgs),
     /// Simulate window acquisitions in rust-hdl: a VCD and the five Appendix B timing diagrams
     Waves(waves::WavesArgs),

@@ -101,6 +101,32 @@ impl RasterTiming {
     }
 }
 
+impl RasterTiming {
+    /// One frame period clock by clock, as [`bus_at`](Self::bus_at) gives it, but with
+    /// `gaps(x, y)` clocks of `pixel_valid` low (LVAL held high) before pixel (x, y): a sensor
+    /// that sends a pixel over several clocks (RGB565 on a byte-wide bus) or stalls mid-line.
+    pub fn frame_with_gaps<T: Into<u16>>(
+        &self,
+        image: impl Fn(usize, usize) -> T,
+        mut gaps: impl FnMut(usize, usize) -> usize,
+    ) -> Vec<CameraBus> {
+        let bus = |fval, lval, pixel, pixel_valid| CameraBus { fval, lval, pixel, pixel_valid };
+        let mut out = vec![bus(true, false, 0, true); self.h_blank];
+        for y in 0..self.height {
+            for x in 0..self.width {
+                out.extend(std::iter::repeat_n(bus(true, true, 0, false), gaps(x, y)));
+                out.push(bus(true, true, image(x, y).into(), true));
+            }
+            out.extend(std::iter::repeat_n(bus(true, false, 0, true), self.h_blank));
+        }
+        for _ in 0..self.v_blank_lines {
+            out.extend(std::iter::repeat_n(bus(false, false, 0, true), self.h_blank));
+            out.extend(std::iter::repeat_n(bus(false, true, 0, true), self.width));
+        }
+        out
+    }
+}
+
 /// Blanking that varies from line to line and frame to frame (the fault campaign's "random
 /// camera blanking"): extra clocks of line blanking before each line, and of frame blanking
 /// after each frame's blanking lines, drawn from a seed. The window logic needs only FVAL and
@@ -242,13 +268,13 @@ impl Window {
 
     /// The software crop the window unit must deliver: the pixels of the window in raster
     /// order, every other pixel of every other row when `decimate`.
-    pub fn crop<T: Copy + Into<u16>>(&self, frame: &[T], width: usize, decimate: bool) -> Vec<u16> {
+    pub fn crop<T: Copy>(&self, frame: &[T], width: usize, decimate: bool) -> Vec<T> {
         let step = if decimate { 2 } else { 1 };
         let (x0, x1) = (self.xmin as usize, self.xmax as usize + 1);
         let mut out = Vec::with_capacity((x1 - x0).div_ceil(step) * (self.ymax - self.ymin + 1) as usize);
         for y in (self.ymin as usize..=self.ymax as usize).step_by(step) {
             let row = &frame[y * width + x0..y * width + x1];
-            out.extend(row.iter().step_by(step).map(|&p| p.into()));
+            out.extend(row.iter().step_by(step));
         }
         out
     }
@@ -295,6 +321,22 @@ mod tests {
         let last_active = buses.iter().rposition(|b| b.fval && b.lval).unwrap();
         let fval_fall = buses.iter().position(|b| !b.fval).unwrap();
         assert_eq!(fval_fall - last_active - 1, 2);
+    }
+
+    #[test]
+    fn a_frame_without_gaps_is_the_nominal_raster() {
+        let t = RasterTiming { width: 7, height: 4, h_blank: 3, v_blank_lines: 2 };
+        let image = |x: usize, y: usize| (10 * y + x) as u16;
+        let nominal: Vec<CameraBus> = (0..t.frame_clocks()).map(|c| t.bus_at(c, image)).collect();
+        assert_eq!(t.frame_with_gaps(image, |_, _| 0), nominal);
+        // With gaps: the same pixels in order, LVAL one pulse a line, `pixel_valid` low only
+        // inside lines, and the clocks counted by hand: 28 pixels + 2 gap clocks each.
+        let gapped = t.frame_with_gaps(image, |_, _| 2);
+        assert_eq!(gapped.len(), t.frame_clocks() + 28 * 2);
+        let pixels: Vec<u16> = gapped.iter().filter(|b| b.fval && b.lval && b.pixel_valid).map(|b| b.pixel).collect();
+        let expected: Vec<u16> = nominal.iter().filter(|b| b.fval && b.lval).map(|b| b.pixel).collect();
+        assert_eq!(pixels, expected);
+        assert!(gapped.iter().filter(|b| !b.pixel_valid).all(|b| b.fval && b.lval));
     }
 
     #[test]

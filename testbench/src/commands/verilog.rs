@@ -1,6 +1,17 @@
-//! `coopwin verilog`: the window logic's Verilog export (thesis Appendix A).
+//! `coopwin verilog`: the window logic's Verilog export (thesis Appendix A) for a sensor's size.
 use super::{output::OutFile, CliError};
+use coopwin_hdl::verilog::Geometry;
 use std::path::{Path, PathBuf};
+
+/// Examples shown after `coopwin verilog --help`.
+pub const VERILOG_EXAMPLES: &str = "\
+Examples:
+  coopwin verilog --out hdl/verilog
+      the thesis's 256x256 8-bit camera, 4 units (the committed copy)
+  coopwin verilog --width 640 --height 480 --pixel-bits 10 --units 2 --out rtl/
+      a VGA sensor with 10-bit pixels: coordinates are then two bytes each, high first
+The parameters WIDTH, HEIGHT and PIXEL_BITS stay overridable in the Verilog; these options
+set their defaults. Check a size with scripts/icarus-check.sh --size WxH --bits P.";
 
 /// `coopwin verilog`'s options.
 #[derive(clap::Args)]
@@ -8,28 +19,45 @@ pub struct VerilogArgs {
     /// Folder to write into (created if missing)
     #[arg(long)]
     pub out: PathBuf,
-    /// Window units in window_network
+    /// Window units in window_network (1..64)
     #[arg(long, default_value_t = coopwin_hdl::verilog::DEFAULT_UNITS)]
     pub units: usize,
+    /// Pixels per line of the sensor (16..4096)
+    #[arg(long, default_value_t = Geometry::CA_D1.width)]
+    pub width: usize,
+    /// Lines per frame of the sensor (16..4096)
+    #[arg(long, default_value_t = Geometry::CA_D1.height)]
+    pub height: usize,
+    /// Bits per pixel (8..16)
+    #[arg(long, default_value_t = Geometry::CA_D1.pixel_bits)]
+    pub pixel_bits: usize,
 }
 
 /// Writes `window_unit.v` and `window_network.v` and says so.
 pub fn export(args: VerilogArgs) -> Result<(), CliError> {
-    for p in write_verilog(&args.out, args.units)? {
+    let g = Geometry::new(args.width, args.height, args.pixel_bits).map_err(|e| CliError::arg(e.to_string()))?;
+    for p in write_verilog(&args.out, args.units, &g)? {
         println!("wrote {}", p.display());
     }
+    println!(
+        "{}x{} sensor, {}-bit pixels: {}-bit counters, {}-byte coordinate sets",
+        g.width,
+        g.height,
+        g.pixel_bits,
+        g.counter_bits(),
+        g.set_bytes()
+    );
     Ok(())
 }
 
-/// Writes `window_unit.v` and `window_network.v` (with `units` units) into `out`.
-pub fn write_verilog(out: &Path, units: usize) -> Result<Vec<PathBuf>, CliError> {
+/// Writes `window_unit.v` and `window_network.v` (with `units` units) for `g` into `out`.
+pub fn write_verilog(out: &Path, units: usize, g: &Geometry) -> Result<Vec<PathBuf>, CliError> {
     if units == 0 || units > 64 {
         return Err(CliError::arg(format!("--units must be 1..64, got {units}")));
     }
     super::output::create_folder(out, "--out")?;
-    let files = coopwin_hdl::verilog::exported(units).map_err(CliError::new)?;
     let mut written = Vec::new();
-    for (name, text) in files {
+    for (name, text) in coopwin_hdl::verilog::exported(units, g) {
         let path = out.join(name);
         OutFile::check(&path, "--out")?.write(text.as_bytes())?;
         written.push(path);

@@ -19,7 +19,7 @@ use std::collections::VecDeque;
 /// The units' simulator: rust-hdl blocks, or the Verilator model of the exported Verilog.
 pub enum UnitSimulator {
     /// One rust-hdl `WindowUnit` per processor, stepped directly.
-    RustHdl(NetworkDriver<{ coopwin_hdl::CA_D1_BITS }>),
+    RustHdl(NetworkDriver<{ coopwin_hdl::CA_D1_BITS }, { coopwin_hdl::CA_D1_PIXEL_BITS }>),
     /// `window_network` compiled with Verilator (4 units; unused ones idle).
     Verilator(VerilatorNetwork),
 }

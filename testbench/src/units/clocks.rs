@@ -94,7 +94,7 @@ impl Clocks {
         if c < b {
             // The blanking lines of the frame before the run.
             let p = self.timing.frame_clocks() as u64;
-            return (self.timing.bus_at((p - b + c) as usize, |_, _| 0), None);
+            return (self.timing.bus_at((p - b + c) as usize, |_, _| 0u8), None);
         }
         let Some((k, pixels)) = frame else { return (CameraBus::default(), None) };
         let Some(raster) = self.rasters.get(k) else { return (CameraBus::default(), None) };
