@@ -23,7 +23,7 @@ fn frame_speed(c: &mut Criterion) {
     g.throughput(Throughput::Elements((t.frame_clocks() + 2 * t.line_clocks()) as u64));
     g.bench_function("rust_hdl_simulation", |b| {
         let image = Arc::new(frame.clone());
-        b.iter(|| simulate_acquisition(t, w, false, 1, image.clone(), None).expect("sim"))
+        b.iter(|| simulate_acquisition(t, w, false, 1, image.clone()).expect("sim"))
     });
     g.finish();
 }

@@ -6,9 +6,10 @@
 //! - the four-phase handshake is synchronous to the pixel clock, instead of clocking the
 //!   coordinate registers with the C40's strobe (the thesis's AC clock), so the design has one
 //!   clock domain;
-//! - the bytes of an incomplete set are held apart (`sh0..sh7`) and the set is checked after its
-//!   last byte arrives: a valid set replaces the pending one, an invalid set is refused and
-//!   raises `coord_error`, leaving the pending set untouched;
+//! - the bytes of an incomplete set are held apart (`in_*`), each coordinate pair checked as its
+//!   second coordinate arrives, and the set judged on the clock after its last byte: a valid set
+//!   replaces the pending one, an invalid set is refused and raises `coord_error`, leaving the
+//!   pending set untouched;
 //! - a sensor wider or taller than 256 takes two bytes a coordinate, high byte first, and a set
 //!   must lie inside the sensor (xmax < width, ymax < height) as well as be ordered.
 use crate::reg::Reg;
@@ -47,8 +48,10 @@ pub struct CoordPort<const C: usize> {
     pub dec: Signal<Out, Bit>,
     /// Two bytes a coordinate (the sensor is wider or taller than 256).
     wide: Constant<Bit>,
-    /// Index of a set's last byte: 3, or 7 when `wide`.
+    /// Index of a set's last byte (ymax, or its low byte): 3, or 7 when `wide`.
     last_byte: Constant<Bits<3>>,
+    /// Index of the byte that completes xmax: 1, or 3 when `wide`.
+    xmax_byte: Constant<Bits<3>>,
     /// The sensor's last column and row (width - 1, height - 1).
     xlast: Constant<Bits<16>>,
     ylast: Constant<Bits<16>>,
@@ -62,23 +65,29 @@ pub struct CoordPort<const C: usize> {
     ready: Reg<Bit>,
     /// Which byte of the set comes next.
     index: Reg<Bits<3>>,
-    /// The thesis's shift registers: each byte taken enters at `sh7` and moves one on, so after
-    /// a set's last byte `sh4..sh7` hold xmin, xmax, ymin, ymax (`sh0..sh7` their high and low
-    /// bytes when `wide`). One enable (`take`) for all.
-    sh0: Reg<Bits<8>>,
-    sh1: Reg<Bits<8>>,
-    sh2: Reg<Bits<8>>,
-    sh3: Reg<Bits<8>>,
-    sh4: Reg<Bits<8>>,
+    /// The thesis's shift registers, cut to the last three bytes taken: each byte enters at
+    /// `sh7` and moves one on. When the byte completing xmax (or ymax) is in `data_r`, the
+    /// coordinate pair is whole: `{sh5, sh6}` and `{sh7, data_r}` when `wide`, `sh7` and
+    /// `data_r` otherwise. The pair is checked and kept then, so the check after the last byte
+    /// is two flip-flops.
     sh5: Reg<Bits<8>>,
     sh6: Reg<Bits<8>>,
     sh7: Reg<Bits<8>>,
-    sh_dec: Reg<Bit>,
-    /// The set's coordinates as shifted in.
-    in_xmin: Signal<Local, Bits<16>>,
-    in_xmax: Signal<Local, Bits<16>>,
-    in_ymin: Signal<Local, Bits<16>>,
-    in_ymax: Signal<Local, Bits<16>>,
+    /// The coordinate the byte taken now completes, and the one before it.
+    this_value: Signal<Local, Bits<16>>,
+    prev_value: Signal<Local, Bits<16>>,
+    ordered: Signal<Local, Bit>,
+    /// xmin < xmax < width, judged as xmax arrived.
+    x_ok: Reg<Bit>,
+    /// ymin < ymax < height, judged as ymax arrived.
+    y_ok: Reg<Bit>,
+    /// The set being written.
+    in_xn: Reg<Bits<C>>,
+    in_xx: Reg<Bits<C>>,
+    in_yn: Reg<Bits<C>>,
+    in_yx: Reg<Bits<C>>,
+    /// Decimation sampled with the set's last byte.
+    in_dec: Reg<Bit>,
     /// The set's last byte arrived on the last edge: judge the set on this one.
     check: Reg<Bit>,
     set_xn: Reg<Bits<C>>,
@@ -92,6 +101,7 @@ pub struct CoordPort<const C: usize> {
 impl<const C: usize> CoordPort<C> {
     /// The port of a `width` x `height` sensor (each at most 2^C and 4096).
     pub fn new(width: usize, height: usize) -> Self {
+        let wide = wide_coordinates(width, height);
         Self {
             clock: Default::default(),
             reset: Default::default(),
@@ -106,8 +116,9 @@ impl<const C: usize> CoordPort<C> {
             yn: Default::default(),
             yx: Default::default(),
             dec: Default::default(),
-            wide: Constant::new(wide_coordinates(width, height)),
-            last_byte: Constant::new(if wide_coordinates(width, height) { 7 } else { 3 }.into()),
+            wide: Constant::new(wide),
+            last_byte: Constant::new(if wide { 7 } else { 3 }.into()),
+            xmax_byte: Constant::new(if wide { 3 } else { 1 }.into()),
             xlast: Constant::new((width as u64 - 1).into()),
             ylast: Constant::new((height as u64 - 1).into()),
             strobe_r: Default::default(),
@@ -116,19 +127,19 @@ impl<const C: usize> CoordPort<C> {
             take: Default::default(),
             ready: Default::default(),
             index: Default::default(),
-            sh0: Default::default(),
-            sh1: Default::default(),
-            sh2: Default::default(),
-            sh3: Default::default(),
-            sh4: Default::default(),
             sh5: Default::default(),
             sh6: Default::default(),
             sh7: Default::default(),
-            sh_dec: Default::default(),
-            in_xmin: Default::default(),
-            in_xmax: Default::default(),
-            in_ymin: Default::default(),
-            in_ymax: Default::default(),
+            this_value: Default::default(),
+            prev_value: Default::default(),
+            ordered: Default::default(),
+            x_ok: Default::default(),
+            y_ok: Default::default(),
+            in_xn: Default::default(),
+            in_xx: Default::default(),
+            in_yn: Default::default(),
+            in_yx: Default::default(),
+            in_dec: Default::default(),
             check: Default::default(),
             set_xn: Default::default(),
             set_xx: Default::default(),
@@ -149,8 +160,9 @@ impl<const C: usize> Logic for CoordPort<C> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, strobe_r, data_r, decimate_r, ready, index, sh0, sh1, sh2, sh3, sh4, sh5,
-            sh6, sh7, sh_dec, check, set_xn, set_xx, set_yn, set_yx, set_dec, error
+            self, clock, strobe_r, data_r, decimate_r, ready, index, sh5, sh6, sh7, x_ok, y_ok,
+            in_xn, in_xx, in_yn, in_yx, in_dec, check, set_xn, set_xx, set_yn, set_yx, set_dec,
+            error
         );
         self.coord_ready.next = self.ready.q.val();
         self.coord_error.next = self.error.q.val();
@@ -165,6 +177,13 @@ impl<const C: usize> Logic for CoordPort<C> {
         self.data_r.d.next = self.coord_data.val();
         self.decimate_r.d.next = self.decimate.val();
         self.take.next = self.strobe_r.q.val() & !self.ready.q.val();
+        self.this_value.next = bit_cast::<16, 8>(self.data_r.q.val());
+        self.prev_value.next = bit_cast::<16, 8>(self.sh7.q.val());
+        if self.wide.val() {
+            self.this_value.next = (bit_cast::<16, 8>(self.sh7.q.val()) << 8) | bit_cast::<16, 8>(self.data_r.q.val());
+            self.prev_value.next = (bit_cast::<16, 8>(self.sh5.q.val()) << 8) | bit_cast::<16, 8>(self.sh6.q.val());
+        }
+        self.ordered.next = self.prev_value.val() < self.this_value.val();
         self.check.d.next = self.take.val() & (self.index.q.val() == self.last_byte.val());
         if self.take.val() {
             self.ready.d.next = true;
@@ -172,42 +191,33 @@ impl<const C: usize> Logic for CoordPort<C> {
             if self.index.q.val() == self.last_byte.val() {
                 self.index.d.next = 0.into();
             }
-            self.sh0.d.next = self.sh1.q.val();
-            self.sh1.d.next = self.sh2.q.val();
-            self.sh2.d.next = self.sh3.q.val();
-            self.sh3.d.next = self.sh4.q.val();
-            self.sh4.d.next = self.sh5.q.val();
             self.sh5.d.next = self.sh6.q.val();
             self.sh6.d.next = self.sh7.q.val();
             self.sh7.d.next = self.data_r.q.val();
-            self.sh_dec.d.next = self.decimate_r.q.val();
+            if self.index.q.val() == self.xmax_byte.val() {
+                self.x_ok.d.next = self.ordered.val() & (self.this_value.val() <= self.xlast.val());
+                self.in_xn.d.next = bit_cast::<C, 16>(self.prev_value.val());
+                self.in_xx.d.next = bit_cast::<C, 16>(self.this_value.val());
+            }
+            if self.index.q.val() == self.last_byte.val() {
+                self.y_ok.d.next = self.ordered.val() & (self.this_value.val() <= self.ylast.val());
+                self.in_yn.d.next = bit_cast::<C, 16>(self.prev_value.val());
+                self.in_yx.d.next = bit_cast::<C, 16>(self.this_value.val());
+                self.in_dec.d.next = self.decimate_r.q.val();
+            }
         }
         if !self.strobe_r.q.val() & self.ready.q.val() {
             self.ready.d.next = false;
         }
 
-        // The set as shifted in, and its check: ordered, and inside the sensor.
-        self.in_xmin.next = bit_cast::<16, 8>(self.sh4.q.val());
-        self.in_xmax.next = bit_cast::<16, 8>(self.sh5.q.val());
-        self.in_ymin.next = bit_cast::<16, 8>(self.sh6.q.val());
-        self.in_ymax.next = bit_cast::<16, 8>(self.sh7.q.val());
-        if self.wide.val() {
-            self.in_xmin.next = (bit_cast::<16, 8>(self.sh0.q.val()) << 8) | bit_cast::<16, 8>(self.sh1.q.val());
-            self.in_xmax.next = (bit_cast::<16, 8>(self.sh2.q.val()) << 8) | bit_cast::<16, 8>(self.sh3.q.val());
-            self.in_ymin.next = (bit_cast::<16, 8>(self.sh4.q.val()) << 8) | bit_cast::<16, 8>(self.sh5.q.val());
-            self.in_ymax.next = (bit_cast::<16, 8>(self.sh6.q.val()) << 8) | bit_cast::<16, 8>(self.sh7.q.val());
-        }
-        self.loaded.next = self.check.q.val()
-            & (self.in_xmin.val() < self.in_xmax.val())
-            & (self.in_xmax.val() <= self.xlast.val())
-            & (self.in_ymin.val() < self.in_ymax.val())
-            & (self.in_ymax.val() <= self.ylast.val());
+        // The set judged on the clock after its last byte.
+        self.loaded.next = self.check.q.val() & self.x_ok.q.val() & self.y_ok.q.val();
         if self.loaded.val() {
-            self.set_xn.d.next = bit_cast::<C, 16>(self.in_xmin.val());
-            self.set_xx.d.next = bit_cast::<C, 16>(self.in_xmax.val());
-            self.set_yn.d.next = bit_cast::<C, 16>(self.in_ymin.val());
-            self.set_yx.d.next = bit_cast::<C, 16>(self.in_ymax.val());
-            self.set_dec.d.next = self.sh_dec.q.val();
+            self.set_xn.d.next = self.in_xn.q.val();
+            self.set_xx.d.next = self.in_xx.q.val();
+            self.set_yn.d.next = self.in_yn.q.val();
+            self.set_yx.d.next = self.in_yx.q.val();
+            self.set_dec.d.next = self.in_dec.q.val();
         }
         if self.check.q.val() {
             self.error.d.next = !self.loaded.val();
@@ -220,15 +230,16 @@ impl<const C: usize> Logic for CoordPort<C> {
             self.ready.d.next = false;
             self.index.d.next = 0.into();
             self.check.d.next = false;
-            self.sh0.d.next = 0.into();
-            self.sh1.d.next = 0.into();
-            self.sh2.d.next = 0.into();
-            self.sh3.d.next = 0.into();
-            self.sh4.d.next = 0.into();
             self.sh5.d.next = 0.into();
             self.sh6.d.next = 0.into();
             self.sh7.d.next = 0.into();
-            self.sh_dec.d.next = false;
+            self.x_ok.d.next = false;
+            self.y_ok.d.next = false;
+            self.in_xn.d.next = 0.into();
+            self.in_xx.d.next = 0.into();
+            self.in_yn.d.next = 0.into();
+            self.in_yx.d.next = 0.into();
+            self.in_dec.d.next = false;
             self.set_xn.d.next = 0.into();
             self.set_xx.d.next = 0.into();
             self.set_yn.d.next = 0.into();

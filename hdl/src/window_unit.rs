@@ -410,7 +410,7 @@ mod appendix_b_tests {
     fn record() -> &'static [Flags] {
         static REC: OnceLock<Vec<Flags>> = OnceLock::new();
         REC.get_or_init(|| {
-            simulate_acquisition(RasterTiming::CA_D1, FULL, false, 1, Arc::new(image()), None)
+            simulate_acquisition(RasterTiming::CA_D1, FULL, false, 1, Arc::new(image()))
                 .expect("simulation runs")
         })
     }

@@ -38,7 +38,8 @@ module window_unit #(
     localparam integer CBITS = $clog2(LARGEST);
     // Two bytes per coordinate once a coordinate no longer fits one.
     localparam [0:0] WIDE = LARGEST > 256;
-    localparam [2:0] LAST_BYTE = WIDE ? 3'd7 : 3'd3;
+    localparam [2:0] LAST_BYTE = WIDE ? 3'd7 : 3'd3;   // a set's last byte: ymax (low)
+    localparam [2:0] XMAX_BYTE = WIDE ? 3'd3 : 3'd1;   // the byte that completes xmax
     // The counters stop here, so a longer line or frame never wraps onto window coordinates.
     localparam [CBITS-1:0] COUNT_MAX = {CBITS{1'b1}};
 
@@ -51,12 +52,18 @@ module window_unit #(
     reg                 decimate_r = 1'b0;  // decimate registered on arrival
     reg                 ready = 1'b0;       // thesis CRDY1
     reg           [2:0] index = 3'd0;       // which byte of the set comes next
-    // The thesis's shift registers: each byte taken enters at sh7 and moves one on, so after
-    // the set's last byte sh4..sh7 hold xmin, xmax, ymin, ymax (sh0..sh7 their high/low
-    // bytes when WIDE).
-    reg           [7:0] sh0 = 8'd0, sh1 = 8'd0, sh2 = 8'd0, sh3 = 8'd0;
-    reg           [7:0] sh4 = 8'd0, sh5 = 8'd0, sh6 = 8'd0, sh7 = 8'd0;
-    reg                 sh_dec = 1'b0;      // decimate sampled with the last byte taken
+    // The thesis's shift registers, cut to the last three bytes taken: each byte enters at sh7
+    // and moves one on. When the byte completing xmax (or ymax) is on data_r, the coordinate
+    // pair is whole: {sh5, sh6} and {sh7, data_r} when WIDE, sh7 and data_r otherwise. The pair
+    // is checked and kept then, so the check after the last byte is two flip-flops.
+    reg           [7:0] sh5 = 8'd0, sh6 = 8'd0, sh7 = 8'd0;
+    reg                 x_ok = 1'b0;        // xmin < xmax < WIDTH, judged as xmax arrived
+    reg                 y_ok = 1'b0;        // ymin < ymax < HEIGHT, judged as ymax arrived
+    reg     [CBITS-1:0] in_xn = {CBITS{1'b0}};  // the set being written: xmin
+    reg     [CBITS-1:0] in_xx = {CBITS{1'b0}};  // the set being written: xmax
+    reg     [CBITS-1:0] in_yn = {CBITS{1'b0}};  // the set being written: ymin
+    reg     [CBITS-1:0] in_yx = {CBITS{1'b0}};  // the set being written: ymax
+    reg                 in_dec = 1'b0;      // decimate sampled with the set's last byte
     reg                 check = 1'b0;       // the set's last byte arrived on the last edge
     reg     [CBITS-1:0] set_xn = {CBITS{1'b0}};  // pending window: minimum column (thesis XN)
     reg     [CBITS-1:0] set_xx = {CBITS{1'b0}};  // pending window: maximum column (thesis XX)
@@ -66,20 +73,21 @@ module window_unit #(
     reg                 error = 1'b0;       // the last complete set was refused
 
     wire take = strobe_r & ~ready;          // a byte offered and not yet taken
-    wire [15:0] in_xmin = WIDE ? {sh0, sh1} : {8'd0, sh4};
-    wire [15:0] in_xmax = WIDE ? {sh2, sh3} : {8'd0, sh5};
-    wire [15:0] in_ymin = WIDE ? {sh4, sh5} : {8'd0, sh6};
-    wire [15:0] in_ymax = WIDE ? {sh6, sh7} : {8'd0, sh7};
+    // The coordinate the byte taken now completes, and the one before it.
+    wire [15:0] this_value = WIDE ? {sh7, data_r} : {8'd0, data_r};
+    wire [15:0] prev_value = WIDE ? {sh5, sh6} : {8'd0, sh7};
+    wire ordered = prev_value < this_value;
     // A valid set is latched on this edge (the thesis's AC pulse that sets START).
-    wire loaded = check & (in_xmin < in_xmax) & ({16'd0, in_xmax} < WIDTH)
-                        & (in_ymin < in_ymax) & ({16'd0, in_ymax} < HEIGHT);
+    wire loaded = check & x_ok & y_ok;
 
     always @(posedge clock) begin
         if (reset) begin
             strobe_r <= 1'b0; data_r <= 8'd0; decimate_r <= 1'b0;
             ready <= 1'b0; index <= 3'd0; check <= 1'b0;
-            sh0 <= 8'd0; sh1 <= 8'd0; sh2 <= 8'd0; sh3 <= 8'd0;
-            sh4 <= 8'd0; sh5 <= 8'd0; sh6 <= 8'd0; sh7 <= 8'd0; sh_dec <= 1'b0;
+            sh5 <= 8'd0; sh6 <= 8'd0; sh7 <= 8'd0;
+            x_ok <= 1'b0; y_ok <= 1'b0; in_dec <= 1'b0;
+            in_xn <= {CBITS{1'b0}}; in_xx <= {CBITS{1'b0}};
+            in_yn <= {CBITS{1'b0}}; in_yx <= {CBITS{1'b0}};
             set_xn <= {CBITS{1'b0}}; set_xx <= {CBITS{1'b0}};
             set_yn <= {CBITS{1'b0}}; set_yx <= {CBITS{1'b0}};
             set_dec <= 1'b0; error <= 1'b0;
@@ -91,15 +99,23 @@ module window_unit #(
             if (take) begin
                 ready <= 1'b1;
                 index <= index == LAST_BYTE ? 3'd0 : index + 3'd1;
-                {sh0, sh1, sh2, sh3, sh4, sh5, sh6} <= {sh1, sh2, sh3, sh4, sh5, sh6, sh7};
-                sh7 <= data_r;
-                sh_dec <= decimate_r;
+                {sh5, sh6, sh7} <= {sh6, sh7, data_r};
+                if (index == XMAX_BYTE) begin
+                    x_ok <= ordered & ({16'd0, this_value} < WIDTH);
+                    in_xn <= prev_value[CBITS-1:0];
+                    in_xx <= this_value[CBITS-1:0];
+                end
+                if (index == LAST_BYTE) begin
+                    y_ok <= ordered & ({16'd0, this_value} < HEIGHT);
+                    in_yn <= prev_value[CBITS-1:0];
+                    in_yx <= this_value[CBITS-1:0];
+                    in_dec <= decimate_r;
+                end
             end
             if (~strobe_r & ready) ready <= 1'b0;
             if (loaded) begin
-                set_xn <= in_xmin[CBITS-1:0]; set_xx <= in_xmax[CBITS-1:0];
-                set_yn <= in_ymin[CBITS-1:0]; set_yx <= in_ymax[CBITS-1:0];
-                set_dec <= sh_dec;
+                set_xn <= in_xn; set_xx <= in_xx; set_yn <= in_yn; set_yx <= in_yx;
+                set_dec <= in_dec;
             end
             if (check) error <= ~loaded;
         end

@@ -3,11 +3,9 @@
 //! frame delivered. Every clock's [`Flags`] are recorded, and the five sequences of the timing
 //! diagrams (Figs. B1.1-B1.5) are located in the record for tests and drawings.
 use super::camera::{CameraBus, RasterTiming, Window};
-use super::vcd::Latch;
 use crate::window_unit::Flags;
 use crate::CaD1Unit;
 use rust_hdl::prelude::*;
-use std::io::Write;
 use std::sync::{Arc, Mutex};
 
 /// The five sequences of Appendix B.
@@ -89,14 +87,13 @@ impl Sequence {
 /// Simulates `frames` acquisitions of `window` in rust-hdl's `Simulation`. Each frame period
 /// starts at the vertical blanking, where the processor writes the set (FVAL low, B1.1 step 1);
 /// then the frame streams past, and the run ends two lines into the last blanking. Returns the
-/// flags after every rising edge; with `vcd`, every signal is traced into it.
+/// flags after every rising edge ([`super::vcd::write_flags_vcd`] writes them as a VCD).
 pub fn simulate_acquisition(
     timing: RasterTiming,
     window: Window,
     decimate: bool,
     frames: usize,
     image: Arc<Vec<u8>>,
-    vcd: Option<Box<dyn Write>>,
 ) -> Result<Vec<Flags>, AcquisitionError> {
     let blank_start = timing.frame_clocks() - timing.v_blank_lines * timing.line_clocks();
     let tail = (blank_start + 2 * timing.line_clocks()).min(timing.frame_clocks());
@@ -144,17 +141,7 @@ pub fn simulate_acquisition(
         }
         sim.done(x)
     });
-    match vcd {
-        Some(w) => {
-            let (latch, error) = Latch::new(w);
-            sim.run_traced(Box::new(uut), max_time, latch)?;
-            let failed = error.borrow_mut().take();
-            if let Some(e) = failed {
-                return Err(AcquisitionError::Vcd(e));
-            }
-        }
-        None => sim.run(Box::new(uut), max_time)?,
-    }
+    sim.run(Box::new(uut), max_time)?;
     let rec = record.lock().map_err(|_| SimError::SimPanic)?.clone();
     Ok(rec)
 }
@@ -164,8 +151,6 @@ pub fn simulate_acquisition(
 pub enum AcquisitionError {
     /// rust-hdl's simulator stopped.
     Sim(SimError),
-    /// The VCD could not be written.
-    Vcd(std::io::Error),
 }
 
 impl From<SimError> for AcquisitionError {
@@ -178,7 +163,6 @@ impl std::fmt::Display for AcquisitionError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             AcquisitionError::Sim(e) => write!(f, "rust-hdl simulation failed: {e:?}"),
-            AcquisitionError::Vcd(e) => write!(f, "cannot write the VCD: {e}"),
         }
     }
 }

@@ -5,6 +5,7 @@ use super::{output::OutFile, CliError};
 use crate::report::timing_svg;
 use coopwin_hdl::sim::appendix_b::{simulate_acquisition, Sequence};
 use coopwin_hdl::sim::camera::{RasterTiming, Window};
+use coopwin_hdl::sim::vcd::{write_flags_vcd, VCD_CLOCK_PS};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -34,9 +35,10 @@ pub fn write_waves(args: WavesArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// The test card the waves are simulated on: a gradient, so delivered values are recognisable.
+/// The test card the waves are simulated on: each pixel's value is its column, so the value on
+/// D4 says which pixel of the line left (the Y count says which line).
 fn test_card() -> Vec<u8> {
-    (0..65536u32).map(|i| ((i % 256 + i / 256) / 2) as u8).collect()
+    (0..65536u32).map(|i| (i % 256) as u8).collect()
 }
 
 /// Simulates `frames` acquisitions of `window` in rust-hdl, writes the VCD to `vcd`, and an SVG
@@ -53,11 +55,12 @@ pub fn waves(vcd: &Path, window: Window, frames: usize) -> Result<Vec<PathBuf>, 
     let svgs: Vec<OutFile> = (1..=Sequence::ALL.len())
         .map(|k| OutFile::check(&PathBuf::from(format!("{}-b1_{k}.svg", stem.display())), "--out"))
         .collect::<Result<_, _>>()?;
-    let stream = out.stream()?.shared();
     eprintln!("simulating {frames} frame(s) of window {window:?} in rust-hdl ...");
-    let rec = simulate_acquisition(RasterTiming::CA_D1, window, false, frames, Arc::new(test_card()), Some(Box::new(stream.clone())))
+    let rec = simulate_acquisition(RasterTiming::CA_D1, window, false, frames, Arc::new(test_card()))
         .map_err(|e| CliError::new(e.to_string()))?;
-    stream.finish()?;
+    let mut vcd_text = Vec::new();
+    write_flags_vcd(&mut vcd_text, &rec, VCD_CLOCK_PS).map_err(|e| CliError::new(e.to_string()))?;
+    out.write(&vcd_text)?;
     let mut written = Vec::new();
     for (k, seq) in Sequence::ALL.iter().enumerate() {
         let span = seq.span(&rec).ok_or_else(|| CliError::new(format!("the simulated run lacks the {} sequence", seq.title())))?;

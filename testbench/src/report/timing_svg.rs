@@ -4,18 +4,20 @@ use coopwin_hdl::sim::appendix_b::Sequence;
 use coopwin_hdl::window_unit::Flags;
 use std::fmt::Write as _;
 
-/// A row of a diagram: a one-bit flag or a multi-bit bus.
+/// A row of a diagram: an input (drawn changing at the falling edge before the rising edge that
+/// samples it), a one-bit flag or a multi-bit bus (changing at the rising edge that made it).
 enum Row {
+    Input(&'static str, fn(&Flags) -> bool),
     Bit(&'static str, fn(&Flags) -> bool),
     Bus(&'static str, fn(&Flags) -> u32),
 }
 
 fn rows(seq: Sequence) -> Vec<Row> {
-    use Row::{Bit, Bus};
-    let camera = [Bit("FVAL", |f| f.fval), Bit("LVAL", |f| f.lval)];
+    use Row::{Bit, Bus, Input};
+    let camera = [Input("FVAL", |f| f.fval), Input("LVAL", |f| f.lval)];
     let rest: Vec<Row> = match seq {
         Sequence::StartFlagSet => vec![
-            Bit("CSTRB1", |f| f.coord_strobe),
+            Input("CSTRB1", |f| f.coord_strobe),
             Bit("CRDY1", |f| f.coord_ready),
             Bit("START", |f| f.start),
             Bit("WLEN", |f| f.wlen),
@@ -86,11 +88,13 @@ pub fn diagram(seq: Sequence, rec: &[Flags], span: std::ops::Range<usize>) -> St
         span.start,
         span.end
     );
-    // The pixel clock, rising at each sample boundary.
+    // The pixel clock, rising at each sample boundary, with a dotted line down each rising edge
+    // and its clock number every 5 clocks.
     let y0 = ROW_H + 10;
+    let bottom = y0 + (rows.len() + 1) * ROW_H;
     let _ = writeln!(s, r#"<text x="4" y="{}">PVC</text>"#, y0 + SWING);
     let mut d = String::new();
-    for i in 0..n {
+    for (i, t) in span.clone().enumerate() {
         let x = LABEL_W + i * CLOCK_W;
         let _ = write!(
             d,
@@ -100,23 +104,29 @@ pub fn diagram(seq: Sequence, rec: &[Flags], span: std::ops::Range<usize>) -> St
             xm = x + CLOCK_W / 2,
             xe = x + CLOCK_W
         );
+        let _ = writeln!(s, r##"<path d="M{x},{y0} L{x},{bottom}" stroke="#ccc" stroke-dasharray="2,3"/>"##);
+        if t % 5 == 0 {
+            let _ = writeln!(s, r##"<text x="{}" y="{}" font-size="10" fill="#555">{t}</text>"##, x + 2, y0 - 4);
+        }
     }
     let _ = writeln!(s, r#"<path d="{d}" stroke="gray" fill="none"/>"#);
     for (r, row) in rows.iter().enumerate() {
         let top = y0 + (r + 1) * ROW_H;
         let (lo, hi) = (top + SWING, top);
         match row {
-            Row::Bit(name, f) => {
+            Row::Bit(name, f) | Row::Input(name, f) => {
                 let _ = writeln!(s, r#"<text x="4" y="{lo}">{name}</text>"#);
+                // An input sampled at edge t was set up half a clock before it.
+                let lead = if matches!(row, Row::Input(..)) { CLOCK_W / 2 } else { 0 };
                 let mut d = String::new();
                 for (i, t) in span.clone().enumerate() {
                     let y = if f(&rec[t]) { hi } else { lo };
-                    let x = LABEL_W + i * CLOCK_W;
+                    let x = (LABEL_W + i * CLOCK_W - lead).max(LABEL_W);
                     let _ = write!(
                         d,
                         "{}{x},{y} L{},{y} ",
                         if i == 0 { "M" } else { "L" },
-                        x + CLOCK_W
+                        LABEL_W + (i + 1) * CLOCK_W - lead
                     );
                 }
                 let _ = writeln!(
