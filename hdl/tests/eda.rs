@@ -210,3 +210,14 @@ fn yosys_fits_a_unit_in_200_luts() {
         .expect("yosys stat lists SB_LUT4");
     assert!(luts <= 200, "{luts} LUTs");
 }
+
+/// docs/synthesis.md's iCE40 cell counts are what Yosys gives for the committed unit today
+/// (`scripts/synth-report.sh --check`; regenerate with `scripts/synth-report.sh`).
+#[test]
+fn synthesis_table_is_current() {
+    if !have_tool("yosys") {
+        return;
+    }
+    let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scripts/synth-report.sh");
+    run(Command::new("bash").arg(script).arg("--check"));
+}
