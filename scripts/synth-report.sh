@@ -308,15 +308,16 @@ TRELLIS_COMB is nextpnr's count of the combinational sites used after packing (L
   three bytes instead of one (with 4-byte sets Yosys removes the unused \`sh5\` and \`sh6\`), and
   the comparisons made as each coordinate arrives are 16 bits wide, as carry chains; that step,
   not CBITS, is most of the LUT and carry growth from 256x256 to 640x480. Flip-flops:
-  42 + 14 CBITS + 2 PIXEL_BITS with 4-byte sets, 58 + 14 CBITS + 2 PIXEL_BITS with 8-byte sets.
+  41 + 14 CBITS + 2 PIXEL_BITS with 4-byte sets, 57 + 14 CBITS + 2 PIXEL_BITS with 8-byte sets.
 - **Pixel bits.** Two PIXEL_BITS-wide registers carry the pixel (\`pxc\`, the first data delay,
   and \`data\`, the delivered pixel): 2 flip-flops per extra bit and no logic (the LUT counts
   move by a few, as ABC's mapping does for any change to the netlist).
 - **Clock.** Each coordinate pair is checked on the clock its second coordinate's last byte is
   taken, and the result registered (\`x_ok\`, \`y_ok\`), so the set's validity on the next clock
   (\`loaded\`) is an AND of registered bits. The critical paths left are that comparison (from
-  the byte registers into \`x_ok\`/\`y_ok\`), and the byte index's decode into the clock enables
-  of the set's registers. iCE40 median ${med["ice40 256x256 8"]} MHz at 256x256 and
+  the byte registers into \`x_ok\`/\`y_ok\`), the byte index's decode into the clock enables
+  of the set's registers, and \`arm\` (FVLH and START, from flip-flops) into the clock enables
+  of the active window. iCE40 median ${med["ice40 256x256 8"]} MHz at 256x256 and
   ${med["ice40 1920x1080 8"]} MHz at 1920x1080 (8 bits); ECP5 ${med["ecp5 256x256 8"]} and ${med["ecp5 1920x1080 8"]} MHz. For scale: 720p60 video
   has a 74.25 MHz pixel clock, 1080p60 148.5 MHz, and the thesis's camera about 8 MHz.
   A first version judged the whole set in the clock after its last byte, through 16-bit

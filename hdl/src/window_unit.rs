@@ -24,10 +24,12 @@ use crate::reg::Reg;
 use rust_hdl::prelude::*;
 
 /// Clocks from a coordinate set's completion (the clock its last byte is taken: CRDY1 rises)
-/// to the first FVAL rise it can arm: the set passes the port's validity check and reaches the
-/// pending set registers in these clocks, so a set completed on clock `s` applies to the first
-/// frame whose FVAL rises on clock `s + ARM_MARGIN` or later (thesis B1.1 steps 1-2).
-pub const ARM_MARGIN: usize = 2;
+/// to the first FVAL rise it can arm: the set is judged and reaches the pending set registers on
+/// the next clock, the one on which the frame's FVAL is first sampled at the latest, so a set
+/// completed on clock `s` applies to the first frame whose FVAL is first high on clock
+/// `s + ARM_MARGIN` or later (thesis B1.1 steps 1-2). A set completed later waits, pending,
+/// for the next frame, whatever set the frame takes.
+pub const ARM_MARGIN: usize = 1;
 
 /// One window unit for a sensor of up to 2^`C` columns and rows (`C` = 8 for the 256x256
 /// CA-D1) with `P`-bit pixels.
@@ -80,7 +82,7 @@ pub struct WindowUnit<const C: usize, const P: usize> {
     fvhl: Signal<Local, Bit>,
     /// Thesis LVHL: line valid high-to-low transition inside a frame (a line ends).
     lvhl: Signal<Local, Bit>,
-    /// A pixel is in `pxc` (LVC and its pixel valid).
+    /// A pixel is in `pxc` (FVC, LVC and its pixel valid).
     pv: Signal<Local, Bit>,
     /// Thesis X count: column of the pixel in `pxc`.
     xcount: Reg<Bits<C>>,
@@ -90,9 +92,9 @@ pub struct WindowUnit<const C: usize, const P: usize> {
     start: Reg<Bit>,
     /// Thesis WLEN: window logic enabled, a set pending while between frames (START & NFV).
     wlen: Signal<Local, Bit>,
-    /// A pending set becomes the active window at this frame start (registered as FVAL rises,
-    /// so its fan-out to the active registers starts at a flip-flop).
-    arm: Reg<Bit>,
+    /// A pending set becomes the active window at this frame start (FVLH with START, both from
+    /// flip-flops): the pending set as it stands after the clock FVAL was first sampled.
+    arm: Signal<Local, Bit>,
     /// Thesis STRBEN: strobes enabled for the frame in progress.
     strben: Reg<Bit>,
     /// Thesis WLRST: the window logic is reset (end of frame, or last window line done).
@@ -198,7 +200,7 @@ impl<const C: usize, const P: usize> Logic for WindowUnit<C, P> {
     fn update(&mut self) {
         dff_setup!(
             self, clock, fvc, lvc, pvc, pxc, fvd, lvd, xcount, ycount, start, strben, xn, xx, yn,
-            yx, dec, arm, ymin, ymax, xrun, yrun, strobe, data
+            yx, dec, ymin, ymax, xrun, yrun, strobe, data
         );
         self.port.clock.next = self.clock.val();
         self.port.reset.next = self.reset.val();
@@ -221,7 +223,7 @@ impl<const C: usize, const P: usize> Logic for WindowUnit<C, P> {
         self.fvlh.next = self.fvc.q.val() & !self.fvd.q.val();
         self.fvhl.next = !self.fvc.q.val() & self.fvd.q.val();
         self.lvhl.next = !self.lvc.q.val() & self.lvd.q.val() & self.fvc.q.val();
-        self.pv.next = self.lvc.q.val() & self.pvc.q.val();
+        self.pv.next = self.fvc.q.val() & self.lvc.q.val() & self.pvc.q.val();
 
         // Position counters: X advances past each pixel of the line, Y at each line end; both
         // stop at their top.
@@ -259,11 +261,11 @@ impl<const C: usize, const P: usize> Logic for WindowUnit<C, P> {
 
         // START -> WLEN -> STRBEN -> WLRST (Appendix B), the active set swapped in at FVLH.
         self.wlen.next = self.start.q.val() & !self.fvc.q.val();
-        self.arm.d.next = self.fval.val() & self.wlen.val();
+        self.arm.next = self.fvlh.val() & self.start.q.val();
         self.wlrst.next = self.fvhl.val() | (self.lvhl.val() & self.ymax.q.val() & self.yval.val());
-        self.start.d.next = self.port.loaded.val() | (self.start.q.val() & !self.arm.q.val());
-        self.strben.d.next = self.arm.q.val() | (self.strben.q.val() & !self.wlrst.val());
-        if self.arm.q.val() {
+        self.start.d.next = self.port.loaded.val() | (self.start.q.val() & !self.arm.val());
+        self.strben.d.next = self.arm.val() | (self.strben.q.val() & !self.wlrst.val());
+        if self.arm.val() {
             self.xn.d.next = self.port.xn.val();
             self.xx.d.next = self.port.xx.val();
             self.yn.d.next = self.port.yn.val();
@@ -285,7 +287,6 @@ impl<const C: usize, const P: usize> Logic for WindowUnit<C, P> {
             self.xcount.d.next = 0.into();
             self.ycount.d.next = 0.into();
             self.start.d.next = false;
-            self.arm.d.next = false;
             self.strben.d.next = false;
             self.xn.d.next = 0.into();
             self.xx.d.next = 0.into();

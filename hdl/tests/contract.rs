@@ -137,21 +137,46 @@ fn error_clears_when_a_valid_set_completes() {
     );
 }
 
+/// The arming margin, clock for clock: a set completed `ARM_MARGIN` clocks before frame 1's FVAL
+/// is first sampled arms frame 1; one completed a clock later waits for frame 2, and leaves
+/// frame 1 to the set already pending (it does not take it over).
 #[test]
-fn set_completed_two_clocks_before_fval_rises_arms_that_frame() {
-    // Find the completion clock of a set started at clock s, then start it so that it
-    // completes exactly 2 clocks before frame 1's fval rises.
-    let f = frames(2, &CA_D1, 7);
-    let w = win(3, 9, 0, 4);
+fn set_completed_arm_margin_before_fval_arms_that_frame_and_not_later() {
+    let f = frames(3, &CA_D1, 7);
+    let (pending, w) = (win(100, 120, 10, 20), win(3, 9, 0, 4));
     let probe = run_unit::<8, 8>(&CA_D1, &f[..1], &[at(100, w, false)]);
     let latency = probe.completed[0] - 100;
-    let start = CA_D1.frame_clocks() - ARM_MARGIN - latency;
-    let rec = run_unit::<8, 8>(&CA_D1, &f, &[at(start, w, false)]);
-    assert_eq!(rec.completed[0] + ARM_MARGIN, CA_D1.frame_clocks());
-    assert_eq!(
-        rec.delivered_per_frame(&CA_D1)[1],
-        crop(&w, &f[1], false)
-    );
+    let fval = CA_D1.frame_clocks(); // frame 1's FVAL is first sampled on this clock
+    for late in [0, 1] {
+        let start = fval - ARM_MARGIN - latency + late;
+        let rec = run_unit::<8, 8>(&CA_D1, &f, &[at(1000, pending, false), at(start, w, false)]);
+        assert_eq!(rec.completed[1] + ARM_MARGIN, fval + late);
+        let got = rec.delivered_per_frame(&CA_D1);
+        if late == 0 {
+            assert_eq!(got[1], crop(&w, &f[1], false), "the later set wins frame 1");
+            assert!(got[2].is_empty());
+        } else {
+            assert_eq!(got[1], crop(&pending, &f[1], false), "the pending set keeps frame 1");
+            assert_eq!(got[2], crop(&w, &f[2], false), "the late set arms frame 2");
+        }
+    }
+}
+
+/// LVAL high past FVAL's fall is no pixel: nothing is strobed once FVAL is low.
+#[test]
+fn nothing_is_strobed_after_fval_falls() {
+    let t = RasterTiming { width: 32, height: 16, h_blank: 4, v_blank_lines: 1 };
+    let f = frames(1, &t, 14);
+    let (mut buses, starts) = gapped_run(&t, &f, 0, false);
+    // Drop FVAL while the last line is still being sent: its last 5 pixels come after it.
+    let last_line_end = buses[..starts[1]].iter().rposition(|b| b.lval && b.fval).unwrap();
+    for b in &mut buses[last_line_end - 4..starts[1]] {
+        b.fval = false;
+    }
+    let w = win(0, 31, 10, 15);
+    let rec = coopwin_hdl::sim::run::run_bus::<5, 8>((32, 16), buses, &[at(0, w, false)], &[]);
+    let whole: Vec<u16> = w.crop(&f[0], 32, false).into_iter().map(u16::from).collect();
+    assert_eq!(strobed(&rec, starts[0], starts[1]), whole[..whole.len() - 5]);
 }
 
 #[test]

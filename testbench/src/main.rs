@@ -27,7 +27,7 @@ const EXAMPLES: &str = "Examples:
   coopwin track --frames tri --strategy coop --target 56,56 --hdl rust-hdl --vcd run.vcd
   coopwin audit run.vcd --requests run.requests.csv
   coopwin track --frames tri --hdl rust-hdl --vcd part.vcd --vcd-frames 100..103
-  coopwin track --frames tri --hdl rust-hdl --blank-jitter 40,6000,7 --write-phase 70177
+  coopwin track --frames tri --hdl rust-hdl --blank-jitter 40,6000,7 --write-phase 70178
   coopwin match --image window.png --template tpl.png --method ncc
   coopwin corner --image window.png --threshold 50
   coopwin motion --prev a.png --next b.png --threshold 30

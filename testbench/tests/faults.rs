@@ -172,15 +172,15 @@ fn random_camera_blanking_changes_no_window_and_tracking_holds() {
 #[test]
 fn coordinate_writes_at_every_raster_phase_agree_with_the_model() {
     // Every set held until one phase of the raster (clocks from FVAL rising, 256x256 frame of
-    // 70 192 clocks, set latency 13, a set arms a frame if it completes 2 clocks before FVAL
+    // 70 192 clocks, set latency 13, a set arms a frame if it completes 1 clock before FVAL
     // rises): on the FVAL rising edge; inside the Foveal windows' rows; on the FVAL falling
     // edge (16 + 256 * 272 = 69 648); in vertical blanking; and either side of the arming
-    // margin (70 192 - 15 arms the next frame, 70 192 - 14 misses it). The units and the model
+    // margin (70 192 - 14 arms the next frame, 70 192 - 13 misses it). The units and the model
     // must agree window for window, and tracking must carry on at every phase.
     let scene = SceneConfig { frames: 16, ..triangle(40.0, 5) };
     let truth = SceneFrames::new(scene.clone()).truth();
     let mut first_frames = Vec::new();
-    for phase in [0, 30_000, 69_648, 69_900, 70_177, 70_178] {
+    for phase in [0, 30_000, 69_648, 69_900, 70_178, 70_179] {
         let mut logs = Vec::new();
         for hdl in [UnitBackend::BehaviouralModel, UnitBackend::RustHdl] {
             let mut cfg = coop(hdl, &scene);
@@ -196,9 +196,9 @@ fn coordinate_writes_at_every_raster_phase_agree_with_the_model() {
         first_frames.push((phase, logs[1].deliveries[0].1));
     }
     // The first sets are written at clock 0, so held to `phase` of frame 0: by hand, a set
-    // written at 70 177 completes at 70 190 and arms frame 1; at 70 178 it is too late and
+    // written at 70 178 completes at 70 191 and arms frame 1; at 70 179 it is too late and
     // arms frame 2. At phase 0 it arms frame 1 too (frame 0's FVAL has already risen).
-    assert_eq!(first_frames, vec![(0, 1), (30_000, 1), (69_648, 1), (69_900, 1), (70_177, 1), (70_178, 2)]);
+    assert_eq!(first_frames, vec![(0, 1), (30_000, 1), (69_648, 1), (69_900, 1), (70_178, 1), (70_179, 2)]);
 }
 
 #[test]

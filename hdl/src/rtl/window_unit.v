@@ -11,7 +11,14 @@
 // Coordinates: with WIDTH and HEIGHT <= 256 a set is 4 bytes (xmin, xmax, ymin, ymax);
 // otherwise 8 bytes, each coordinate high byte first. A set is valid iff
 // xmin < xmax < WIDTH and ymin < ymax < HEIGHT; an invalid set raises coord_error and is
-// refused. Pixels beyond column WIDTH-1 or lines beyond HEIGHT-1 are never delivered.
+// refused. A valid set whose last byte is taken on clock s arms the first frame whose fval is
+// first sampled high on clock s+1 or later, and delivers that frame's window once; a set
+// completed later waits for the next frame. Of two sets completed before a frame, the later wins.
+//
+// Camera: a pixel is on `pixel` on a clock with fval, lval and pixel_valid high. Lines need at
+// least 2 clocks of lval low between them, and a frame at least 2 clocks of fval high before
+// its first lval (the Y flags are registered). Pixels beyond column WIDTH-1 or lines beyond
+// HEIGHT-1 are never delivered.
 `default_nettype none
 
 module window_unit #(
@@ -135,7 +142,6 @@ module window_unit #(
     reg      [CBITS-1:0] xcount = {CBITS{1'b0}};  // thesis X count: column of the pixel in pxc
     reg      [CBITS-1:0] ycount = {CBITS{1'b0}};  // thesis Y count: row of the line (from 0)
     reg                  start = 1'b0;      // thesis START: a valid set waits for a frame
-    reg                  arm = 1'b0;        // the pending set becomes the active one
     reg                  strben = 1'b0;     // thesis STRBEN: strobes enabled for this frame
     reg      [CBITS-1:0] xn = {CBITS{1'b0}};  // active window: minimum column (thesis XN)
     reg      [CBITS-1:0] xx = {CBITS{1'b0}};  // active window: maximum column (thesis XX)
@@ -152,8 +158,9 @@ module window_unit #(
     wire fvlh = fvc & ~fvd;                 // thesis FVLH: a frame starts
     wire fvhl = ~fvc & fvd;                 // thesis FVHL: a frame ends
     wire lvhl = ~lvc & lvd & fvc;           // thesis LVHL: a line of the frame ends
-    wire pv = lvc & pvc;                    // a pixel is in pxc
-    wire wlen = start & ~fvc;               // thesis WLEN: a set pending between frames
+    wire pv = fvc & lvc & pvc;              // a pixel is in pxc
+    // The pending set, as it stands after the clock FVAL was first sampled, becomes the active one.
+    wire arm = fvlh & start;
     wire xmin = xcount == xn;               // thesis XMIN
     wire xmax = xcount == xx;               // thesis XMAX
     wire yval = strben & (yrun | ymin);     // thesis YVAL: this line lies in the window
@@ -167,7 +174,7 @@ module window_unit #(
             fvc <= 1'b0; lvc <= 1'b0; pvc <= 1'b0; pxc <= {PIXEL_BITS{1'b0}};
             fvd <= 1'b0; lvd <= 1'b0;
             xcount <= {CBITS{1'b0}}; ycount <= {CBITS{1'b0}};
-            start <= 1'b0; arm <= 1'b0; strben <= 1'b0;
+            start <= 1'b0; strben <= 1'b0;
             xn <= {CBITS{1'b0}}; xx <= {CBITS{1'b0}};
             yn <= {CBITS{1'b0}}; yx <= {CBITS{1'b0}}; dec <= 1'b0;
             ymin <= 1'b0; ymax <= 1'b0; xrun <= 1'b0; yrun <= 1'b0;
@@ -198,7 +205,6 @@ module window_unit #(
 
             // START -> WLEN -> STRBEN -> WLRST (Appendix B); the pending set armed at FVAL rising.
             start <= loaded | (start & ~arm);
-            arm <= fval & wlen;
             strben <= arm | (strben & ~wlrst);
             if (arm) begin
                 xn <= set_xn; xx <= set_xx; yn <= set_yn; yx <= set_yx; dec <= set_dec;

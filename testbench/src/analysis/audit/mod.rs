@@ -4,7 +4,7 @@
 //!
 //! - every set the processor queued is taken over the handshake, byte for byte, in order;
 //! - each frame delivers exactly the window of the set armed for it (the latest set complete
-//!   at least 2 clocks before FVAL rises, each set used once): the right number of strobes,
+//!   at least `ARM_MARGIN` clocks before FVAL rises, each set used once): the right number of strobes,
 //!   each on a line and column inside the window (on the 25% grid when decimated), in raster
 //!   order; a frame with no set armed delivers nothing;
 //! - the event order holds throughout: CRDY1 rises only while CSTRB1 is high and falls only
