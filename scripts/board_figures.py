@@ -3,12 +3,20 @@
 Cortex-M4F instead of the TMS320C40) from a board run, `arm-none-eabi-size -A` and the
 disassembly. Called by `scripts/board.sh --figures`; standard library only.
 
-usage: board_figures.py RUN.txt SIZE.txt DISASM.txt > docs/firmware-target.md
+usage: board_figures.py RUN.txt SIZE.txt DISASM.txt [ELF] > docs/firmware-target.md
+
+Exits 1, writing nothing, if the static stack bound (scripts/stack_bound.py) fails or is
+below the measured high-water mark.
 """
 import os
 import re
 import sys
+import textwrap
 from collections import defaultdict
+
+sys.dont_write_bytecode = True  # no scripts/__pycache__
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import stack_bound  # noqa: E402
 
 HZ = 168e6          # the STM32F4's Cortex-M4F clock the issue names
 FRAME = 8.8e-3      # the CA-D1's frame period at 114 frames/s (thesis 2.6)
@@ -55,6 +63,12 @@ WHAT = {
 
 def main():
     run, size, disasm = (open(p).read() for p in sys.argv[1:4])
+    elf = sys.argv[4] if len(sys.argv) > 4 else stack_bound.ELF
+    try:
+        sb = stack_bound.analyse(elf, disasm, run)
+        stack_bound.check(sb)
+    except stack_bound.Error as e:
+        sys.exit(f"board_figures.py: stack bound: {e}")
     counts = defaultdict(list)
     reps = {}
     per_tick = stack = None
@@ -81,7 +95,9 @@ def main():
     inputs = sum(os.path.getsize(os.path.join(ROOT, "fixtures", d, f))
                  for d in ("bench", "board") for f in os.listdir(os.path.join(ROOT, "fixtures", d))
                  if f.endswith((".pgm", ".bin")))
-    frames = frame_sizes(disasm)
+    funcs = sb["funcs"]
+    frames = sorted(((stack_bound.brief(f.name), f.frame) for f in funcs.values()), key=lambda kv: -kv[1])
+    bound = sb["models"]["address-taken", sb["times"]]
 
     p = print
     p("# The firmware on a Cortex-M4F (QEMU)")
@@ -111,9 +127,10 @@ def main():
     p("* **C40** times are the testbench's C40 cost model (`testbench/src/system/cost.rs`), calibrated")
     p("  to the thesis's measured 18 ms Foveal update with a 20x20 template (2.6); the thesis")
     p("  gives no per-kernel table.")
-    p("* **Stack**: measured, not a static bound. The board paints the free RAM at reset and")
-    p("  reports the deepest word written after the whole run (every kernel, the tracker and the")
-    p("  port exercise). The largest single frames come from the disassembly (below).")
+    p("* **Stack**: measured and bounded. The board paints the free RAM at reset and reports the")
+    p("  deepest word written after the whole run (every kernel, the tracker and the port")
+    p("  exercise); `scripts/stack_bound.py` bounds it statically from the ELF and its")
+    p("  disassembly (below, \"Static stack bound\").")
     p()
     p("## Memory")
     p()
@@ -127,8 +144,9 @@ def main():
     p(f"| **RAM, static** | **{ram:,}** | |")
     if stack is not None:
         p(f"| **stack, measured high-water** | **{stack:,}** | ({stack / 1024:.0f} KB) |")
+    p(f"| **stack, static bound** | **{bound['total']:,}** | ({bound['total'] / 1024:.0f} KB; see below) |")
     p()
-    p("Largest stack frames (from `sub sp` in each function's prologue, pushes excluded):")
+    p("Largest stack frames (each function's deepest point below its entry: `push`, `vpush`, `sub sp`):")
     p()
     p("| function | frame bytes |")
     p("|---|---:|")
@@ -144,6 +162,7 @@ def main():
     p("stack does not fit its 128 KB + 64 KB of SRAM. In the thesis each Foveal window has its own")
     p("processor, which would hold one Foveal; the QEMU board keeps its 4 MB of RAM (`memory.x`).")
     p()
+    static_bound(p, sb, stack)
     p("## Instructions per kernel")
     p()
     p("| kernel | instructions | Cortex-M4 at 168 MHz | C40 (model) | C40 / M4 |")
@@ -222,21 +241,151 @@ def main():
         p()
 
 
-def frame_sizes(disasm):
-    """(function, bytes) of each function's `sub sp` immediates, largest first."""
-    sizes = defaultdict(int)
-    fn = None
-    for line in disasm.splitlines():
-        m = re.match(r"^[0-9a-f]+ <(.*)>:$", line)
-        if m:
-            fn = m[1]
-            continue
-        m = re.search(r"\tsub(?:\.w|w)?\tsp, (?:sp, )?#(\d+)", line)
-        if m and fn:
-            sizes[fn] += int(m[1])
-    # Generic arguments elided (`::<..>`); a leading `<Type>` is kept, it names the method.
-    short = lambda n: re.sub(r"::<[^<>]*(?:<[^<>]*>[^<>]*)*>", "::<..>", n)[:90]
-    return sorted(((short(k), v) for k, v in sizes.items()), key=lambda kv: -kv[1])
+def static_bound(p, sb, measured):
+    """The "Static stack bound" section, from scripts/stack_bound.py's analysis."""
+    funcs, times = sb["funcs"], sb["times"]
+    full = sb["models"]["address-taken", times]
+    free = sb["models"]["address-taken", None]
+    direct = sb["models"]["direct", None]
+    name = lambda a: f"`{stack_bound.brief(funcs[a].name)}`"
+    # Paragraphs wrapped at 92 columns, never inside a `code span`.
+    keep = lambda text: re.sub(r"`[^`]*`", lambda m: m[0].replace(" ", "\0"), text)
+    wrap = lambda text, **kw: textwrap.fill(keep(text), 92, break_on_hyphens=False,
+                                            break_long_words=False, **kw).replace("\0", " ")
+    para = lambda text: p(wrap(text))
+    bullet = lambda text: p(wrap(text, initial_indent="* ", subsequent_indent="  "))
+    sites = defaultdict(int)
+    for a, _ in sb["indirect"]:
+        sites[a] += 1
+    in_rodata = [a for a in sb["targets"] if ".rodata" in sb["taken"][a]]
+    impls = sorted({m[1] for a in in_rodata for m in [re.match(r"<(.* as \w+)>::", stack_bound.brief(funcs[a].name))] if m})
+    in_code = [a for a in sb["targets"] if ".rodata" not in sb["taken"][a]]
+    traits = sorted({m[1] for a in in_code for m in [re.search(r" as (\w+)>::fmt$", stack_bound.brief(funcs[a].name))] if m})
+    n_insns = sum(len(f.depth) for f in funcs.values())
+    p("## Static stack bound")
+    p()
+    para("`scripts/stack_bound.py` (called by this script) bounds the stack from the ELF and its "
+         "disassembly, without running it:")
+    p()
+    bullet("**Frames**: each function's depth below its entry is followed through its control-flow "
+           "graph (branches, `cbz`, `tbb`/`tbh` tables read from the ELF, conditional returns): "
+           "`push` and `stmdb sp!` take 4 bytes a register, `vpush` 8 a d register (4 an s "
+           "register), `sub sp, #n` n bytes, `sub sp, rN` the constant `movw`/`movt` put in rN; "
+           "the pops and `add sp` give them back. A function's frame is its deepest point. All "
+           f"{n_insns:,} instructions of the {len(funcs):,} functions are reached from their "
+           "function's entry, each at a single depth; the script stops on paths that join at "
+           "different depths, on any other write to sp or pc, and on code it cannot reach.")
+    bullet("**Calls**: `bl` and branches to another function (tail calls) at the depth of the "
+           "call site; a function's bound is the larger of its frame and, over its call sites, "
+           "the depth there plus the callee's bound.")
+    bullet(f"**Indirect calls** (`blx rN`, `bx rN`): {len(sb['indirect'])} sites in {len(sites)} "
+           f"functions, each taken to call any of the {len(sb['targets'])} functions whose address "
+           f"appears in the image: {len(in_rodata)} in `.rodata` (the vtables of "
+           + ", ".join(f"`{i}`" for i in impls) + "), "
+           f"{len(in_code)} in literal pools or `movw`/`movt` pairs (the "
+           + "/".join(f"`{t}`" for t in traits) + " functions that `format_args!` stores). "
+           "This holds as long as no code address is computed any other way, which safe Rust "
+           "does not do. It is coarse: any indirect call may reach any of them. The vector "
+           "table's entries are the hardware's to call, not `blx`'s.")
+    bullet("**Exceptions** run on the same stack (MSP) and can arrive at the deepest point: each "
+           f"adds its {stack_bound.EXC_FRAME}-byte hardware frame (the Cortex-M4F's 26 words with the "
+           "FPU state, and an alignment word) and its handler's bound. The firmware sets no "
+           "priorities, so the configurable exceptions (all at 0) cannot preempt one another: at "
+           "most one of them, then HardFault, then NMI, add to the bound from `Reset`.")
+    p()
+    cyc = full["cycles"]
+    if not cyc:
+        para("**Recursion**: the call graph has no cycle.")
+    else:
+        big = max(cyc, key=len)
+        names = {funcs[a].name for c in cyc for a in c}
+        what = ("formatting and panicking. `core::fmt::write` calls the `Display`/`Debug` "
+                "functions through pointers and they call `write` again (an argument formatted "
+                "inside another, a panic message inside the panic handler's line), and the "
+                "formatting code can panic into the handler, which formats"
+                if "core::fmt::write" in names and "__rustc::rust_begin_unwind" in names else
+                "; ".join(", ".join(name(a) for a in sorted(c)) for c in cyc))
+        per = sum(funcs[a].frame for a in big)
+        largest = ", ".join(f"{name(a)} {funcs[a].frame}" for a in sorted(big, key=lambda a: -funcs[a].frame)[:3])
+        para(f"**Recursion**: with the indirect calls resolved so, the call graph has {len(cyc)} "
+             f"cycle{'s' * (len(cyc) > 1)}, of {' and '.join(str(len(c)) for c in cyc)} functions: {what}. "
+             "Without a limit on that nesting the bound from `Reset` is "
+             f"{'unbounded' if free['thread'] is None else format(free['thread'], ',')}. The bound below "
+             f"assumes **each function of a cycle at most {times} times on the stack** (a panic message "
+             "formatted inside the handler's line, but no panic while formatting a panic); a cycle "
+             f"then adds at most {times} x the sum of its members' frames ({per:,} bytes; the "
+             f"largest {largest}), and each further level of nesting {per:,} more.")
+    dcyc = direct["cycles"]
+    if dcyc:
+        reach = "which direct calls from `Reset` do not reach" if direct["thread"] is not None else \
+            "reached from `Reset`: even the direct-call bound is conditional"
+        para(f"Among direct calls alone the cycle{'s are' if len(dcyc) > 1 else ' is'} " + "; ".join(
+            ", ".join(name(a) for a in sorted(c)) for c in dcyc) + f" (a panic path), {reach}.")
+    p()
+    p("| | bytes |")
+    p("|---|---:|")
+    p(f"| from `Reset` (`main`, the suite, the port exercise) | {full['thread']:,} |")
+    for g, h, v in full["parts"][1:]:
+        if h is not None:
+            p(f"| + {g}: `{funcs[h].name}` {v - stack_bound.EXC_FRAME}, frame {stack_bound.EXC_FRAME} | {v:,} |")
+    p(f"| **static bound** | **{full['total']:,}** |")
+    if measured is not None:
+        p(f"| measured high-water | {measured:,} |")
+        p(f"| bound / measured | {full['total'] / measured:.3f} |")
+        p(f"| bound from `Reset` / measured | {full['thread'] / measured:.3f} |")
+    p()
+    para("The deepest path (frame: the function's deepest point; adds: the depth at which it "
+         "makes the next call, or its frame at the end; a cycle adds its bound as above):")
+    p()
+    p("| function | frame | adds | depth |")
+    p("|---|---:|---:|---:|")
+    total = 0
+    for a, add, kind in full["path"]:
+        total += add
+        how = " (by an indirect call)" if kind and kind.startswith("indirect") else ""
+        if isinstance(a, tuple):
+            p(f"| the formatting and panic cycle ({len(a)} functions, each at most {times} times){how} "
+              f"| {sum(funcs[x].frame for x in a):,} | {add:,} | {total:,} |")
+        else:
+            p(f"| {name(a)}{how} | {funcs[a].frame:,} | {add:,} | {total:,} |")
+    p()
+    after = [(a, add, kind) for a, add, kind in full["path"][[isinstance(x, tuple) for x, _, _ in full["path"]].index(True) + 1:]] \
+        if any(isinstance(x, tuple) for x, _, _ in full["path"]) else []
+    if after and after[0][2].startswith("indirect"):
+        para(f"After the cycle the path leaves formatting through an indirect call to {name(after[0][0])}, "
+             "which the formatting code cannot really call: the coarse resolution's cost, "
+             f"{sum(add for _, add, _ in after):,} bytes.")
+        p()
+    dpath = direct["path"]
+    common = 0
+    for (a, _, _), (b, _, _) in zip(dpath, full["path"]):
+        if a != b:
+            break
+        common += 1
+    rest = ", ".join(f"{name(a)} ({add:,})" for a, add, _ in dpath[common:])
+    para(f"**Direct calls only** (every indirect call ignored): {direct['thread']:,} bytes from "
+         f"`Reset`, {direct['total']:,} with the exceptions, along the same path as far as "
+         f"{name(dpath[common - 1][0])}, then {rest}. The indirect calls are in: "
+         + ", ".join(f"{name(a)} ({n})" for a, n in sorted(sites.items(), key=lambda kv: (-kv[1], funcs[kv[0]].name)))
+         + ".")
+    if measured is not None:
+        p()
+        chains = stack_bound.chains_at(sb, measured)
+        same = ""
+        if len(chains) == 1:
+            c = chains[0]
+            k = next((i for i, (a, (b, _, _)) in enumerate(zip(c, dpath)) if a != b), min(len(c), len(dpath)))
+            tail = [name(a) for a in c[k:]]
+            tail = ", ".join(tail[:-1]) + " and " + tail[-1] if len(tail) > 1 else (tail or ["nothing more"])[0]
+            same = (" Exactly one chain of direct calls is, statically, as deep as the measured mark, "
+                    f"to the byte: the direct path as far as {name(c[k - 1])}, then {tail}. That is "
+                    "most likely where the run reached its deepest point, with the frames counted here.")
+        elif chains:
+            same = f" {len(chains)} chains of direct calls are, statically, exactly as deep as the measured mark."
+        para(f"The measured high-water mark is {direct['thread'] - measured:,} bytes below the "
+             f"direct-call bound from `Reset` and {full['thread'] - measured:,} below the full one; "
+             f"the script fails when the full bound from `Reset` is below it.{same}")
+    p()
 
 
 def fmt_t(t):
