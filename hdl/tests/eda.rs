@@ -221,3 +221,36 @@ fn synthesis_table_is_current() {
     let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scripts/synth-report.sh");
     run(Command::new("bash").arg(script).arg("--check"));
 }
+
+/// The other sizes of the synthesis table, replayed too: 1280x720 with 8-bit and 1920x1080
+/// with 12-bit pixels (11-bit counters), on frames of 24 full-length lines (the unit counts
+/// whatever the camera sends; the window lies in them), each with a window, a decimated one
+/// and a reset.
+#[test]
+fn hd_sizes_replay_clock_for_clock() {
+    for (g, cols) in [(Geometry::new(1280, 720, 8).unwrap(), 1290), (Geometry::new(1920, 1080, 12).unwrap(), 1925)] {
+        let t = RasterTiming { width: cols, height: 24, h_blank: 6, v_blank_lines: 1 };
+        let mask = (1u32 << g.pixel_bits) - 1;
+        let image = |f: usize| move |x: usize, y: usize| (((x as u32).wrapping_mul(2654435761) ^ (y * 97 + f) as u32) & mask) as u16;
+        let lead = vec![CameraBus { fval: false, lval: false, pixel: 0, pixel_valid: true }; 80];
+        let frames: Vec<Vec<CameraBus>> = (0..3).map(|f| t.frame_with_gaps(image(f), |x, _| usize::from(x % 7 == 3))).collect();
+        let starts: Vec<usize> = (0..3).map(|f| lead.len() + frames[..f].iter().map(Vec::len).sum::<usize>()).collect();
+        let xmax = g.width as u32 - 1;
+        let requests = [
+            Request { at: 0, window: w(xmax - 300, xmax, 2, 20), decimate: false },
+            Request { at: starts[0] + 100, window: w(0, 999, 0, 23), decimate: true },
+        ];
+        let reset_at = starts[1] + frames[1].len() / 2;
+        let buses = lead.iter().chain(frames.iter().flatten()).copied();
+        let rec = match g.pixel_bits {
+            8 => run_bus::<11, 8>((g.width, g.height), buses, &requests, &[reset_at]),
+            _ => run_bus::<11, 12>((g.width, g.height), buses, &requests, &[reset_at]),
+        };
+        let strobed: Vec<u16> = rec.outputs[starts[0]..starts[1]].iter().filter(|o| o.pixel_strobe).map(|o| o.pixel_out).collect();
+        let img: Vec<u16> = (0..t.height).flat_map(|y| (0..t.width).map(move |x| (x, y))).map(|(x, y)| image(0)(x, y)).collect();
+        assert_eq!(strobed, requests[0].window.crop(&img, t.width, false), "{}x{}", g.width, g.height);
+        assert!(rec.outputs[starts[1]..].iter().any(|o| o.pixel_strobe), "the decimated window starts");
+        assert!(!rec.outputs[reset_at + 1..].iter().any(|o| o.pixel_strobe), "and the reset ends it");
+        assert_replays(&format!("hd{}", g.width), &rec, &g);
+    }
+}
