@@ -204,7 +204,7 @@ module window_unit #(
             strobe <= xyval & decok;
             data <= pxc;
 
-            // START -> WLEN -> STRBEN -> WLRST (Appendix B); the pending set armed at FVAL rising.
+            // START -> STRBEN -> WLRST (Appendix B); the pending set armed at FVAL rising.
             start <= loaded | (start & ~arm);
             strben <= arm | (strben & ~wlrst);
             if (arm) begin
