@@ -1,4 +1,6 @@
 //! Shared by the tests that call external EDA tools.
+// Each test binary that includes this module uses only part of it.
+#![allow(dead_code)]
 use std::process::Command;
 
 /// True when `tool` runs. When it does not: with COOPWIN_REQUIRE_EDA=1 (CI) the test fails;
