@@ -101,7 +101,7 @@ pub struct CoordPort<const C: usize> {
 impl<const C: usize> CoordPort<C> {
     /// The port of a `width` x `height` sensor (each at most 2^C and 4096).
     pub fn new(width: usize, height: usize) -> Self {
-        let wide = wide_coordinates(width, height);
+        let last_byte = set_bytes(width, height) as u64 - 1;
         Self {
             clock: Default::default(),
             reset: Default::default(),
@@ -116,9 +116,9 @@ impl<const C: usize> CoordPort<C> {
             yn: Default::default(),
             yx: Default::default(),
             dec: Default::default(),
-            wide: Constant::new(wide),
-            last_byte: Constant::new(if wide { 7 } else { 3 }.into()),
-            xmax_byte: Constant::new(if wide { 3 } else { 1 }.into()),
+            wide: Constant::new(wide_coordinates(width, height)),
+            last_byte: Constant::new(last_byte.into()),
+            xmax_byte: Constant::new((last_byte / 2).into()),
             xlast: Constant::new((width as u64 - 1).into()),
             ylast: Constant::new((height as u64 - 1).into()),
             strobe_r: Default::default(),
@@ -154,6 +154,15 @@ impl<const C: usize> CoordPort<C> {
 /// True when a `width` x `height` sensor's coordinates take two bytes each.
 pub fn wide_coordinates(width: usize, height: usize) -> bool {
     width.max(height) > 256
+}
+
+/// Bytes in a coordinate set for a `width` x `height` sensor: 4, or 8 with two-byte coordinates.
+pub fn set_bytes(width: usize, height: usize) -> usize {
+    if wide_coordinates(width, height) {
+        8
+    } else {
+        4
+    }
 }
 
 impl<const C: usize> Logic for CoordPort<C> {

@@ -65,11 +65,7 @@ impl Geometry {
 
     /// Bytes in a coordinate set: 4, or 8 when a coordinate takes two bytes.
     pub fn set_bytes(&self) -> usize {
-        if crate::coord_port::wide_coordinates(self.width, self.height) {
-            8
-        } else {
-            4
-        }
+        crate::coord_port::set_bytes(self.width, self.height)
     }
 }
 

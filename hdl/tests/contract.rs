@@ -27,9 +27,9 @@ fn frames(n: usize, t: &RasterTiming, seed: u64) -> Vec<Vec<u8>> {
         .collect()
 }
 
-/// The software crop of a 256-wide frame, as the unit's 16-bit output words.
-fn crop(w: &Window, frame: &[u8], decimate: bool) -> Vec<u16> {
-    w.crop(frame, 256, decimate).into_iter().map(u16::from).collect()
+/// The software crop of a `width`-wide frame, as the unit's 16-bit output words.
+fn crop(w: &Window, frame: &[u8], width: usize, decimate: bool) -> Vec<u16> {
+    w.crop(frame, width, decimate).into_iter().map(u16::from).collect()
 }
 
 fn win(xmin: u32, xmax: u32, ymin: u32, ymax: u32) -> Window {
@@ -57,7 +57,7 @@ fn one_set_arms_exactly_one_frame() {
     let got = rec.delivered_per_frame(&CA_D1);
     // Written during frame 0 (fval rose at clock 0): it arms frame 1 only.
     assert!(got[0].is_empty());
-    assert_eq!(got[1], crop(&w, &f[1], false));
+    assert_eq!(got[1], crop(&w, &f[1], 256, false));
     assert!(got[2].is_empty() && got[3].is_empty());
 }
 
@@ -75,7 +75,7 @@ fn full_frame_and_corner_windows() {
         }
         let rec = run_unit::<8, 8>(&CA_D1, &f, &[at(10, w, false)]);
         let got = rec.delivered_per_frame(&CA_D1);
-        assert_eq!(got[1], crop(&w, &f[1], false), "{w:?}");
+        assert_eq!(got[1], crop(&w, &f[1], 256, false), "{w:?}");
     }
 }
 
@@ -88,8 +88,8 @@ fn set_written_mid_window_does_not_disturb_it() {
     let mid = CA_D1.frame_clocks() + CA_D1.h_blank + 100 * CA_D1.line_clocks();
     let rec = run_unit::<8, 8>(&CA_D1, &f, &[at(10, w1, false), at(mid, w2, false)]);
     let got = rec.delivered_per_frame(&CA_D1);
-    assert_eq!(got[1], crop(&w1, &f[1], false));
-    assert_eq!(got[2], crop(&w2, &f[2], false));
+    assert_eq!(got[1], crop(&w1, &f[1], 256, false));
+    assert_eq!(got[2], crop(&w2, &f[2], 256, false));
 }
 
 #[test]
@@ -99,7 +99,7 @@ fn later_of_two_sets_wins() {
     let w2 = win(30, 45, 5, 9);
     let rec = run_unit::<8, 8>(&CA_D1, &f, &[at(10, w1, false), at(2000, w2, true)]);
     let got = rec.delivered_per_frame(&CA_D1);
-    assert_eq!(got[1], crop(&w2, &f[1], true));
+    assert_eq!(got[1], crop(&w2, &f[1], 256, true));
     assert!(got[2].is_empty());
 }
 
@@ -110,7 +110,7 @@ fn invalid_set_is_refused_and_keeps_the_armed_one() {
     let bad = win(20, 20, 30, 40); // xmin == xmax
     let rec = run_unit::<8, 8>(&CA_D1, &f, &[at(10, good, false), at(3000, bad, false)]);
     let got = rec.delivered_per_frame(&CA_D1);
-    assert_eq!(got[1], crop(&good, &f[1], false));
+    assert_eq!(got[1], crop(&good, &f[1], 256, false));
     let bad_done = rec.completed[1];
     assert!(
         rec.outputs[bad_done + 2..].iter().all(|o| o.coord_error),
@@ -133,7 +133,7 @@ fn error_clears_when_a_valid_set_completes() {
     assert!(rec.outputs[done + 2..].iter().all(|o| !o.coord_error));
     assert_eq!(
         rec.delivered_per_frame(&CA_D1)[1],
-        crop(&good, &f[1], false)
+        crop(&good, &f[1], 256, false)
     );
 }
 
@@ -153,11 +153,11 @@ fn set_completed_arm_margin_before_fval_arms_that_frame_and_not_later() {
         assert_eq!(rec.completed[1] + ARM_MARGIN, fval + late);
         let got = rec.delivered_per_frame(&CA_D1);
         if late == 0 {
-            assert_eq!(got[1], crop(&w, &f[1], false), "the later set wins frame 1");
+            assert_eq!(got[1], crop(&w, &f[1], 256, false), "the later set wins frame 1");
             assert!(got[2].is_empty());
         } else {
-            assert_eq!(got[1], crop(&pending, &f[1], false), "the pending set keeps frame 1");
-            assert_eq!(got[2], crop(&w, &f[2], false), "the late set arms frame 2");
+            assert_eq!(got[1], crop(&pending, &f[1], 256, false), "the pending set keeps frame 1");
+            assert_eq!(got[2], crop(&w, &f[2], 256, false), "the late set arms frame 2");
         }
     }
 }
@@ -175,7 +175,7 @@ fn nothing_is_strobed_after_fval_falls() {
     }
     let w = win(0, 31, 10, 15);
     let rec = coopwin_hdl::sim::run::run_bus::<5, 8>((32, 16), buses, &[at(0, w, false)], &[]);
-    let whole: Vec<u16> = w.crop(&f[0], 32, false).into_iter().map(u16::from).collect();
+    let whole: Vec<u16> = crop(&w, &f[0], 32, false);
     assert_eq!(strobed(&rec, starts[0], starts[1]), whole[..whole.len() - 5]);
 }
 
@@ -240,7 +240,7 @@ proptest! {
         let rec = run_unit::<8, 8>(&t, &f, &[at(0, w, decimate)]);
         let got = rec.delivered_per_frame(&t);
         prop_assert!(got[0].is_empty());
-        prop_assert_eq!(&got[1], &crop(&w, &f[1], decimate));
+        prop_assert_eq!(&got[1], &crop(&w, &f[1], 256, decimate));
     }
 }
 
@@ -286,7 +286,7 @@ fn lines_longer_than_the_sensor_never_wrap_onto_the_window() {
     let w = win(10, 40, 250, 255);
     let (buses, starts) = gapped_run(&t, &f, 0, false);
     let rec = coopwin_hdl::sim::run::run_bus::<8, 8>((256, 256), buses, &[at(0, w, false)], &[]);
-    let want: Vec<u16> = w.crop(&f[0], 640, false).into_iter().map(u16::from).collect();
+    let want: Vec<u16> = crop(&w, &f[0], 640, false);
     assert_eq!(want.len(), 31 * 6);
     assert_eq!(strobed(&rec, starts[0], starts[1]), want);
     assert!(strobed(&rec, starts[1], starts[2]).is_empty());
@@ -303,13 +303,13 @@ fn reset_mid_window_returns_to_power_on() {
     let reset_at = starts[0] + (starts[1] - starts[0]) / 2;
     let requests = [at(0, w1, false), at(reset_at - 200, win(3, 3, 0, 1), false), at(reset_at + 5, w2, true)];
     let rec = coopwin_hdl::sim::run::run_bus::<6, 8>((64, 40), buses, &requests, &[reset_at]);
-    let whole: Vec<u16> = w1.crop(&f[0], 64, false).into_iter().map(u16::from).collect();
+    let whole: Vec<u16> = crop(&w1, &f[0], 64, false);
     let cut = strobed(&rec, starts[0], starts[1]);
     assert!(!cut.is_empty() && cut.len() < whole.len() && whole.starts_with(&cut));
     assert!(strobed(&rec, reset_at, starts[1]).is_empty());
     assert!(rec.outputs[reset_at - 1].coord_error, "the invalid set raised it");
     assert!(!rec.outputs[reset_at].coord_error, "the reset cleared it");
-    let second: Vec<u16> = w2.crop(&f[1], 64, true).into_iter().map(u16::from).collect();
+    let second: Vec<u16> = crop(&w2, &f[1], 64, true);
     assert_eq!(strobed(&rec, starts[1], starts[2]), second);
     assert!(strobed(&rec, starts[2], starts[3]).is_empty());
 }
@@ -335,7 +335,7 @@ proptest! {
         let f = frames(2, &t, seed);
         let (buses, starts) = gapped_run(&t, &f, seed, gappy);
         let rec = coopwin_hdl::sim::run::run_bus::<6, 8>((width, height), buses, &[at(0, w, decimate)], &[]);
-        let want: Vec<u16> = w.crop(&f[0], t.width, decimate).into_iter().map(u16::from).collect();
+        let want: Vec<u16> = crop(&w, &f[0], t.width, decimate);
         prop_assert_eq!(strobed(&rec, starts[0], starts[1]), want);
         prop_assert!(strobed(&rec, starts[1], starts[2]).is_empty());
     }
@@ -353,7 +353,7 @@ proptest! {
         let rec = coopwin_hdl::sim::run::run_bus::<9, 8>((300, 20), buses, &[at(0, w, false)], &[]);
         prop_assert_eq!(rec.completed.len(), 1, "one 8-byte set");
         let refused = w.xmax >= 300 || w.ymax >= 20;
-        let want: Vec<u16> = if refused { Vec::new() } else { w.crop(&f[0], 300, false).into_iter().map(u16::from).collect() };
+        let want: Vec<u16> = if refused { Vec::new() } else { crop(&w, &f[0], 300, false) };
         prop_assert_eq!(strobed(&rec, starts[0], starts[2]), want);
         prop_assert_eq!(rec.outputs[starts[0]].coord_error, refused);
     }

@@ -4,7 +4,7 @@
 //! compared clock for clock.
 use super::camera::{CameraBus, RasterTiming, Window};
 use super::driver::{queue_window, write_step, CoordBus, UnitDriver, UnitOutputs};
-use crate::coord_port::wide_coordinates;
+use crate::coord_port::{set_bytes, wide_coordinates};
 use coopwin_firmware::ports::window::{CoordinateWriter, WriteError};
 
 /// A coordinate set the processor starts writing on clock `at` of the run.
@@ -100,7 +100,7 @@ pub fn run_bus<const C: usize, const P: usize>(
         rec.inputs.push(ClockInputs { cam, port, reset });
         rec.outputs.push(last);
     }
-    rec.completed = completion_clocks(&rec, if wide { 8 } else { 4 });
+    rec.completed = completion_clocks(&rec, set_bytes(sensor.0, sensor.1));
     rec
 }
 
