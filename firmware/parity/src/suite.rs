@@ -10,7 +10,7 @@ use coopwin_firmware::kernels::fmath::sqrtf;
 use coopwin_firmware::kernels::info::{corner_information, edge_information, edge_information_with_prior};
 use coopwin_firmware::kernels::matching::{best_match, best_match_decimated, Match, MatchError, Method};
 use coopwin_firmware::kernels::motion::detect_motion;
-use coopwin_firmware::processors::{Dest, Foveal, FovealKind, Msg, Params, Step, Template};
+use coopwin_firmware::processors::{Dest, Foveal, FovealKind, Msg, Params, Step, Template, Work};
 use coopwin_firmware::kernels::view::WindowView;
 use coopwin_firmware::types::{Point, Source, WindowRequest};
 use core::fmt::{self, Write};
@@ -289,11 +289,17 @@ fn to_partner(step: &Step) -> impl Iterator<Item = &Msg> {
 
 /// The COOP Foveal pair (4.2): a master running NCC and the decision, a partner running the
 /// corner detector on the same coordinates, wired to each other as their link would be.
-/// The testbench's recorder and the replay below drive it alike.
+/// The testbench's recorder and the replay below drive it alike. It keeps the processors'
+/// answers ([`Step`], over 4 KiB each) and has them filled in place, as a board loop would.
 pub struct CoopPair {
     master: Foveal,
     partner: Foveal,
-    want: Option<WindowRequest>,
+    /// The master's answer to its window, the partner's to the same window, the master's to
+    /// the partner's result (its decision), and the partner's to the decision's messages.
+    own: Step,
+    theirs: Step,
+    decision: Step,
+    follow: Step,
 }
 
 impl CoopPair {
@@ -302,41 +308,38 @@ impl CoopPair {
         let params = Params::default();
         let mut master = Foveal::new(FovealKind::CoopMaster, params, Some(template));
         let mut partner = Foveal::new(FovealKind::CoopPartner, params, None);
-        let first = master.start_at(start);
-        for m in to_partner(&first) {
-            partner.on_message(m, 0.0);
+        let decision = master.start_at(start);
+        let mut follow = Step::new(Work::None);
+        for m in to_partner(&decision) {
+            partner.on_message_into(m, 0.0, &mut follow);
         }
-        CoopPair { master, partner, want: first.request }
+        CoopPair { master, partner, own: Step::new(Work::None), theirs: Step::new(Work::None), decision, follow }
     }
 
     /// The window the pair wants next (both processors' window; `None` once lost).
     pub fn want(&self) -> Option<WindowRequest> {
-        self.want
+        self.decision.request
     }
 
     /// One COOP frame: the window goes to both, the partner's result to the master, which
     /// decides; returns the master's decision step (`None` if the partner sent no result).
     /// Metered as `coop_frame`: both Foveal kernels and the decision.
-    pub fn frame<M: Meter>(&mut self, meter: &mut M, view: &WindowView<'_>, t: f64) -> Option<Step> {
-        let (master, partner) = (&mut self.master, &mut self.partner);
-        let step = meter.once("coop_frame", &mut || {
-            let _own = master.on_window(view, t);
-            let theirs = partner.on_window(view, t);
-            // The step answering the partner's last result is returned as the call makes it:
-            // a `Step` is over 4 KiB, and a copy into a variable would be metered too.
-            let sends = theirs.sends.as_slice();
-            let (earlier, last) = sends.split_at(sends.iter().rposition(|(d, _)| *d == Dest::Foveal)?);
-            for (_, m) in earlier.iter().filter(|(d, _)| *d == Dest::Foveal) {
-                master.on_message(m, t);
+    pub fn frame<M: Meter>(&mut self, meter: &mut M, view: &WindowView<'_>, t: f64) -> Option<&Step> {
+        let CoopPair { master, partner, own, theirs, decision, follow } = self;
+        meter.once("coop_frame", &mut || {
+            master.on_window_into(view, t, own);
+            partner.on_window_into(view, t, theirs);
+            let mut answered = false;
+            for (_, m) in theirs.sends.iter().filter(|(d, _)| *d == Dest::Foveal) {
+                master.on_message_into(m, t, decision);
+                answered = true;
             }
-            let (_, m) = last.first()?;
-            Some(master.on_message(m, t))
+            answered.then_some(())
         })?;
-        for m in to_partner(&step) {
-            self.partner.on_message(m, t);
+        for m in to_partner(decision) {
+            partner.on_message_into(m, t, follow);
         }
-        self.want = step.request;
-        Some(step)
+        Some(&self.decision)
     }
 }
 

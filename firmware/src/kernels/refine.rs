@@ -15,7 +15,9 @@
 //! Arithmetic is `f32` (the Cortex-M4F's single-precision FPU); no allocation, no panic. The
 //! template's side (its pixels, gradients, `H`, mean and deviation) does not depend on the
 //! window, so a tracker prepares it once per template ([`LkTemplate`]); an iteration then
-//! samples only the used pixels, each window column converted once.
+//! makes one pass over the used pixels, sampling and summing at once (the normalisation
+//! and `Σ g (Ŵ - T)` follow from four sums, [`LkTemplate::refine`]), each window column
+//! blended once.
 
 use crate::kernels::support::Support;
 use crate::kernels::fmath::{cmp_hypotf, sqrtf};
@@ -30,6 +32,9 @@ const CONVERGED: f32 = 0.01;
 /// Farthest the refined placement may be from the start before it is refused (the parabola
 /// is within half a pixel of the truth, so a longer walk means the iteration diverged).
 const MAX_WALK: f32 = 1.0;
+/// A window whose spread `Q - S²/n` is at most this fraction of `Q` is flat: what is left
+/// is the `f32` sums' rounding.
+const FLAT: f32 = 1e-5;
 
 /// Largest template side refined (the processors' templates are at most 32 x 32).
 pub const MAX_SIDE: usize = 32;
@@ -72,6 +77,9 @@ pub struct LkTemplate {
     det: f32,
     t_mean: f32,
     t_dev: f32,
+    /// `(Σ gx, Σ gy)` and `(Σ gx (mean T - T), Σ gy (mean T - T))` over the used pixels.
+    g_sum: (f32, f32),
+    g_err: (f32, f32),
 }
 
 impl Default for LkTemplate {
@@ -93,6 +101,8 @@ impl LkTemplate {
             det: 0.0,
             t_mean: 0.0,
             t_dev: 0.0,
+            g_sum: (0.0, 0.0),
+            g_err: (0.0, 0.0),
         }
     }
 
@@ -145,34 +155,39 @@ impl LkTemplate {
         }
         let t_mean = tg.iter().map(|v| v[0]).sum::<f32>() / n as f32;
         let t_dev = sqrtf(tg.iter().map(|v| (v[0] - t_mean) * (v[0] - t_mean)).sum());
+        let g_sum = (tg.iter().map(|v| v[1]).sum(), tg.iter().map(|v| v[2]).sum());
+        let err = |a: usize| tg.iter().map(|v| v[a] * (t_mean - v[0])).sum::<f32>();
         (self.iw, self.ih, self.h, self.det, self.t_mean, self.t_dev) = (iw, ih, (h11, h12, h22), det, t_mean, t_dev);
+        (self.g_sum, self.g_err) = (g_sum, (err(1), err(2)));
         Some(())
     }
 
     /// The refined top-left placement of the prepared template in `win` from `(x, y)`, as
     /// [`refine_translation`] finds it; `None` also when nothing is prepared.
+    ///
+    /// With `u = W - mean T` (the samples offset by a constant, which keeps the sums small
+    /// and cancels from every term below), one pass over the used pixels gives
+    /// `S = Σ u`, `Q = Σ u²`, `Gx = Σ gx u` and `Gy = Σ gy u`, and then
+    /// `σ_W² = Q - S²/n` and `Σ g (Ŵ - T) = (σ_T / σ_W) (G - (S/n) Σ g) + Σ g (mean T - T)`,
+    /// whose last term the template fixes ([`LkTemplate::prepare`]).
     pub fn refine(&self, win: &WindowView<'_>, x: f32, y: f32) -> Option<(f32, f32)> {
         if !self.ready || !x.is_finite() || !y.is_finite() {
             return None;
         }
-        let LkTemplate { used, iw, ih, tg, h: (h11, h12, h22), det, t_mean, t_dev, .. } = self;
+        let LkTemplate { used, iw, ih, tg, h: (h11, h12, h22), det, t_mean, t_dev, g_sum, g_err, .. } = self;
         let n = tg.len() as f32;
-        let mut w = Vec::<f32, INTERIOR>::new();
         let (mut px, mut py) = (x, y);
         for _ in 0..ITERATIONS {
-            let w_sum = sample(win, px + 1.0, py + 1.0, *iw, used.get(..*ih)?, &mut w)?;
-            let w_mean = w_sum / n;
-            let w_dev = sqrtf(w.iter().map(|v| (v - w_mean) * (v - w_mean)).sum());
-            if w_dev.is_nan() || w_dev <= 0.0 {
+            let s = sample(win, px + 1.0, py + 1.0, *iw, used.get(..*ih)?, tg, *t_mean)?;
+            let u_mean = s.s / n;
+            let var = s.q - s.s * u_mean;
+            // A flat window: its spread is within the sums' rounding.
+            if !(var > FLAT * s.q) {
                 return None;
             }
-            let gain = t_dev / w_dev;
-            let (mut b1, mut b2) = (0.0f32, 0.0f32);
-            for (wk, [tk, gxk, gyk]) in w.iter().zip(tg) {
-                let e = (wk - w_mean) * gain + t_mean - tk;
-                b1 += gxk * e;
-                b2 += gyk * e;
-            }
+            let gain = t_dev / sqrtf(var);
+            let b1 = gain * (s.gx - u_mean * g_sum.0) + g_err.0;
+            let b2 = gain * (s.gy - u_mean * g_sum.1) + g_err.1;
             let (dx, dy) = ((h22 * b1 - h12 * b2) / det, (h11 * b2 - h12 * b1) / det);
             px -= dx;
             py -= dy;
@@ -187,13 +202,21 @@ impl LkTemplate {
     }
 }
 
-/// The `used` pixels (bit `i` of `used[j]` for pixel `(i, j)`) of the `iw x used.len()`
-/// block of `win` whose top-left sample sits at real-valued `(x, y)`, by bilinear
-/// interpolation (a translation: one set of weights for every pixel), row by row into `out`;
-/// their sum (as `Iterator::sum` adds them, from `-0.0` in order), or `None` when the block
-/// would reach outside the window.
-fn sample(win: &WindowView<'_>, x: f32, y: f32, iw: usize, used: &[u32], out: &mut Vec<f32, INTERIOR>) -> Option<f32> {
-    out.clear();
+/// One iteration's sums over the sampled window ([`LkTemplate::refine`]).
+struct WindowSums {
+    /// `Σ u`, `Σ u²`, `Σ gx u`, `Σ gy u` with `u = W - mean T`.
+    s: f32,
+    q: f32,
+    gx: f32,
+    gy: f32,
+}
+
+/// The sums of [`WindowSums`] over the `used` pixels (bit `i` of `used[j]` for pixel
+/// `(i, j)`) of the `iw x used.len()` block of `win` whose top-left sample sits at
+/// real-valued `(x, y)`, by bilinear interpolation (a translation: one pair of weights for
+/// every pixel), `offset` subtracted, each paired in turn with the gradients in `tg`; `None`
+/// when the block would reach outside the window.
+fn sample(win: &WindowView<'_>, x: f32, y: f32, iw: usize, used: &[u32], tg: &[[f32; 3]], offset: f32) -> Option<WindowSums> {
     if !(x >= 0.0 && y >= 0.0) {
         return None;
     }
@@ -202,37 +225,40 @@ fn sample(win: &WindowView<'_>, x: f32, y: f32, iw: usize, used: &[u32], out: &m
     let (x0, y0) = (fx as usize, fy as usize);
     // A zero weight never reads the next column or row, so a block ending on the window's
     // last one is inside.
-    let (cols, rows) = (iw + usize::from(ax > 0.0), used.len() + usize::from(ay > 0.0));
-    if x0 + cols > win.width() || y0 + rows > win.height() {
+    let (right, below) = (usize::from(ax > 0.0), usize::from(ay > 0.0));
+    if x0.saturating_add(iw + right) > win.width() || y0.saturating_add(used.len() + below) > win.height() {
         return None;
     }
-    let w = [(1.0 - ax) * (1.0 - ay), ax * (1.0 - ay), (1.0 - ax) * ay, ax * ay];
-    let mut sum = -0.0f32;
-    // With `ax = 0` the right-hand pixels weigh `+0`: they may be the left ones, which are
-    // always inside (the block may end on the window's last column), for the same sum.
-    let right = usize::from(ax > 0.0);
+    let mut sums = WindowSums { s: 0.0, q: 0.0, gx: 0.0, gy: 0.0 };
+    let mut grads = tg.iter();
     for (j, &bits) in used.iter().enumerate() {
-        let top = win.row(y0 + j)?.get(x0..x0 + cols)?;
-        let bottom = if ay > 0.0 { win.row(y0 + j + 1)?.get(x0..x0 + cols)? } else { top };
-        // Each run of used pixels (a support's row is one) without a test per pixel; each
-        // column converted once, as a sample's right-hand column and the next one's left.
+        let top = win.row(y0 + j)?.get(x0..x0 + iw + right)?;
+        let bottom = win.row(y0 + j + below)?.get(x0..x0 + iw + right)?;
+        // Each column blended vertically once, as one sample's right-hand column and the
+        // next one's left; each run of used pixels (a support's row is one) without a test
+        // per pixel.
+        let column = |i: usize| -> Option<f32> {
+            let (t, b) = (f32::from(*top.get(i)?) - offset, f32::from(*bottom.get(i)?) - offset);
+            Some(t + ay * (b - t))
+        };
         let mut rest = bits;
         while rest != 0 {
             let (i, run) = (rest.trailing_zeros() as usize, (rest >> rest.trailing_zeros()).trailing_ones() as usize);
             rest &= rest.wrapping_add(rest & rest.wrapping_neg());
-            let (t, b) = (top.get(i..i + run + right)?, bottom.get(i..i + run + right)?);
-            let mut columns = t.iter().zip(b).map(|(&t, &b)| (f32::from(t), f32::from(b)));
-            let mut left = columns.next()?;
-            for _ in 0..run {
-                let r = if right == 1 { columns.next()? } else { left };
-                let v = w[0] * left.0 + w[1] * r.0 + w[2] * left.1 + w[3] * r.1;
-                out.push(v).ok()?;
-                sum += v;
-                left = if right == 1 { r } else { columns.next().unwrap_or(left) };
+            let mut left = column(i)?;
+            for k in i + 1..=i + run {
+                let r = if right == 1 { column(k)? } else { left };
+                let u = left + ax * (r - left);
+                let [_, gx, gy] = grads.next()?;
+                sums.s += u;
+                sums.q += u * u;
+                sums.gx += gx * u;
+                sums.gy += gy * u;
+                left = if right == 1 { r } else { column(k).unwrap_or(left) };
             }
         }
     }
-    Some(sum)
+    Some(sums)
 }
 
 #[cfg(test)]

@@ -148,20 +148,20 @@ impl Foveal {
 
     /// Starts tracking at `p` (the target given at start).
     pub fn start_at(&mut self, p: Point) -> Step {
-        self.start(p, true)
+        let mut step = Step::new(Work::None);
+        self.start(p, true, &mut step);
+        step
     }
 
     /// Starts tracking at `p`: the tracked point itself when `exact`, otherwise the
     /// Peripheral's approximate location.
-    fn start(&mut self, p: Point, exact: bool) -> Step {
+    fn start(&mut self, p: Point, exact: bool, step: &mut Step) {
         self.tracking = Some(p);
         self.coop.begin(p, exact);
-        let mut step = Step::new(Work::None);
         step.ask(Some(self.params.foveal_window(p)));
         if self.kind == FovealKind::CoopMaster {
             step.send(Dest::FovealCd, Msg::Follow(p));
         }
-        step
     }
 
     /// Whether a COOP master's track is coasting: tracking, but with no current position.
@@ -180,80 +180,87 @@ impl Foveal {
 
     /// A message arrived.
     pub fn on_message(&mut self, m: &Msg, t: f64) -> Step {
+        let mut step = Step::new(Work::None);
+        self.on_message_into(m, t, &mut step);
+        step
+    }
+
+    /// [`Foveal::on_message`], answered into `step` (cleared first). A `Step` is over 4 KiB and
+    /// each return by value copies it: a loop that keeps one (a board's) saves the copies.
+    pub fn on_message_into(&mut self, m: &Msg, t: f64, step: &mut Step) {
+        step.clear(Work::None);
         match m {
-            Msg::Template(tpl) => {
-                self.set_template(tpl.clone());
-                Step::new(Work::None)
-            }
-            Msg::Approx(p) if self.tracking.is_none() => self.start(*p, false),
+            Msg::Template(tpl) => self.set_template(tpl.clone()),
+            Msg::Approx(p) if self.tracking.is_none() => self.start(*p, false, step),
             Msg::Follow(p) => {
                 self.tracking = Some(*p);
-                let mut step = Step::new(Work::None);
                 step.ask(Some(self.params.foveal_window(*p)));
-                step
             }
             Msg::Result(r) if self.kind == FovealKind::CoopMaster => {
                 self.partner = Some(*r);
-                self.decide(t)
+                if self.decide(t, step) {
+                    step.work = Work::Decision;
+                }
             }
-            Msg::Lost(_) if self.kind == FovealKind::CoopPartner => {
-                self.tracking = None;
-                Step::new(Work::None)
-            }
-            _ => Step::new(Work::None),
+            Msg::Lost(_) if self.kind == FovealKind::CoopPartner => self.tracking = None,
+            _ => {}
         }
     }
 
     /// A Foveal window arrived, at time `t` seconds (for the confidence fits).
     pub fn on_window(&mut self, win: &WindowView<'_>, t: f64) -> Step {
+        let mut step = Step::new(Work::None);
+        self.on_window_into(win, t, &mut step);
+        step
+    }
+
+    /// [`Foveal::on_window`], answered into `step` (cleared first), as
+    /// [`Foveal::on_message_into`].
+    pub fn on_window_into(&mut self, win: &WindowView<'_>, t: f64, step: &mut Step) {
         match self.kind {
             FovealKind::Cd | FovealKind::CoopPartner => {
                 let (found, work) = cd_track(win, &mut self.detector, &self.params);
-                let mut step = Step::new(work);
+                step.clear(work);
                 if self.kind == FovealKind::CoopPartner {
                     step.send(Dest::Foveal, Msg::Result(found));
                 } else {
-                    self.follow(&mut step, found, Source::Cd, None);
+                    self.follow(step, found, Source::Cd, None);
                 }
-                step
             }
             FovealKind::Ncc | FovealKind::CoopMaster => {
                 let (found, work) = match &self.template {
                     Some(tpl) => ncc_track(win, tpl, self.support.as_ref(), &mut self.lk, &self.params),
                     None => (None, Work::None),
                 };
+                step.clear(work);
                 if self.kind == FovealKind::CoopMaster {
                     self.own = Some(found);
-                    let mut s = self.decide(t);
-                    s.work = work;
-                    s
+                    self.decide(t, step);
                 } else {
-                    let mut step = Step::new(work);
-                    self.follow(&mut step, found.map(|(p, _)| p), Source::Ncc, found.map(|(_, s)| s));
-                    step
+                    self.follow(step, found.map(|(p, _)| p), Source::Ncc, found.map(|(_, s)| s));
                 }
             }
         }
     }
 
     /// COOP: once both results of a window are in, feed the confidence measure and follow
-    /// the source it chooses.
-    fn decide(&mut self, t: f64) -> Step {
-        let (Some(own), Some(partner)) = (self.own, self.partner) else { return Step::new(Work::None) };
+    /// the source it chooses, into `step` (filled in place: a `Step` is over 4 KiB, and each
+    /// return by value is a copy); whether it decided.
+    fn decide(&mut self, t: f64, step: &mut Step) -> bool {
+        let (Some(own), Some(partner)) = (self.own, self.partner) else { return false };
         self.own = None;
         self.partner = None;
         let chosen = self.coop.decide(t, own, partner);
-        let mut step = Step::new(Work::Decision);
         if let Some(q) = chosen.is_none().then(|| self.coop.coast(t)).flatten() {
             // Nothing measured the point: look where it should be next, report nothing.
             let side = self.params.foveal + 2 * COAST_MARGIN;
             step.ask(Some(self.params.window(q, side, Decimation::Full))).send(Dest::FovealCd, Msg::Follow(q));
-            return step;
+            return true;
         }
         let (found, source) = (chosen.map(|c| c.0), chosen.map_or(Source::Ncc, |c| c.1));
         // NCC vouches for the point it measured, or one fused with it.
         let score = own.zip(found).filter(|((n, _), p)| libm::hypotf(n.x - p.x, n.y - p.y) <= VOUCH).map(|((_, s), _)| s);
-        self.follow(&mut step, found, source, score);
+        self.follow(step, found, source, score);
         match (step.request, found, step.lost) {
             (Some(_), Some(p), _) => {
                 step.send(Dest::FovealCd, Msg::Follow(p));
@@ -264,7 +271,7 @@ impl Foveal {
             }
             _ => {}
         }
-        step
+        true
     }
 
     fn follow(&mut self, step: &mut Step, found: Option<Point>, source: Source, score: Option<f32>) {

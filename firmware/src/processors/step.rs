@@ -66,9 +66,18 @@ pub struct Step {
 // A step holds four messages, each as large as a template: over 4 KiB, so it is built in
 // place rather than passed through builder calls by value (each a copy).
 impl Step {
-    pub(super) fn new(work: Work) -> Self {
+    /// An answer with `work` and nothing else: no request, message or report.
+    #[inline]
+    pub fn new(work: Work) -> Self {
         Step { work, request: None, sends: heapless::Vec::new(), report: None, score: None, lost: None }
     }
+    /// Empties it for a new answer with `work` (as [`Step::new`], in place).
+    #[inline]
+    pub fn clear(&mut self, work: Work) {
+        (self.work, self.request, self.report, self.score, self.lost) = (work, None, None, None, None);
+        self.sends.clear();
+    }
+    #[inline]
     pub(super) fn send(&mut self, d: Dest, m: Msg) -> &mut Self {
         // Four slots cover every processor's sends; a fifth is a bug, dropped rather than panic.
         let _ = self.sends.push((d, m));

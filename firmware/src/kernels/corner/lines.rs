@@ -29,8 +29,11 @@
 //! fits, rays) only read them; which points a pass takes is kept as per-point flags, so a
 //! fit whose points did not change is not redone and the iterations stop once nothing
 //! moves (the results are those of running every round: each round is a pure function of
-//! what changed). Angles that do not depend on the points are constants ([`SIN_MIN_ANGLE`],
-//! [`CENTRES`]), with the bits `libm` gives, checked by the tests.
+//! what changed). No trigonometric function is evaluated (the M4F's FPU has none, and
+//! `libm`'s `sinf`/`cosf` work in soft-float `f64`): orientations stay unit vectors of the
+//! doubled angle, halved by [`half_angle`] and binned by comparisons ([`bin`]); angles that
+//! do not depend on the points are constants ([`SIN_MIN_ANGLE`], [`CENTRES`], [`EDGES`]),
+//! checked by the tests.
 
 use super::{NoCorner, MAX_DIM};
 use crate::kernels::fmath::sqrtf;
@@ -99,6 +102,38 @@ const CENTRES: [(u32, u32); BINS] = [
     (0xbf77_46eb, 0x3e84_83ea),
     (0xbf7f_069e, 0x3db2_7ea8),
 ];
+
+/// `(cos e, sin e)` of the bin edges `e = k·2π/BINS` inside `(0, π)` (`k = 1..BINS/2`),
+/// rounded to `f32`.
+const EDGES: [(f32, f32); BINS / 2 - 1] = [
+    (0.98480775, 0.17364818),
+    (0.9396926, 0.34202014),
+    (0.8660254, 0.5),
+    (0.76604444, 0.64278761),
+    (0.64278761, 0.76604444),
+    (0.5, 0.8660254),
+    (0.34202014, 0.9396926),
+    (0.17364818, 0.98480775),
+    (0.0, 1.0),
+    (-0.17364818, 0.98480775),
+    (-0.34202014, 0.9396926),
+    (-0.5, 0.8660254),
+    (-0.64278761, 0.76604444),
+    (-0.76604444, 0.64278761),
+    (-0.8660254, 0.5),
+    (-0.9396926, 0.34202014),
+    (-0.98480775, 0.17364818),
+];
+
+/// The histogram bin of the doubled-angle orientation `(c, s)`: bin `i` holds the angles
+/// `atan2(s, c)` in `[i·2π/BINS - π, (i+1)·2π/BINS - π)`. The lower half turn is turned by
+/// π onto the upper one, where an angle is past edge `e` iff `(cos e, sin e) × (c, s) >= 0`,
+/// so the bin is found by comparisons (a binary search of [`EDGES`]), without `atan2`.
+fn bin(c: f32, s: f32) -> usize {
+    let (half, c, s) = if s < 0.0 { (0, -c, -s) } else { (BINS / 2, c, s) };
+    let past = EDGES.partition_point(|&(ec, es)| s * ec - c * es >= 0.0);
+    half + past
+}
 
 /// Points closer than this to the other side's ray are left out (px): the Sobel band
 /// of a blurred edge is about 4 px wide, so within 3 px the two bands overlap.
@@ -288,11 +323,28 @@ impl Line {
     }
 }
 
+/// `(x, y) / |(x, y)|`, `None` for the zero vector.
+fn unit(x: f32, y: f32) -> Option<(f32, f32)> {
+    let r = sqrtf(x * x + y * y);
+    (r > 0.0).then(|| (x / r, y / r))
+}
+
+/// `(cos b, sin b)` for `b = ½ atan2(y, x)` in `(-π/2, π/2]`, without trigonometry: the
+/// direction at half the angle of `v = (x, y)` bisects `v` and `(|v|, 0)`, i.e. it is along
+/// `(|v| + x, y)`, or along `(|y|, ±(|v| - x))` (the same direction, without the
+/// cancellation) when `x < 0`. `(1, 0)` for the zero vector, as `atan2(0, 0) = 0` gives.
+fn half_angle(x: f32, y: f32) -> (f32, f32) {
+    let r = sqrtf(x * x + y * y);
+    let (bx, by) = if x >= 0.0 { (r + x, y) } else { (y.abs(), (r - x).copysign(y)) };
+    unit(bx, by).unwrap_or((1.0, 0.0))
+}
+
 /// The line of one side through the `m`-weighted centroid of the points flagged `side`.
 /// With at least [`MIN_TLS_POINTS`] points its normal is the mean, in
 /// doubled angles, of two estimates: the normal of the principal axis of the weighted
 /// scatter, `a = ½ atan2(2 Sxy, Sxx - Syy)` (total least squares), and the mean
-/// gradient orientation `θ = ½ atan2(Σ m sin 2θᵢ, Σ m cos 2θᵢ)`; with fewer (a side cut
+/// gradient orientation `θ = ½ atan2(Σ m sin 2θᵢ, Σ m cos 2θᵢ)`, both kept as unit vectors
+/// of the doubled angle and halved without trigonometry ([`half_angle`]); with fewer (a side cut
 /// short by the window border) the gradient orientation alone. The scatter's slope is
 /// noisy over a short side and the gradients are independent evidence: the mean
 /// lowers the worst errors (1.85 to 1.14 px over 6000 random wedges). `None` with
@@ -319,14 +371,13 @@ fn fit_side(pts: &EdgePoints, side: u8) -> Option<Line> {
             sxy += p.m * dx * dy;
             syy += p.m * dy * dy;
         }
-        // The scatter's normal in doubled angles is 2a + π, i.e. -(cos 2a, sin 2a).
-        let a = 0.5 * libm::atan2f(2.0 * sxy, sxx - syy);
+        // The scatter's principal axis in doubled angles is (Sxx - Syy, 2 Sxy); its normal
+        // is the opposite direction, averaged with the gradients' mean unit orientation.
+        let (ac, as_) = unit(sxx - syy, 2.0 * sxy).unwrap_or((1.0, 0.0));
         let g = sqrtf(sc * sc + ss * ss).max(f32::MIN_POSITIVE);
-        let b = 0.5 * libm::atan2f(ss / g - libm::sinf(2.0 * a), sc / g - libm::cosf(2.0 * a));
-        (libm::cosf(b), libm::sinf(b))
+        half_angle(sc / g - ac, ss / g - as_)
     } else {
-        let a = 0.5 * libm::atan2f(ss, sc);
-        (libm::cosf(a), libm::sinf(a))
+        half_angle(sc, ss)
     };
     Some(Line { nx, ny, d: nx * mx + ny * my })
 }
@@ -373,12 +424,8 @@ fn ray_dist(x: f32, y: f32, apex: (f32, f32), t: (f32, f32)) -> f32 {
 fn two_sides(pts: &mut EdgePoints) -> Option<[(f32, f32); 2]> {
     let mut hist = [0.0f32; BINS];
     let width = 2.0 * core::f32::consts::PI / BINS as f32;
-    let bin = |p: &EdgePoint| {
-        let a = libm::atan2f(p.s2, p.c2) + core::f32::consts::PI;
-        ((a / width) as usize).min(BINS - 1)
-    };
     for (p, _) in pts.iter() {
-        if let Some(hb) = hist.get_mut(bin(&p)) {
+        if let Some(hb) = hist.get_mut(bin(p.c2, p.s2)) {
             *hb += p.m;
         }
     }
@@ -496,5 +543,44 @@ mod tests {
             let a = (i as f32 + 0.5) * width - core::f32::consts::PI;
             assert_eq!((c, s), (bits(libm::cosf(a)), bits(libm::sinf(a))), "bin {i}");
         }
+        for (k, &(c, s)) in (1..).zip(&EDGES) {
+            let e = f64::from(k) * 2.0 * core::f64::consts::PI / BINS as f64;
+            assert!((f64::from(c) - e.cos()).abs() < 1e-7 && (f64::from(s) - e.sin()).abs() < 1e-7, "edge {k}");
+        }
+    }
+
+    /// Independent reference: `atan2`, `cos` and `sin` in `f64`.
+    #[test]
+    fn half_angle_is_half_of_atan2() {
+        for k in 0..720 {
+            let t = f64::from(k) * core::f64::consts::PI / 360.0 - core::f64::consts::PI + 1e-3;
+            for r in [1e-3, 1.0, 250.0] {
+                let (x, y) = ((r * t.cos()) as f32, (r * t.sin()) as f32);
+                let b = 0.5 * f64::from(y).atan2(f64::from(x));
+                let (c, s) = half_angle(x, y);
+                assert!((f64::from(c) - b.cos()).abs() < 1e-6 && (f64::from(s) - b.sin()).abs() < 1e-6, "{t} {r}: {c} {s}");
+            }
+        }
+        assert_eq!(half_angle(0.0, 0.0), (1.0, 0.0));
+        assert_eq!(half_angle(-2.0, 0.0), (0.0, 1.0));
+    }
+
+    /// Independent reference: the bin by `atan2` in `f64`, away from the edges (where `f32`
+    /// rounding may fall either way).
+    #[test]
+    fn bins_by_comparison_are_bins_by_angle() {
+        let width = 2.0 * core::f64::consts::PI / BINS as f64;
+        for k in 0..3600 {
+            let t = f64::from(k) * core::f64::consts::PI / 1800.0 - core::f64::consts::PI;
+            let (c, s) = (t.cos() as f32, t.sin() as f32);
+            let a = f64::from(s).atan2(f64::from(c)) + core::f64::consts::PI;
+            let frac = a / width - (a / width).floor();
+            if frac > 1e-4 && frac < 1.0 - 1e-4 {
+                assert_eq!(bin(c, s), ((a / width) as usize).min(BINS - 1), "{t}");
+            }
+        }
+        assert_eq!(bin(1.0, 0.0), BINS / 2);
+        assert_eq!(bin(-1.0, 0.0), BINS - 1);
+        assert_eq!(bin(-1.0, -1e-30), 0);
     }
 }

@@ -304,32 +304,37 @@ impl Guard {
 }
 
 /// The least-squares line through timed positions (per axis, against time), newest first,
-/// evaluated at `t`; the one position when there is only one.
+/// evaluated at `t`; the one position when there is only one. In `f32` (the positions' own
+/// precision; `f64` is software on the Cortex-M4F), with times taken from the newest, which
+/// keeps them small, and positions about their mean.
 fn line_at(history: &[Option<(f64, Point)>; HISTORY], t: f64) -> Option<Point> {
-    {
-        let pts = history.iter().flatten();
-        let n = pts.clone().count() as f64;
-        let (t_new, p_new) = history[0]?;
-        if n < 2.0 {
-            return Some(p_new);
-        }
-        // Times relative to the newest keep the sums well conditioned.
-        let mean = |f: &dyn Fn(&(f64, Point)) -> f64| pts.clone().map(f).sum::<f64>() / n;
-        let mt = mean(&|q| q.0 - t_new);
-        let mx = mean(&|q| f64::from(q.1.x));
-        let my = mean(&|q| f64::from(q.1.y));
-        let stt = pts.clone().map(|q| (q.0 - t_new - mt) * (q.0 - t_new - mt)).sum::<f64>();
-        if stt <= 0.0 {
-            return Some(p_new);
-        }
-        let slope = |v: &dyn Fn(&(f64, Point)) -> f64, m: f64| {
-            pts.clone().map(|q| (q.0 - t_new - mt) * (v(q) - m)).sum::<f64>() / stt
-        };
-        let (vx, vy) = (slope(&|q| f64::from(q.1.x), mx), slope(&|q| f64::from(q.1.y), my));
-        let dt = t - t_new - mt;
-        let p = Point { x: (mx + vx * dt) as f32, y: (my + vy * dt) as f32 };
-        (p.x.is_finite() && p.y.is_finite()).then_some(p)
+    let (t_new, p_new) = history[0]?;
+    let mut pts = [(0.0f32, Point { x: 0.0, y: 0.0 }); HISTORY];
+    let mut n = 0;
+    for (d, &(ti, p)) in pts.iter_mut().zip(history.iter().flatten()) {
+        *d = ((ti - t_new) as f32, p);
+        n += 1;
     }
+    let pts = pts.get(..n)?;
+    if n < 2 {
+        return Some(p_new);
+    }
+    let nf = n as f32;
+    let mean = |f: &dyn Fn(&(f32, Point)) -> f32| pts.iter().map(f).sum::<f32>() / nf;
+    let (mt, mx, my) = (mean(&|q| q.0), mean(&|q| q.1.x), mean(&|q| q.1.y));
+    let (mut stt, mut stx, mut sty) = (0.0f32, 0.0f32, 0.0f32);
+    for &(ti, p) in pts {
+        let dt = ti - mt;
+        stt += dt * dt;
+        stx += dt * (p.x - mx);
+        sty += dt * (p.y - my);
+    }
+    if stt <= 0.0 {
+        return Some(p_new);
+    }
+    let dt = (t - t_new) as f32 - mt;
+    let p = Point { x: mx + stx / stt * dt, y: my + sty / stt * dt };
+    (p.x.is_finite() && p.y.is_finite()).then_some(p)
 }
 
 /// Records `p` at `t` as the newest entry of `history`.
