@@ -60,6 +60,27 @@ proptest! {
         }
     }
 
+    /// `best_match` ranks placements by their integer sums; the independent reference is the
+    /// `f64` score map: the placement chosen has the map's best score (the first in raster
+    /// order when the map ties, unless the map's `f64` rounding ties what the sums tell apart).
+    #[test]
+    fn the_best_placement_has_the_best_score((ww, wh, wd) in image(24), (tw, th, td) in image(12)) {
+        let win = WindowView::packed(&wd, ww, wh).unwrap();
+        let tpl = WindowView::packed(&td, tw, th).unwrap();
+        let mut map = vec![0f64; 25 * 25];
+        for m in METHODS {
+            let (Ok(best), Ok((nx, ny))) = (best_match(m, &win, &tpl), score_map(m, &win, &tpl, &mut map)) else { continue };
+            let map = &map[..nx * ny];
+            let top = if m == Method::Ssd || m == Method::Sad { map.iter().copied().fold(f64::INFINITY, f64::min) } else { map.iter().copied().fold(f64::NEG_INFINITY, f64::max) };
+            prop_assert_eq!(best.score, top, "{:?}", m);
+            prop_assert_eq!(map[best.y * nx + best.x], top, "{:?}", m);
+            let first = map.iter().position(|&v| v == top).unwrap();
+            if map.iter().filter(|&&v| v == top).count() == 1 {
+                prop_assert_eq!((best.x, best.y), (first % nx, first / nx), "{:?}", m);
+            }
+        }
+    }
+
     #[test]
     fn ncc_of_a_crop_is_one_at_its_placement(
         (w, h, d) in (8usize..30, 8usize..30).prop_flat_map(|(w, h)| (Just(w), Just(h), proptest::collection::vec(1u8..=255, w * h))),

@@ -77,7 +77,7 @@ impl Step {
         (self.work, self.request, self.report, self.score, self.lost) = (work, None, None, None, None);
         self.sends.clear();
     }
-    #[inline]
+    #[inline(always)]
     pub(super) fn send(&mut self, d: Dest, m: Msg) -> &mut Self {
         // Four slots cover every processor's sends; a fifth is a bug, dropped rather than panic.
         let _ = self.sends.push((d, m));

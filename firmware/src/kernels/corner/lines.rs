@@ -194,8 +194,9 @@ impl EdgePoints {
         let i = self.n;
         let slots = (self.x.get_mut(i), self.y.get_mut(i), self.c2.get_mut(i), self.s2.get_mut(i), self.m.get_mut(i));
         let (Some(sx), Some(sy), Some(sc), Some(ss), Some(sm)) = slots else { return false };
-        *sx = libm::roundf(x * FIX) as i16;
-        *sy = libm::roundf(y * FIX) as i16;
+        // Rounded half up: positions are not negative.
+        *sx = (x * FIX + 0.5) as i16;
+        *sy = (y * FIX + 0.5) as i16;
         let (gx, gy) = (gx as f32, gy as f32);
         let m2 = gx * gx + gy * gy;
         (*sc, *ss, *sm) = if m2 > 0.0 { ((gx * gx - gy * gy) / m2, 2.0 * gx * gy / m2, m) } else { (0.0, 0.0, 0.0) };
@@ -430,8 +431,10 @@ fn two_sides(pts: &mut EdgePoints) -> Option<[(f32, f32); 2]> {
         }
     }
     let at = |i: usize| hist.get(i % BINS).copied().unwrap_or(0.0);
-    let smooth = |i: usize| at(i + BINS - 1) + 2.0 * at(i) + at(i + 1);
-    let peak = |ok: &dyn Fn(usize) -> bool| (0..BINS).filter(|&i| ok(i)).max_by(|&a, &b| smooth(a).total_cmp(&smooth(b)));
+    let smooth: [f32; BINS] = core::array::from_fn(|i| at(i + BINS - 1) + 2.0 * at(i) + at(i + 1));
+    let peak = |ok: &dyn Fn(usize) -> bool| {
+        smooth.iter().enumerate().filter(|&(i, _)| ok(i)).max_by(|a, b| a.1.total_cmp(b.1)).map(|(i, _)| i)
+    };
     let first = peak(&|_| true)?;
     let apart = (2.0 * MIN_ANGLE_DEG.to_radians() / width) as usize;
     let second = peak(&|i| {

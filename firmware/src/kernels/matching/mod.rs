@@ -30,7 +30,7 @@ mod tests;
 
 use crate::kernels::view::WindowView;
 use heapless::Vec;
-use scores::{for_each_score, placements, score_at};
+use scores::{for_each_score, placements, sums_at, Scorer, Sums};
 pub(crate) use subpixel::parabola;
 
 /// Maximum number of placements along x (window width - template width + 1) and of
@@ -127,9 +127,10 @@ pub fn score_map(
     with_packed(win, tpl, |win, tpl| {
         let (nx, ny) = placements(win, tpl)?;
         let out = out.get_mut(..nx * ny).ok_or(MatchError::MapTooSmall)?;
-        for_each_score(method, win, tpl, |px, py, s| {
+        let scorer = Scorer::new(method, tpl)?;
+        for_each_score(&scorer, win, tpl, |px, py, x| {
             if let Some(o) = out.get_mut(py * nx + px) {
-                *o = s.unwrap_or(0.0);
+                *o = scorer.score(&x).unwrap_or(0.0);
             }
         })?;
         Ok((nx, ny))
@@ -168,42 +169,33 @@ pub fn best_match(
     let (origin_x, origin_y) = win.origin();
     with_packed(win, tpl, |win, tpl| {
         let maximise = method.maximises();
-        let mut best: Option<(usize, usize, f64)> = None;
-        // Scores kept for the sub-pixel fit (no-energy placements as -inf); maps larger
-        // than the cache recompute the four neighbours instead.
-        let nx = win.width().saturating_sub(tpl.width()) + 1;
-        let mut cache: Vec<f64, SCORE_CACHE> = Vec::new();
+        let (nx, _) = placements(win, tpl)?;
+        let scorer = Scorer::new(method, tpl)?;
+        // Placements are ranked by their sums (exactly, see `Scorer::better`); only the best
+        // and its neighbours get a score. The sums are kept for the sub-pixel fit; maps
+        // larger than the cache recompute the four neighbours instead.
+        let mut best: Option<(usize, usize, Sums)> = None;
+        let mut cache: Vec<Sums, SCORE_CACHE> = Vec::new();
         let mut cached = true;
-        for_each_score(method, win, tpl, |px, py, s| {
+        for_each_score(&scorer, win, tpl, |px, py, x| {
             if cached {
-                cached = cache.push(s.unwrap_or(f64::NEG_INFINITY)).is_ok();
+                cached = cache.push(x).is_ok();
             }
-            if let Some(s) = s {
-                let better = match best {
-                    None => true,
-                    Some((_, _, b)) => {
-                        if maximise {
-                            s > b
-                        } else {
-                            s < b
-                        }
-                    }
-                };
-                if better {
-                    best = Some((px, py, s));
-                }
+            if scorer.scores(&x) && best.as_ref().is_none_or(|b| scorer.better(&x, &b.2)) {
+                best = Some((px, py, x));
             }
         })?;
-        let (bx, by, bs) = best.ok_or(MatchError::NoMatch)?;
+        let (bx, by, bsums) = best.ok_or(MatchError::NoMatch)?;
+        let bs = scorer.score(&bsums).ok_or(MatchError::NoMatch)?;
         let at = |x: Option<usize>, y: Option<usize>| {
             let (x, y) = (x?, y?);
             if !cached {
-                return score_at(method, win, tpl, x, y);
+                return scorer.score(&sums_at(method, win, tpl, x, y)?);
             }
             if x >= nx {
                 return None;
             }
-            cache.get(y * nx + x).copied().filter(|v| v.is_finite())
+            scorer.score(cache.get(y * nx + x)?)
         };
         let dx = parabola(
             at(bx.checked_sub(1), Some(by)),

@@ -27,31 +27,106 @@ fn template_stats(tpl: &WindowView<'_>) -> TemplateStats {
     }
 }
 
-/// Score of one placement from its integer sums (see the module formulas).
-#[inline(always)]
-fn score(method: Method, t: &TemplateStats, dot_or_sad: u64, e: u64, s: u64) -> Option<f64> {
-    match method {
-        Method::Sad => Some(dot_or_sad as f64),
-        // Σ(R-I)² = ΣR² + ΣI² - 2ΣRI >= 0 exactly in integers.
-        Method::Ssd => Some((t.energy + e).saturating_sub(2 * dot_or_sad) as f64),
-        Method::Ncc => {
-            if e == 0 {
-                return None;
-            }
-            let q = libm::sqrt(t.energy as f64 * e as f64);
-            Some((dot_or_sad as f64 / q).min(1.0))
+/// A placement's exact integer sums: `a = Σ R·I` (`Σ |R - I|` for SAD), `e = Σ I²`, `s = Σ I`.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Sums {
+    pub(super) a: u64,
+    pub(super) e: u64,
+    pub(super) s: u64,
+}
+
+/// Scores placements of one template under one method (see the module formulas).
+pub(super) struct Scorer {
+    method: Method,
+    t: TemplateStats,
+}
+
+impl Scorer {
+    /// The scorer of `tpl` under `method`; [`MatchError::ZeroEnergy`] for an NCC template
+    /// without energy or a ZNCC one without variance.
+    pub(super) fn new(method: Method, tpl: &WindowView<'_>) -> Result<Self, MatchError> {
+        let t = template_stats(tpl);
+        match method {
+            Method::Ncc if t.energy == 0 => Err(MatchError::ZeroEnergy),
+            Method::Zncc if (t.n as u128) * (t.energy as u128) == (t.sum as u128).pow(2) => Err(MatchError::ZeroEnergy),
+            _ => Ok(Scorer { method, t }),
         }
-        Method::Zncc => {
-            let n = i128::from(t.n);
-            let num = n * i128::from(dot_or_sad) - i128::from(t.sum) * i128::from(s);
-            let vt = n * i128::from(t.energy) - i128::from(t.sum) * i128::from(t.sum);
-            let vw = n * i128::from(e) - i128::from(s) * i128::from(s);
-            if vw <= 0 || vt <= 0 {
-                return None;
+    }
+
+    /// The score of a placement; `None` without energy (variance for ZNCC).
+    pub(super) fn score(&self, x: &Sums) -> Option<f64> {
+        let t = &self.t;
+        match self.method {
+            Method::Sad => Some(x.a as f64),
+            Method::Ssd => Some(self.ssd(x) as f64),
+            Method::Ncc => {
+                if x.e == 0 {
+                    return None;
+                }
+                let q = libm::sqrt(t.energy as f64 * x.e as f64);
+                Some((x.a as f64 / q).min(1.0))
             }
-            let q = libm::sqrt(vt as f64 * vw as f64);
-            Some((num as f64 / q).clamp(-1.0, 1.0))
+            Method::Zncc => {
+                let n = i128::from(t.n);
+                let (num, vw) = self.zncc_parts(x);
+                let vt = n * i128::from(t.energy) - i128::from(t.sum) * i128::from(t.sum);
+                if vw <= 0 || vt <= 0 {
+                    return None;
+                }
+                let q = libm::sqrt(vt as f64 * vw as f64);
+                Some((num as f64 / q).clamp(-1.0, 1.0))
+            }
         }
+    }
+
+    /// Whether placement `x` has a score (see [`Scorer::score`]).
+    pub(super) fn scores(&self, x: &Sums) -> bool {
+        match self.method {
+            Method::Sad | Method::Ssd => true,
+            Method::Ncc => x.e != 0,
+            Method::Zncc => self.score(x).is_some(),
+        }
+    }
+
+    /// Whether `x` scores strictly better than `y` (both with a score), from their exact
+    /// integer sums, without computing a score: for NCC `a_x / sqrt(e_x) > a_y / sqrt(e_y)`
+    /// as `a_x² e_y > a_y² e_x` (dot products are not negative), for ZNCC the same with the
+    /// numerator's sign and the window's variance (`f64` scores only if the products
+    /// overflow, for templates of tens of thousands of pixels).
+    pub(super) fn better(&self, x: &Sums, y: &Sums) -> bool {
+        match self.method {
+            Method::Sad => x.a < y.a,
+            Method::Ssd => self.ssd(x) < self.ssd(y),
+            Method::Ncc => {
+                let side = |a: u64, e: u64| u128::from(a) * u128::from(a) * u128::from(e);
+                side(x.a, y.e) > side(y.a, x.e)
+            }
+            Method::Zncc => {
+                let (nx, vx) = self.zncc_parts(x);
+                let (ny, vy) = self.zncc_parts(y);
+                // |n|² v: both variances are positive (the placements have scores).
+                let side = |n: i128, v: i128| n.unsigned_abs().checked_mul(n.unsigned_abs())?.checked_mul(v.unsigned_abs());
+                match (nx >= 0, ny >= 0) {
+                    (true, false) => true,
+                    (false, true) => false,
+                    (positive, _) => match (side(nx, vy), side(ny, vx)) {
+                        (Some(l), Some(r)) => if positive { l > r } else { l < r },
+                        _ => self.score(x) > self.score(y),
+                    },
+                }
+            }
+        }
+    }
+
+    /// ZNCC's numerator `n Σ R·I - Σ R Σ I` and window variance `n Σ I² - (Σ I)²`.
+    fn zncc_parts(&self, x: &Sums) -> (i128, i128) {
+        let (t, n) = (&self.t, i128::from(self.t.n));
+        (n * i128::from(x.a) - i128::from(t.sum) * i128::from(x.s), n * i128::from(x.e) - i128::from(x.s) * i128::from(x.s))
+    }
+
+    /// `Σ(R-I)² = ΣR² + ΣI² - 2ΣRI >= 0` exactly in integers.
+    fn ssd(&self, x: &Sums) -> u64 {
+        (self.t.energy + x.e).saturating_sub(2 * x.a)
     }
 }
 
@@ -72,20 +147,20 @@ pub(super) fn placements(win: &WindowView<'_>, tpl: &WindowView<'_>) -> Result<(
     ))
 }
 
-/// Visits every placement in raster order with its score (`None` = no energy) over two
-/// full-resolution (step 1) views. The visitor sees placement `(px, py)`.
+/// Visits every placement in raster order with its sums over two full-resolution (step 1)
+/// views, for `scorer`'s method. The visitor sees placement `(px, py)`.
 pub(super) fn for_each_score(
-    method: Method,
+    scorer: &Scorer,
     win: &WindowView<'_>,
     tpl: &WindowView<'_>,
-    visit: impl FnMut(usize, usize, Option<f64>),
+    visit: impl FnMut(usize, usize, Sums),
 ) -> Result<(), MatchError> {
     // A column of `th` squared pixels fits `u32` while th·255² < 2³² (th <= 66051); the
     // narrow columns halve the running-sum work.
     if tpl.height() <= 66_051 {
-        for_each_score_in::<u32>(method, win, tpl, visit)
+        for_each_score_in::<u32>(scorer.method, win, tpl, visit)
     } else {
-        for_each_score_in::<u64>(method, win, tpl, visit)
+        for_each_score_in::<u64>(scorer.method, win, tpl, visit)
     }
 }
 
@@ -151,18 +226,10 @@ fn for_each_score_in<C: ColSum>(
     method: Method,
     win: &WindowView<'_>,
     tpl: &WindowView<'_>,
-    mut visit: impl FnMut(usize, usize, Option<f64>),
+    mut visit: impl FnMut(usize, usize, Sums),
 ) -> Result<(), MatchError> {
     let (nx, ny) = placements(win, tpl)?;
     let (tw, th, ww) = (tpl.width(), tpl.height(), win.width());
-    let t = template_stats(tpl);
-    match method {
-        Method::Ncc if t.energy == 0 => return Err(MatchError::ZeroEnergy),
-        Method::Zncc if (t.n as u128) * (t.energy as u128) == (t.sum as u128).pow(2) => {
-            return Err(MatchError::ZeroEnergy)
-        }
-        _ => {}
-    }
     let needs_energy = method != Method::Sad;
     let mut dots = Vec::new();
     let strip_dots = (needs_energy && dot_products(win, tpl, &mut dots).is_some()).then_some(&dots);
@@ -225,38 +292,27 @@ fn for_each_score_in<C: ColSum>(
                     s = s + col(&col_sum, px + tw - 1) - col(&col_sum, px - 1);
                 }
             }
-            visit(px, py, score(method, &t, a, e, s));
+            visit(px, py, Sums { a, e, s });
         }
     }
     Ok(())
 }
 
-/// Score of the single placement `(px, py)` computed directly (used for the sub-pixel
-/// neighbours of the peak); `None` outside or without energy.
-pub(super) fn score_at(
-    method: Method,
-    win: &WindowView<'_>,
-    tpl: &WindowView<'_>,
-    px: usize,
-    py: usize,
-) -> Option<f64> {
+/// The sums of the single placement `(px, py)` computed directly (used for the sub-pixel
+/// neighbours of the peak); `None` outside.
+pub(super) fn sums_at(method: Method, win: &WindowView<'_>, tpl: &WindowView<'_>, px: usize, py: usize) -> Option<Sums> {
     let (tw, th) = (tpl.width(), tpl.height());
     if px + tw > win.width() || py + th > win.height() {
         return None;
     }
-    let t = template_stats(tpl);
-    let (mut a, mut e, mut s) = (0u64, 0u64, 0u64);
+    let mut x = Sums::default();
     for v in 0..th {
         let trow = tpl.row(v)?;
         let w = win.row(py + v)?.get(px..px + tw)?;
-        a += if method == Method::Sad {
-            sad_row(trow, w)
-        } else {
-            dot_row(trow, w)
-        };
-        e += dot_row(w, w);
-        s += w.iter().map(|&p| u64::from(p)).sum::<u64>();
+        x.a += if method == Method::Sad { sad_row(trow, w) } else { dot_row(trow, w) };
+        x.e += dot_row(w, w);
+        x.s += w.iter().map(|&p| u64::from(p)).sum::<u64>();
     }
-    score(method, &t, a, e, s)
+    Some(x)
 }
 
