@@ -18,7 +18,8 @@ fn template_stats(tpl: &WindowView<'_>) -> TemplateStats {
     for v in 0..tpl.height() {
         let r = tpl.row(v).unwrap_or(&[]);
         energy += dot_row(r, r);
-        sum += r.iter().map(|&p| u64::from(p)).sum::<u64>();
+        // A row is at most MAX_SEARCH_WIDTH pixels: its sum fits u32.
+        sum += u64::from(r.iter().map(|&p| u32::from(p)).sum::<u32>());
     }
     TemplateStats {
         energy,

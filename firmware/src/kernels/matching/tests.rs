@@ -1,6 +1,24 @@
-use super::dot::{row_dot_products, strip_dot_products};
+use super::dot::{dot_row_bytes, dot_row_pairs, row_dot_products, strip_dot_products};
 use super::subpixel::parabola;
 use super::*;
+
+/// The Cortex-M4's paired row dot product against the byte-at-a-time one, and a hand sum.
+#[test]
+fn the_arm_row_dot_product_is_the_bytewise_one() {
+    let mut x = 987u32;
+    let mut px = || {
+        x = x.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        (x >> 24) as u8
+    };
+    for (la, lb) in [(0, 0), (1, 1), (3, 3), (4, 4), (7, 7), (24, 24), (255, 255), (9, 6), (6, 9), (40, 41)] {
+        let a: std::vec::Vec<u8> = (0..la).map(|_| px()).collect();
+        let b: std::vec::Vec<u8> = (0..lb).map(|_| px()).collect();
+        let want: u64 = a.iter().zip(&b).map(|(&p, &q)| u64::from(p) * u64::from(q)).sum();
+        assert_eq!((dot_row_pairs(&a, &b), dot_row_bytes(&a, &b)), (want, want), "{la} {lb}");
+    }
+    let full = [255u8; 256];
+    assert_eq!(dot_row_pairs(&full, &full), 256 * 65025);
+}
 
 #[test]
 fn the_arm_row_dot_products_equal_the_strip_ones() {
