@@ -171,16 +171,33 @@ impl LkTemplate {
     /// and cancels from every term below), one pass over the used pixels gives
     /// `S = Σ u`, `Q = Σ u²`, `Gx = Σ gx u` and `Gy = Σ gy u`, and then
     /// `σ_W² = Q - S²/n` and `Σ g (Ŵ - T) = (σ_T / σ_W) (G - (S/n) Σ g) + Σ g (mean T - T)`,
-    /// whose last term the template fixes ([`LkTemplate::prepare`]).
+    /// whose last term the template fixes ([`LkTemplate::prepare`]). The window's pixels
+    /// are converted once per integer placement ([`Block`]); the iterations that stay on it
+    /// (most: the walk is under a pixel) only blend them.
     pub fn refine(&self, win: &WindowView<'_>, x: f32, y: f32) -> Option<(f32, f32)> {
         if !self.ready || !x.is_finite() || !y.is_finite() {
             return None;
         }
         let LkTemplate { used, iw, ih, tg, h: (h11, h12, h22), det, t_mean, t_dev, g_sum, g_err, .. } = self;
+        let used = used.get(..*ih)?;
         let n = tg.len() as f32;
+        let mut block = Block { at: None, cols: Vec::new() };
         let (mut px, mut py) = (x, y);
         for _ in 0..ITERATIONS {
-            let s = sample(win, px + 1.0, py + 1.0, *iw, used.get(..*ih)?, tg, *t_mean)?;
+            // The template's interior starts one pixel in.
+            let (sx, sy) = (px + 1.0, py + 1.0);
+            if !(sx >= 0.0 && sy >= 0.0) {
+                return None;
+            }
+            let (fx, fy) = (libm::floorf(sx), libm::floorf(sy));
+            let (ax, ay) = (sx - fx, sy - fy);
+            // A zero weight never reads the next column or row, so a block ending on the
+            // window's last one is inside.
+            let at = Placement { x0: fx as usize, y0: fy as usize, right: ax > 0.0, below: ay > 0.0 };
+            if block.at != Some(at) {
+                block.fill(win, at, *iw, used, *t_mean)?;
+            }
+            let s = block.sums(ax, ay, *iw, used, tg)?;
             let u_mean = s.s / n;
             let var = s.q - s.s * u_mean;
             // A flat window: its spread is within the sums' rounding.
@@ -204,6 +221,16 @@ impl LkTemplate {
     }
 }
 
+/// An integer placement of the template's interior in the window: its top-left pixel, and
+/// whether the next column and row carry weight.
+#[derive(Clone, Copy, PartialEq, Eq)]
+struct Placement {
+    x0: usize,
+    y0: usize,
+    right: bool,
+    below: bool,
+}
+
 /// One iteration's sums over the sampled window ([`LkTemplate::refine`]).
 struct WindowSums {
     /// `Σ u`, `Σ u²`, `Σ gx u`, `Σ gy u` with `u = W - mean T`.
@@ -213,54 +240,80 @@ struct WindowSums {
     gy: f32,
 }
 
-/// The sums of [`WindowSums`] over the `used` pixels (bit `i` of `used[j]` for pixel
-/// `(i, j)`) of the `iw x used.len()` block of `win` whose top-left sample sits at
-/// real-valued `(x, y)`, by bilinear interpolation (a translation: one pair of weights for
-/// every pixel), `offset` subtracted, each paired in turn with the gradients in `tg`; `None`
-/// when the block would reach outside the window.
-fn sample(win: &WindowView<'_>, x: f32, y: f32, iw: usize, used: &[u32], tg: &[[f32; 3]], offset: f32) -> Option<WindowSums> {
-    if !(x >= 0.0 && y >= 0.0) {
-        return None;
-    }
-    let (fx, fy) = (libm::floorf(x), libm::floorf(y));
-    let (ax, ay) = (x - fx, y - fy);
-    let (x0, y0) = (fx as usize, fy as usize);
-    // A zero weight never reads the next column or row, so a block ending on the window's
-    // last one is inside.
-    let (right, below) = (usize::from(ax > 0.0), usize::from(ay > 0.0));
-    if x0.saturating_add(iw + right) > win.width() || y0.saturating_add(used.len() + below) > win.height() {
-        return None;
-    }
-    let mut sums = WindowSums { s: 0.0, q: 0.0, gx: 0.0, gy: 0.0 };
-    let mut grads = tg.iter();
-    for (j, &bits) in used.iter().enumerate() {
-        let top = win.row(y0 + j)?.get(x0..x0 + iw + right)?;
-        let bottom = win.row(y0 + j + below)?.get(x0..x0 + iw + right)?;
-        // Each column blended vertically once, as one sample's right-hand column and the
-        // next one's left; each run of used pixels (a support's row is one) without a test
-        // per pixel.
-        let column = |i: usize| -> Option<f32> {
-            let (t, b) = (f32::from(*top.get(i)?) - offset, f32::from(*bottom.get(i)?) - offset);
-            Some(t + ay * (b - t))
-        };
-        let mut rest = bits;
-        while rest != 0 {
-            let (i, run) = (rest.trailing_zeros() as usize, (rest >> rest.trailing_zeros()).trailing_ones() as usize);
-            rest &= rest.wrapping_add(rest & rest.wrapping_neg());
-            let mut left = column(i)?;
-            for k in i + 1..=i + run {
-                let r = if right == 1 { column(k)? } else { left };
-                let u = left + ax * (r - left);
-                let [_, gx, gy] = grads.next()?;
-                sums.s += u;
-                sums.q += u * u;
-                sums.gx += gx * u;
-                sums.gy += gy * u;
-                left = if right == 1 { r } else { column(k).unwrap_or(left) };
+/// The window's pixels under the template's interior at one integer [`Placement`], ready
+/// for bilinear samples at any fraction of it: per column, its top pixel `t` (offset
+/// subtracted) and `d = bottom - top`, so the column at fraction `ay` is `t + ay d`.
+struct Block {
+    at: Option<Placement>,
+    /// `[t, d]` of each used row's `iw` (`iw + 1` with a `right` column) columns, row by row.
+    cols: Vec<[f32; 2], { MAX_SIDE * (MAX_SIDE + 1) }>,
+}
+
+impl Block {
+    /// Converts the pixels at `at` (`offset` subtracted) for the `used` rows; `None` when
+    /// the block (with its weighted column and row) reaches outside the window.
+    fn fill(&mut self, win: &WindowView<'_>, at: Placement, iw: usize, used: &[u32], offset: f32) -> Option<()> {
+        let (right, below) = (usize::from(at.right), usize::from(at.below));
+        self.at = None;
+        self.cols.clear();
+        if at.x0.saturating_add(iw + right) > win.width() || at.y0.saturating_add(used.len() + below) > win.height() {
+            return None;
+        }
+        let stride = iw + right;
+        self.cols.resize(used.len() * stride, [0.0; 2]).ok()?;
+        for (j, cols) in self.cols.chunks_exact_mut(stride).enumerate() {
+            let top = win.row(at.y0 + j)?.get(at.x0..at.x0 + stride)?;
+            let bottom = win.row(at.y0 + j + below)?.get(at.x0..at.x0 + stride)?;
+            for (c, (&t, &b)) in cols.iter_mut().zip(top.iter().zip(bottom)) {
+                *c = [f32::from(t) - offset, f32::from(i16::from(b) - i16::from(t))];
             }
         }
+        self.at = Some(at);
+        Some(())
     }
-    Some(sums)
+
+    /// The sums of [`WindowSums`] over the `used` pixels (bit `i` of `used[j]` for pixel
+    /// `(i, j)`) at fractions `(ax, ay)` of the block's placement, by bilinear
+    /// interpolation (a translation: one pair of weights for every pixel), each paired in
+    /// turn with the gradients in `tg`.
+    fn sums(&self, ax: f32, ay: f32, iw: usize, used: &[u32], tg: &[[f32; 3]]) -> Option<WindowSums> {
+        let right = usize::from(self.at?.right);
+        let stride = iw + right;
+        let mut sums = WindowSums { s: 0.0, q: 0.0, gx: 0.0, gy: 0.0 };
+        let mut k = 0;
+        let mut add = |u: f32, g: &[f32; 3]| {
+            sums.s += u;
+            sums.q += u * u;
+            sums.gx += g[1] * u;
+            sums.gy += g[2] * u;
+        };
+        for (row, &bits) in self.cols.chunks_exact(stride).zip(used) {
+            // Each run of used pixels (a support's row is one) without a test per pixel;
+            // each column blended vertically once, as one sample's right-hand column and
+            // the next one's left.
+            let mut rest = bits;
+            while rest != 0 {
+                let (i, run) = (rest.trailing_zeros() as usize, (rest >> rest.trailing_zeros()).trailing_ones() as usize);
+                rest &= rest.wrapping_add(rest & rest.wrapping_neg());
+                let (cols, grads) = (row.get(i..i + run + right)?, tg.get(k..k + run)?);
+                k += run;
+                let blend = |&[t, d]: &[f32; 2]| t + ay * d;
+                if right == 1 {
+                    let mut left = blend(cols.first()?);
+                    for (c, g) in cols.iter().skip(1).zip(grads) {
+                        let r = blend(c);
+                        add(left + ax * (r - left), g);
+                        left = r;
+                    }
+                } else {
+                    for (c, g) in cols.iter().zip(grads) {
+                        add(blend(c), g);
+                    }
+                }
+            }
+        }
+        Some(sums)
+    }
 }
 
 #[cfg(test)]
