@@ -38,12 +38,9 @@
 use super::{NoCorner, MAX_DIM};
 use crate::kernels::fmath::sqrtf;
 
-/// Most sub-pixel edge points kept (34 KiB). A point is a pixel, so windows up to 45x45
+/// Most sub-pixel edge points kept (42 KiB). A point is a pixel, so windows up to 45x45
 /// never reach it; larger windows keep the first ones in raster order.
 const MAX_POINTS: usize = 2048;
-
-/// Sub-pixel positions are stored in fixed point with this many steps per pixel.
-const FIX: f32 = 256.0;
 
 /// A point belongs to a side when its edge orientation is within 20° of the side's (the
 /// two sides of a 45-135° wedge are at least 45° apart): when the dot product of their
@@ -158,16 +155,9 @@ const ON_SIDE: [u8; 2] = [2, 4];
 /// Per-point flags: the point is among those side 0, 1's current line was fitted to.
 const IN_FIT: [u8; 2] = [8, 16];
 
-/// The sub-pixel edge points of one window (structure of arrays, fixed capacity).
+/// The sub-pixel edge points of one window (fixed capacity), each with its flags.
 pub(super) struct EdgePoints {
-    /// Position in 1/[`FIX`] px.
-    x: [i16; MAX_POINTS],
-    y: [i16; MAX_POINTS],
-    /// Unit doubled-angle orientation `(cos 2θ, sin 2θ)` of the gradient at the edge
-    /// pixel, and its magnitude `m` (0 for a zero gradient: such a point takes no part).
-    c2: [f32; MAX_POINTS],
-    s2: [f32; MAX_POINTS],
-    m: [f32; MAX_POINTS],
+    points: [EdgePoint; MAX_POINTS],
     /// What the passes of [`apex_from_points`] found about each point ([`SECOND`],
     /// [`ON_SIDE`], [`IN_FIT`]).
     flags: [u8; MAX_POINTS],
@@ -176,71 +166,51 @@ pub(super) struct EdgePoints {
 
 impl EdgePoints {
     pub(super) const fn new() -> Self {
-        Self {
-            x: [0; MAX_POINTS],
-            y: [0; MAX_POINTS],
-            c2: [0.0; MAX_POINTS],
-            s2: [0.0; MAX_POINTS],
-            m: [0.0; MAX_POINTS],
-            flags: [0; MAX_POINTS],
-            n: 0,
-        }
+        const NONE: EdgePoint = EdgePoint { x: 0.0, y: 0.0, c2: 0.0, s2: 0.0, m: 0.0 };
+        Self { points: [NONE; MAX_POINTS], flags: [0; MAX_POINTS], n: 0 }
     }
 
-    /// Appends a point with Sobel gradient `(gx, gy)` of magnitude `m = sqrt(gx² + gy²)`;
-    /// `false` when full. `|g| <= 4·255`, so `gx²`, `gy²` and their sum are below 2²⁴ and
-    /// exact in `f32`, and positions below `64·FIX` fit `i16`.
+    /// Appends a point at `(x, y)` with Sobel gradient `(gx, gy)` of magnitude
+    /// `m = sqrt(gx² + gy²)`; `false` when full. A zero gradient has no orientation: such a
+    /// point takes no part and is not kept. `|g| <= 4·255`, so `gx²`, `gy²` and their sum
+    /// are below 2²⁴ and exact in `f32`.
     fn push(&mut self, x: f32, y: f32, gx: i32, gy: i32, m: f32) -> bool {
-        let i = self.n;
-        let slots = (self.x.get_mut(i), self.y.get_mut(i), self.c2.get_mut(i), self.s2.get_mut(i), self.m.get_mut(i));
-        let (Some(sx), Some(sy), Some(sc), Some(ss), Some(sm)) = slots else { return false };
-        // Rounded half up: positions are not negative.
-        *sx = (x * FIX + 0.5) as i16;
-        *sy = (y * FIX + 0.5) as i16;
         let (gx, gy) = (gx as f32, gy as f32);
         let m2 = gx * gx + gy * gy;
-        (*sc, *ss, *sm) = if m2 > 0.0 { ((gx * gx - gy * gy) / m2, 2.0 * gx * gy / m2, m) } else { (0.0, 0.0, 0.0) };
-        self.n = i + 1;
+        if !(m2 > 0.0) {
+            return true;
+        }
+        let Some(slot) = self.points.get_mut(self.n) else { return false };
+        *slot = EdgePoint { x, y, c2: (gx * gx - gy * gy) / m2, s2: 2.0 * gx * gy / m2, m };
+        self.n += 1;
         true
     }
 
-    /// The points with a gradient, each with its flags, in the order collected.
-    fn iter(&self) -> impl Iterator<Item = (EdgePoint, u8)> + '_ {
-        self.x
-            .iter()
-            .zip(&self.y)
-            .zip(&self.c2)
-            .zip(&self.s2)
-            .zip(&self.m)
-            .zip(&self.flags)
-            .take(self.n)
-            .filter_map(|(((((&x, &y), &c2), &s2), &m), &f)| {
-                (m > 0.0).then_some((EdgePoint { x: f32::from(x) / FIX, y: f32::from(y) / FIX, c2, s2, m }, f))
-            })
+    /// The points, each with its flags, in the order collected.
+    fn iter(&self) -> impl Iterator<Item = (&EdgePoint, u8)> + '_ {
+        self.points.iter().zip(self.flags.iter().copied()).take(self.n)
     }
 
-    /// The points with a gradient whose flags include `flag`.
-    fn with(&self, flag: u8) -> impl Iterator<Item = EdgePoint> + '_ {
+    /// The points whose flags include `flag`.
+    fn with(&self, flag: u8) -> impl Iterator<Item = &EdgePoint> + '_ {
         self.iter().filter(move |(_, f)| f & flag != 0).map(|(p, _)| p)
     }
 
-    /// Sets or clears the flags `flag` (one or more bits) of every point with a gradient by
-    /// `set` (given the point and its flags); whether any point's flags changed.
+    /// Sets or clears the flags `flag` (one or more bits) of every point by `set` (given the
+    /// point and its flags); whether any point's flags changed.
     fn mark(&mut self, flag: u8, set: impl Fn(&EdgePoint, u8) -> bool) -> bool {
         let mut changed = false;
-        let points = self.x.iter().zip(&self.y).zip(&self.c2).zip(&self.s2).zip(&self.m).zip(self.flags.iter_mut());
-        for (((((&x, &y), &c2), &s2), &m), f) in points.take(self.n) {
-            if m > 0.0 {
-                let on = set(&EdgePoint { x: f32::from(x) / FIX, y: f32::from(y) / FIX, c2, s2, m }, *f);
-                let new = if on { *f | flag } else { *f & !flag };
-                changed |= new != *f;
-                *f = new;
-            }
+        for (p, f) in self.points.iter().zip(self.flags.iter_mut()).take(self.n) {
+            let new = if set(p, *f) { *f | flag } else { *f & !flag };
+            changed |= new != *f;
+            *f = new;
         }
         changed
     }
 }
 
+/// A sub-pixel edge point: its position (px), the unit doubled-angle orientation
+/// `(cos 2θ, sin 2θ)` of the gradient at its edge pixel, and the gradient's magnitude `m`.
 #[derive(Clone, Copy)]
 struct EdgePoint {
     x: f32,
@@ -256,17 +226,16 @@ fn grad(wide: &[[i16; MAX_DIM]; MAX_DIM], w: usize, h: usize, x: usize, y: usize
     if x == 0 || y == 0 || x + 1 >= w || y + 1 >= h {
         return None;
     }
-    let p = |xx: usize, yy: usize| -> Option<i32> { Some(i32::from(*wide.get(yy)?.get(xx)?)) };
-    let (a, b, c) = (p(x - 1, y - 1)?, p(x, y - 1)?, p(x + 1, y - 1)?);
-    let (d, f) = (p(x - 1, y)?, p(x + 1, y)?);
-    let (g, k, l) = (p(x - 1, y + 1)?, p(x, y + 1)?, p(x + 1, y + 1)?);
+    let three = |r: &[i16; MAX_DIM]| -> Option<[i32; 3]> { Some(<&[i16; 3]>::try_from(r.get(x - 1..x + 2)?).ok()?.map(i32::from)) };
+    let [up, mid, down] = wide.get(y - 1..y + 2)? else { return None };
+    let ([a, b, c], [d, _, f], [g, k, l]) = (three(up)?, three(mid)?, three(down)?);
     Some(((c - a) + 2 * (f - d) + (l - g), (g + 2 * k + l) - (a + 2 * b + c)))
 }
 
-/// Gradient magnitude at an interior pixel, `None` outside the interior.
-fn mag(wide: &[[i16; MAX_DIM]; MAX_DIM], w: usize, h: usize, x: usize, y: usize) -> Option<f32> {
+/// Squared gradient magnitude `gx² + gy²` at an interior pixel, `None` outside the interior.
+fn mag2(wide: &[[i16; MAX_DIM]; MAX_DIM], w: usize, h: usize, x: usize, y: usize) -> Option<i32> {
     let (gx, gy) = grad(wide, w, h, x, y)?;
-    Some(sqrtf((gx * gx + gy * gy) as f32))
+    Some(gx * gx + gy * gy)
 }
 
 /// Collects the sub-pixel edge points (step 1) of the clean edge pixels `rows` (bit `x`
@@ -289,17 +258,19 @@ pub(super) fn collect_points(
             // interior pixels too.
             let horizontal = gx.abs() >= gy.abs();
             let (before, after) = if horizontal {
-                (x.checked_sub(1).and_then(|xm| mag(wide, w, h, xm, y)), mag(wide, w, h, x + 1, y))
+                (x.checked_sub(1).and_then(|xm| mag2(wide, w, h, xm, y)), mag2(wide, w, h, x + 1, y))
             } else {
-                (y.checked_sub(1).and_then(|ym| mag(wide, w, h, x, ym)), mag(wide, w, h, x, y + 1))
+                (y.checked_sub(1).and_then(|ym| mag2(wide, w, h, x, ym)), mag2(wide, w, h, x, y + 1))
             };
-            let (Some(m0), Some(m2)) = (before, after) else { continue };
-            let m1 = sqrtf((gx * gx + gy * gy) as f32);
-            // A maximum; ties broken towards the lower index, so a plateau of two gives
-            // one point.
-            if m1 < m0 || m1 <= m2 {
+            let (Some(q0), Some(q2)) = (before, after) else { continue };
+            let q1 = gx * gx + gy * gy;
+            // A maximum (compared squared: the magnitudes are not negative); ties broken
+            // towards the lower index, so a plateau of two gives one point.
+            if q1 < q0 || q1 <= q2 {
                 continue;
             }
+            // Below 2²⁴: exact in `f32`, and so are their roots correctly rounded.
+            let [m0, m1, m2] = [q0, q1, q2].map(|q| sqrtf(q as f32));
             let curv = m0 - 2.0 * m1 + m2;
             let off = if curv < 0.0 { (0.5 * (m0 - m2) / curv).clamp(-0.5, 0.5) } else { 0.0 };
             let (px, py) = if horizontal { (x as f32 + off, y as f32) } else { (x as f32, y as f32 + off) };
@@ -416,6 +387,11 @@ fn ray_dist(x: f32, y: f32, apex: (f32, f32), t: (f32, f32)) -> f32 {
     }
 }
 
+/// The highest bin of `hist` among those `ok` takes (the last of equal ones).
+fn peak(hist: &[f32; BINS], ok: impl Fn(usize) -> bool) -> Option<usize> {
+    hist.iter().enumerate().filter(|&(i, _)| ok(i)).max_by(|a, b| a.1.total_cmp(b.1)).map(|(i, _)| i)
+}
+
 /// 2-means of the points' doubled-angle orientations (step 2): the two unit centres;
 /// leaves each point's [`SECOND`] flag telling its centre.
 /// Seeds: the two highest peaks, at least `2·MIN_ANGLE_DEG` apart, of the `m`-weighted
@@ -432,12 +408,9 @@ fn two_sides(pts: &mut EdgePoints) -> Option<[(f32, f32); 2]> {
     }
     let at = |i: usize| hist.get(i % BINS).copied().unwrap_or(0.0);
     let smooth: [f32; BINS] = core::array::from_fn(|i| at(i + BINS - 1) + 2.0 * at(i) + at(i + 1));
-    let peak = |ok: &dyn Fn(usize) -> bool| {
-        smooth.iter().enumerate().filter(|&(i, _)| ok(i)).max_by(|a, b| a.1.total_cmp(b.1)).map(|(i, _)| i)
-    };
-    let first = peak(&|_| true)?;
+    let first = peak(&smooth, |_| true)?;
     let apart = (2.0 * MIN_ANGLE_DEG.to_radians() / width) as usize;
-    let second = peak(&|i| {
+    let second = peak(&smooth, |i| {
         let d = i.abs_diff(first);
         d.min(BINS - d) >= apart
     })?;

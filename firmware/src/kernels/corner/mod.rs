@@ -27,7 +27,7 @@
 //!      and either polarity.
 //!
 //! Windows up to [`MAX_DIM`] x [`MAX_DIM`] are handled with fixed buffers held by a
-//! [`CornerDetector`] (about 61 KiB, so it can live in a `static` on a microcontroller).
+//! [`CornerDetector`] (about 69 KiB, so it can live in a `static` on a microcontroller).
 
 mod bounds;
 mod labelling;

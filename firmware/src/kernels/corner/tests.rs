@@ -281,9 +281,9 @@ fn lines_are_typed() {
 
 #[test]
 fn detector_fits_a_static() {
-    // The module documentation's "about 61 KiB".
+    // The module documentation's "about 69 KiB".
     let size = core::mem::size_of::<CornerDetector>();
-    assert!((60 * 1024..62 * 1024).contains(&size), "{size}");
+    assert!((68 * 1024..70 * 1024).contains(&size), "{size}");
 }
 
 #[test]
