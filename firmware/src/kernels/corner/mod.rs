@@ -157,6 +157,7 @@ pub struct Corner {
 /// The corner detector with its fixed working buffers (window, edge maps, labelling
 /// runs, sub-pixel edge points).
 pub struct CornerDetector {
+    /// The clean edge map a byte per pixel (row-major, `w x h`), for the thesis's rules.
     edges: [u8; CAP],
     /// Bit-packed edge rows (bit `x` of row `y` = pixel `(x, y)`).
     bits: [u64; MAX_DIM],
@@ -196,13 +197,10 @@ impl CornerDetector {
         self.edge_pixels
     }
 
-    /// The clean edge map of the last call (row-major, `width x height`, 1 = edge).
-    pub fn edge_map(&self) -> (&[u8], usize, usize) {
-        (
-            self.edges.get(..self.w * self.h).unwrap_or(&[]),
-            self.w,
-            self.h,
-        )
+    /// The clean edge map of the last call, one row of bits per window row (bit `x` of row
+    /// `y` = pixel `(x, y)`), with the window's width and height.
+    pub fn clean_rows(&self) -> (&[u64], usize, usize) {
+        (self.bits.get(..self.h).unwrap_or(&[]), self.w, self.h)
     }
 
     /// Thresholded Sobel edge map `gx² + gy² > TH²` of `view` into the bit rows;
@@ -263,17 +261,6 @@ impl CornerDetector {
         largest_component_bits(rows, &mut self.runs);
         let mut tmp = [0u64; MAX_DIM];
         let clean = open_cross_bits(rows, w, &mut tmp);
-        // The byte map (for `edge_map` and the corner rules).
-        for (dst, &r) in self.edges.chunks_exact_mut(w).zip(rows.iter()) {
-            for (k, d) in dst.chunks_mut(8).enumerate() {
-                let bytes = BYTES[((r >> (8 * k)) & 0xff) as usize].to_le_bytes();
-                // Whole chunks as one store (a copy of under 8 bytes is a library call).
-                match <&mut [u8; 8]>::try_from(&mut *d) {
-                    Ok(d) => *d = bytes,
-                    Err(_) => d.iter_mut().zip(bytes).for_each(|(d, b)| *d = b),
-                }
-            }
-        }
         if clean == 0 {
             return Err(NoCorner::FilteredOut);
         }
@@ -282,6 +269,17 @@ impl CornerDetector {
             let ((x, y), rays) = apex_from_points(&mut self.points, w, h)?;
             (x, y, CornerCase::Lines, Some(rays))
         } else {
+            // The rules read the map a byte per pixel.
+            for (dst, &r) in self.edges.chunks_exact_mut(w).zip(rows.iter()) {
+                for (k, d) in dst.chunks_mut(8).enumerate() {
+                    let bytes = BYTES[((r >> (8 * k)) & 0xff) as usize].to_le_bytes();
+                    // Whole chunks as one store (a copy of under 8 bytes is a library call).
+                    match <&mut [u8; 8]>::try_from(&mut *d) {
+                        Ok(d) => *d = bytes,
+                        Err(_) => d.iter_mut().zip(bytes).for_each(|(d, b)| *d = b),
+                    }
+                }
+            }
             let b = bounding_points_bits(rows).ok_or(NoCorner::FilteredOut)?;
             let (x, y, case) = corner_from_bounds(&self.edges, w, h, &b, params)?;
             (x, y, case, None)
