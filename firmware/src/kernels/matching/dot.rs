@@ -410,38 +410,59 @@ pub(super) fn row_dot_products(win: &WindowView<'_>, tpl: &WindowView<'_>, dots:
     let (data, stride) = win.raw()?;
     dots.clear();
     dots.resize(nx * ny, 0).ok()?;
+    // Stores placement `(px, py)`'s dot product from the sum of its rows' bodies and their
+    // last `tw % 4` pixels.
+    let mut store = |px: usize, py: usize, sum: i32| -> Option<()> {
+        let mut tail = 0u32;
+        for v in (0..th).filter(|_| body < tw) {
+            let start = (py + v) * stride + px;
+            let (t, w) = (tpl.row(v)?.get(body..)?, data.get(start + body..start + tw)?);
+            tail = t.iter().zip(w).fold(tail, |s, (&t, &w)| s.wrapping_add(u32::from(t) * u32::from(w)));
+        }
+        *dots.get_mut(py * nx + px)? = (sum as u32).wrapping_add(tail);
+        Some(())
+    };
+    // Four placement rows of a column at a time; the rows left over, four placements of a
+    // row at a time; then one at a time.
+    let full = ny - ny % 4;
     for px in 0..nx {
-        let mut py = 0;
-        while py < ny {
-            // Four placements at a time, then one at a time.
-            let (k, sums) = if py + 4 <= ny { (4, dot_rows4(&words, data, stride, py * stride + px, tw, th)?) } else { (1, [dot_rows(&words, data, stride, py * stride + px, tw, th)?, 0, 0, 0]) };
-            for (j, &sum) in sums.iter().enumerate().take(k) {
-                // The last `tw % 4` pixels of each row.
-                let mut tail = 0u32;
-                for v in (0..th).filter(|_| body < tw) {
-                    let start = (py + j + v) * stride + px;
-                    let (t, w) = (tpl.row(v)?.get(body..)?, data.get(start + body..start + tw)?);
-                    tail = t.iter().zip(w).fold(tail, |s, (&t, &w)| s.wrapping_add(u32::from(t) * u32::from(w)));
-                }
-                *dots.get_mut((py + j) * nx + px)? = (sum as u32).wrapping_add(tail);
+        for py in (0..full).step_by(4) {
+            let sums = dot_rows4(&words, data, stride, stride, py * stride + px, tw, th)?;
+            for (j, &sum) in sums.iter().enumerate() {
+                store(px, py + j, sum)?;
             }
-            py += k;
+        }
+    }
+    for py in full..ny {
+        let mut px = 0;
+        while px < nx {
+            if px + 4 <= nx {
+                let sums = dot_rows4(&words, data, stride, 1, py * stride + px, tw, th)?;
+                for (j, &sum) in sums.iter().enumerate() {
+                    store(px + j, py, sum)?;
+                }
+                px += 4;
+            } else {
+                store(px, py, dot_rows(&words, data, stride, py * stride + px, tw, th)?)?;
+                px += 1;
+            }
         }
     }
     Some(())
 }
 
 /// The products of the template words (halves `(t0, t2)`, `(t1, t3)` per group of four
-/// pixels, row by row, see [`row_dot_products`]) with the patches at `at`, `at + stride`,
-/// `at + 2·stride` and `at + 3·stride` of the window pixels `data` (four placement rows of a
-/// column, sharing each word); a row's last `tw % 4` pixels are left out. Zipped chunks let
-/// LLVM load each window word at once.
+/// pixels, row by row, see [`row_dot_products`]) with the patches at `at`, `at + step`,
+/// `at + 2·step` and `at + 3·step` of the window pixels `data` (rows `stride` apart): four
+/// placements sharing each word, down a column (`step = stride`) or along a row
+/// (`step = 1`); a row's last `tw % 4` pixels are left out. Zipped chunks let LLVM load each
+/// window word at once.
 #[cfg(any(test, target_arch = "arm"))]
 #[inline(never)]
-fn dot_rows4(words: &[u32], data: &[u8], stride: usize, at: usize, tw: usize, th: usize) -> Option<[i32; 4]> {
+fn dot_rows4(words: &[u32], data: &[u8], stride: usize, step: usize, at: usize, tw: usize, th: usize) -> Option<[i32; 4]> {
     let mut a = [0i32; 4];
     for (v, t) in words.chunks(2 * (tw / 4).max(1)).take(th).enumerate() {
-        let row = |k: usize| data.get(at + (v + k) * stride..at + (v + k) * stride + tw);
+        let row = |k: usize| data.get(at + v * stride + k * step..at + v * stride + k * step + tw);
         let it = t.chunks_exact(2).zip(row(0)?.chunks_exact(4)).zip(row(1)?.chunks_exact(4)).zip(row(2)?.chunks_exact(4)).zip(row(3)?.chunks_exact(4));
         for ((((t, c0), c1), c2), c3) in it {
             if let &[even, odd] = t {
