@@ -6,16 +6,20 @@
 # (firmware/parity/tests/board_parity.rs).
 #
 #   scripts/board.sh             build, run, compare
-#   scripts/board.sh --figures   also regenerate docs/firmware-target.md
+#   scripts/board.sh --profile   also profile the COOP frames (QEMU's execution trace, through
+#                                scripts/board_profile.py) into target/board/profile.md
+#   scripts/board.sh --figures   also profile, and regenerate docs/firmware-target.md
 #
 # Needs: apt-get install rustc-web cargo-web rust-web-src qemu-system-arm binutils-arm-none-eabi
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 figures=0
+profile=0
 case "${1:-}" in
-  --figures) figures=1 ;;
+  --figures) figures=1 profile=1 ;;
+  --profile) profile=1 ;;
   "") ;;
-  *) echo "usage: $0 [--figures]" >&2; exit 2 ;;
+  *) echo "usage: $0 [--figures | --profile]" >&2; exit 2 ;;
 esac
 for tool in /usr/bin/rustc /usr/bin/cargo qemu-system-arm arm-none-eabi-ld arm-none-eabi-size; do
   command -v "$tool" >/dev/null || { echo "board.sh: $tool is missing (see the header of $0)" >&2; exit 2; }
@@ -30,9 +34,22 @@ elf="$out/thumbv7em-none-eabihf/release/coopwin-board"
   CARGO_TARGET_DIR="$out" RUSTC=/usr/bin/rustc RUSTC_BOOTSTRAP=1 /usr/bin/cargo build --release --locked -q)
 
 run="$out/run.txt"
+qemu=(qemu-system-arm -cpu cortex-m4 -machine mps2-an386 -nographic
+  -semihosting-config enable=on,target=native -icount shift=0 -kernel "$elf")
+if [ "$profile" = 1 ]; then
+  # The trace (about a gigabyte) goes through a FIFO straight into the profiler.
+  fifo="$out/trace.fifo"
+  rm -f "$fifo"
+  mkfifo "$fifo"
+  python3 "$root/scripts/board_profile.py" "$elf" "$fifo" --lines 25 >"$out/profile.md" &
+  reader=$!
+  timeout 600 "${qemu[@]}" -d exec,nochain,in_asm -D "$fifo" >/dev/null 2>&1 || true
+  wait "$reader" || { echo "board.sh: the profiler failed" >&2; rm -f "$fifo"; exit 1; }
+  rm -f "$fifo"
+  echo "board.sh: wrote $out/profile.md"
+fi
 # A hang (a fault handler spinning) ends at the timeout, as a failure.
-if ! timeout 300 qemu-system-arm -cpu cortex-m4 -machine mps2-an386 -nographic \
-  -semihosting-config enable=on,target=native -icount shift=0 -kernel "$elf" >"$run" 2>&1; then
+if ! timeout 300 "${qemu[@]}" >"$run" 2>&1; then
   echo "board.sh: the board run failed or timed out; its output:" >&2
   tail -20 "$run" >&2
   exit 1
@@ -48,6 +65,6 @@ echo "board.sh: $(grep -vc '^#' "$run") result lines bit-identical to the host's
 if [ "$figures" = 1 ]; then
   arm-none-eabi-size -A "$elf" >"$out/size.txt"
   arm-none-eabi-objdump -d --no-show-raw-insn -C "$elf" >"$out/disasm.txt"
-  python3 "$root/scripts/board_figures.py" "$run" "$out/size.txt" "$out/disasm.txt" >"$root/docs/firmware-target.md"
+  python3 "$root/scripts/board_figures.py" "$run" "$out/size.txt" "$out/disasm.txt" "$out/profile.md" >"$root/docs/firmware-target.md"
   echo "board.sh: wrote docs/firmware-target.md"
 fi

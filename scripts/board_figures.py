@@ -3,7 +3,9 @@
 Cortex-M4F instead of the TMS320C40) from a board run, `arm-none-eabi-size -A` and the
 disassembly. Called by `scripts/board.sh --figures`; standard library only.
 
-usage: board_figures.py RUN.txt SIZE.txt DISASM.txt [ELF] > docs/firmware-target.md
+usage: board_figures.py RUN.txt SIZE.txt DISASM.txt PROFILE.md [ELF] > docs/firmware-target.md
+
+PROFILE.md is scripts/board_profile.py's table of a COOP frame's instructions.
 
 Exits 1, writing nothing, if the static stack bound (scripts/stack_bound.py) fails or is
 below the measured high-water mark.
@@ -62,8 +64,8 @@ WHAT = {
 
 
 def main():
-    run, size, disasm = (open(p).read() for p in sys.argv[1:4])
-    elf = sys.argv[4] if len(sys.argv) > 4 else stack_bound.ELF
+    run, size, disasm, prof = (open(p).read() for p in sys.argv[1:5])
+    elf = sys.argv[5] if len(sys.argv) > 5 else stack_bound.ELF
     try:
         sb = stack_bound.analyse(elf, disasm, run)
         stack_bound.check(sb)
@@ -154,13 +156,13 @@ def main():
         p(f"| `{name}` | {b:,} |")
     p()
     p("The stack is dominated by the processors' fixed buffers: a `processors::Foveal` holds a")
-    p("`CornerDetector` (about 61 KB of working arrays, also in the NCC master, which does not use")
-    p("it; 18 KB of it keep each edge point's orientation and magnitude for the line fit) and the")
-    p("template prepared for Lucas-Kanade (`refine::LkTemplate`, 11 KB), and the suite holds the")
-    p("COOP pair (two Foveals) plus a detector of its own, with copies as they are constructed by")
-    p("value. The code and inputs fit an STM32F407's 1 MB of flash; this")
-    p("stack does not fit its 128 KB + 64 KB of SRAM. In the thesis each Foveal window has its own")
-    p("processor, which would hold one Foveal; the QEMU board keeps its 4 MB of RAM (`memory.x`).")
+    p("`CornerDetector` (about 69 KB of working arrays, also in the NCC master, which does not use")
+    p("it; 42 KB of it keep the edge points of the line fit) and the template prepared for")
+    p("Lucas-Kanade (`refine::LkTemplate`, 11 KB), and the suite holds the COOP pair (two Foveals)")
+    p("plus a detector of its own, with copies as they are constructed by value. The code and")
+    p("inputs fit an STM32F407's 1 MB of flash; this stack does not fit its 128 KB + 64 KB of SRAM.")
+    p("In the thesis each Foveal window has its own processor, which would hold one Foveal; the")
+    p("QEMU board keeps its 4 MB of RAM (`memory.x`).")
     p()
     static_bound(p, sb, stack)
     p("## Instructions per kernel")
@@ -182,62 +184,75 @@ def main():
     p()
     if all(k in counts for k in ("ncc_norm25_f64", "ncc_norm25_f32", "ncc_norm25_q15")):
         f64, f32, q15 = (sum(counts[k]) / len(counts[k]) for k in ("ncc_norm25_f64", "ncc_norm25_f32", "ncc_norm25_q15"))
+        dev = dict(re.findall(r"^(ncc_norm25_\w+) .*maxdev_e9=(\d+)", run, re.M))
         p("## Number formats on the M4F")
         p()
-        p("The kernels' sums are exact integers; floats appear only where a ratio or a root is")
-        p("taken. The normalisation `P / sqrt(E_R E_I)` of the 25 Foveal placements costs")
-        p(f"{f64:,.0f} instructions in f64 (software, as `matching` computes it), {f32:,.0f} in f32")
-        p(f"(hardware `VDIV`, `VMUL` and `VSQRT`: {f64 / f32:.1f}x cheaper) and {q15:,.0f} in Q1.15 with a")
-        p("Newton integer square root (the M4 has no integer root, and the 64-bit divisions are")
-        p("library calls, so fixed point loses here). All three pick")
-        dev = dict(re.findall(r"^(ncc_norm25_\w+) .*maxdev_e9=(\d+)", run, re.M))
-        p(f"the same placement; the largest deviation from f64 is {int(dev.get('ncc_norm25_f32', 0)) * 1e-9:.1e} in f32")
-        p(f"and {int(dev.get('ncc_norm25_q15', 0)) * 1e-9:.1e} in Q1.15 (`ncc_norm25_*` lines of `expected.txt`).")
-        p("So: integers for sums and the window logic, f32 where a root or")
-        p("division of well-scaled values is needed on this core. `libm`'s `sqrtf` has no Arm path (a")
-        p("loop of integer steps), so the firmware takes the FPU's `VSQRT.F32` through")
-        p("`kernels::fmath::sqrtf`: both are correctly rounded, so the bits are the host's. The")
-        p("firmware keeps f64 where it computes a score or a fit (matching, 4.3, 5.2): its results")
-        p("must stay the host's bit for bit, which an f32 reformulation would not" + (
-            f"; in the Foveal NCC the 25 f64 normalisations are "
-            f"{f64 / (sum(counts['foveal_ncc_20in24']) / len(counts['foveal_ncc_20in24'])) * 100:.0f} % of the kernel."
-            if "foveal_ncc_20in24" in counts else "."))
+        p("The M4F's FPU does `f32` only: an `f64` operation is a library call of 50 to 200")
+        p("instructions. The normalisation `P / sqrt(E_R E_I)` of the 25 Foveal placements costs")
+        p(f"{f64:,.0f} instructions in f64, {f32:,.0f} in f32 (hardware `VDIV`, `VMUL` and `VSQRT`:")
+        p(f"{f64 / f32:.1f}x cheaper) and {q15:,.0f} in Q1.15 with a Newton integer square root (the M4 has")
+        p("no integer root, and the 64-bit divisions are library calls, so fixed point loses here).")
+        p("All three pick the same placement; the largest deviation from f64 is")
+        p(f"{int(dev.get('ncc_norm25_f32', 0)) * 1e-9:.1e} in f32 and {int(dev.get('ncc_norm25_q15', 0)) * 1e-9:.1e} in Q1.15 (`ncc_norm25_*` lines of `expected.txt`). So the")
+        p("firmware uses:")
+        p()
+        p("* **integers** for every sum (matching, Sobel, labelling, the window logic) and for")
+        p("  ranking placements: `matching` compares NCC scores `a/sqrt(e)` as `a_x² e_y > a_y² e_x`")
+        p("  in `u128`, exactly, and computes an `f64` score only for the best placement and the four")
+        p("  neighbours its sub-pixel parabola needs (5 of the Foveal window's 25);")
+        p("* **f32** for the line fit of the corner detector (orientations as unit vectors of the")
+        p("  doubled angle, halved by square roots, binned by comparisons: no trigonometric")
+        p("  function), Lucas-Kanade, the least-squares confidence measure (4.3; the C40 computed in")
+        p("  32-bit floating point too) and the guard's motion prediction, with times and positions")
+        p("  taken from a reference sample first so the `f32` sums do not cancel;")
+        p("* **f64** only for the reported NCC scores and the Kalman policy (5.2, not in the COOP")
+        p("  frame).")
+        p()
+        p("`libm`'s `sqrtf` has no Arm path (a loop of integer steps), so the firmware takes the FPU's")
+        p("`VSQRT.F32` through `kernels::fmath::sqrtf`: both are correctly rounded, so the bits are the")
+        p("host's, as for every other `f32` operation (IEEE 754, round to nearest, no fused")
+        p("multiply-add), and the board's results stay bit-identical to the host's.")
         p()
     if "coop_frame" in counts:
         v = counts["coop_frame"]
         worst = max(v)
         t1 = worst / HZ
+        budget = FRAME / 10 * HZ
         p("## A whole COOP frame against the 8.8 ms update")
         p()
-        p(f"Over the {len(v)} recorded frames, one COOP frame (the master's NCC, the partner's corner")
-        p(f"detector and the decision, all on one core) takes at most **{worst:,} instructions**:")
-        p(f"**{fmt_t(t1)}** at 168 MHz and one cycle per instruction, a **{FRAME / t1:.1f}x** margin on the")
-        p(f"8.8 ms frame period ({FRAME / (2 * t1):.1f}x at two cycles per instruction). On two processors,")
-        p("as the thesis places the two Foveal windows, the frame's critical path is the longer of")
+        p(f"Over the {len(v)} recorded frames, one COOP frame (the master's NCC with its Lucas-Kanade")
+        p("refinement, the partner's corner detector and the guarded decision, all on one core) takes")
+        p(f"at most **{worst:,} instructions**: **{fmt_t(t1)}** at 168 MHz and one cycle per instruction,")
+        p(f"a **{FRAME / t1:.1f}x** margin on the 8.8 ms frame period ({FRAME / (2 * t1):.1f}x at two cycles per")
+        rel = lambda n: f"{abs(100 * (1 - n / budget)):.1f} % {'under' if n <= budget else 'over'} it"
+        p(f"instruction). The 10x margin allows {budget:,.0f} instructions; the worst frame is")
+        p(f"{rel(worst)}, the mean ({sum(v) / len(v):,.0f}) {rel(sum(v) / len(v))}. On two processors, as the")
+        p("thesis places the two Foveal windows, the critical path is the longer of the corner")
         if "corner_24" in counts and "foveal_ncc_20in24" in counts:
             cd = sum(counts["corner_24"]) / len(counts["corner_24"])
             ncc = sum(counts["foveal_ncc_20in24"]) / len(counts["foveal_ncc_20in24"])
             dec = max(counts.get("coop_decision_sse", [0]))
             path = max(cd, ncc + dec)
-            p(f"the corner detector ({cd:,.0f}) and NCC plus decision ({ncc + dec:,.0f}): {fmt_t(path / HZ)},")
-            p(f"a {FRAME / (path / HZ):.1f}x margin.")
-            p()
-            p(f"The frame's mean, {sum(v) / len(v):,.0f}, is {sum(v) / len(v) - cd - ncc - dec:,.0f} more than the corner detector, NCC")
-            p("and the worst SSE decision measured alone: the Lucas-Kanade refinement of each accepted")
-            p("NCC match (`refine`, with no line of its own), the guard's least-squares fits (4.3, in")
-            p("f64) and the processors' steps. A 10x margin on one core would take at most")
-            p(f"{FRAME / 10 * HZ:,.0f} instructions a frame, {worst / (FRAME / 10 * HZ):.1f}x fewer than the worst frame.")
-        if "corner_24_literal" in counts and "corner_24" in counts and "foveal_ncc_20in24" in counts:
+            p(f"detector ({cd:,.0f}) and NCC plus decision ({ncc + dec:,.0f}) measured alone:")
+            p(f"{fmt_t(path / HZ)}, a {FRAME / (path / HZ):.1f}x margin.")
+        p()
+        p("Where a frame's instructions go (`scripts/board.sh --profile`: QEMU's execution trace of")
+        p("the same run, each instruction charged to its function, library calls to their caller;")
+        p("its mean matches the meter's to a few instructions):")
+        p()
+        table = [l for l in prof.split("\n\n")[1].splitlines()] if "\n\n" in prof else []
+        for line in table:
+            p(line)
+        p()
+        p("`<foveal::Foveal>::on_window_into` is mostly Lucas-Kanade, inlined; `matching::dot::*` and")
+        p("`matching::best_match::*` are NCC; the corner detector's line fit is in `detect` (inlined")
+        p("point collection and 2-means) and `corner::lines::fit_side`.")
+        if "corner_24_literal" in counts and "corner_24" in counts:
             lit = sum(counts["corner_24_literal"]) / len(counts["corner_24_literal"])
-            one = ncc + lit + dec
             p()
             p(f"The line-fit refinement (beyond the thesis; `CornerParams::refine`) is {cd - lit:,.0f} of the")
-            p(f"detector's {cd:,.0f} instructions. Each edge point's orientation and magnitude are computed")
-            p(f"once (the root on the FPU), but each fitted line takes `libm`'s `atan2f`, `sinf` and `cosf`,")
-            p(f"the last two evaluated in soft-float f64 (the FPU has none of them). With the thesis's")
-            p(f"literal rules ({lit:,.0f}), NCC and the worst decision add up to {one:,.0f} instructions on one")
-            p(f"core, {fmt_t(one / HZ)}: {FRAME / (one / HZ):.1f}x (a sum of separately measured kernels, not a")
-            p("measured frame: the processors run the default, refined detector).")
+            p(f"detector's {cd:,.0f} instructions; with the thesis's literal rules ({lit:,.0f}) the detector")
+            p("would be cheaper and several pixels less accurate at some orientations (ch. 3).")
         p()
 
 
