@@ -260,12 +260,12 @@ impl Block {
             return None;
         }
         let stride = iw + right;
-        self.cols.resize(used.len() * stride, [0.0; 2]).ok()?;
-        for (j, cols) in self.cols.chunks_exact_mut(stride).enumerate() {
+        // Pushed, not resized and overwritten: zeroing first would cost more than the pushes.
+        for j in 0..used.len() {
             let top = win.row(at.y0 + j)?.get(at.x0..at.x0 + stride)?;
             let bottom = win.row(at.y0 + j + below)?.get(at.x0..at.x0 + stride)?;
-            for (c, (&t, &b)) in cols.iter_mut().zip(top.iter().zip(bottom)) {
-                *c = [f32::from(t) - offset, f32::from(i16::from(b) - i16::from(t))];
+            for (&t, &b) in top.iter().zip(bottom) {
+                self.cols.push([f32::from(t) - offset, f32::from(i16::from(b) - i16::from(t))]).ok()?;
             }
         }
         self.at = Some(at);

@@ -1,7 +1,7 @@
 //! The Foveal (Tracking) processor (thesis 2.3.2, 4.2): NCC or the corner detector at full
 //! resolution around the tracked point; in COOP a master running NCC and a partner running
 //! the corner detector on the same coordinates, the master's [`Policy`] choosing each frame.
-use super::coop::guard::{Guard, GuardParams};
+use super::coop::guard::{dist, Guard, GuardParams};
 use super::coop::Policy;
 use super::messages::{Dest, Msg};
 use super::params::{Params, COAST_MARGIN};
@@ -259,7 +259,7 @@ impl Foveal {
         }
         let (found, source) = (chosen.map(|c| c.0), chosen.map_or(Source::Ncc, |c| c.1));
         // NCC vouches for the point it measured, or one fused with it.
-        let score = own.zip(found).filter(|((n, _), p)| libm::hypotf(n.x - p.x, n.y - p.y) <= VOUCH).map(|((_, s), _)| s);
+        let score = own.zip(found).filter(|((n, _), p)| dist(*n, *p) <= VOUCH).map(|((_, s), _)| s);
         self.follow(step, found, source, score);
         match (step.request, found, step.lost) {
             (Some(_), Some(p), _) => {

@@ -46,6 +46,7 @@
 //! Everything is `f32`/`f64` arithmetic on a few values: no allocation, no panic.
 
 use crate::kernels::confidence::{ConfidencePolicy, SseCoop};
+use crate::kernels::fmath::sqrtf;
 use crate::types::{Point, Source};
 
 /// Thresholds of the guard.
@@ -351,8 +352,11 @@ fn sub(a: Point, b: Point) -> Point {
     Point { x: a.x - b.x, y: a.y - b.y }
 }
 
-fn dist(a: Point, b: Point) -> f32 {
-    libm::hypotf(a.x - b.x, a.y - b.y)
+/// `|a - b|` in `f32` on the FPU (`libm::hypotf` works in soft-float `f64`): positions are
+/// pixels, far from overflow.
+pub(crate) fn dist(a: Point, b: Point) -> f32 {
+    let (dx, dy) = (a.x - b.x, a.y - b.y);
+    sqrtf(dx * dx + dy * dy)
 }
 
 #[cfg(test)]
