@@ -201,7 +201,7 @@ impl LkTemplate {
             let u_mean = s.s / n;
             let var = s.q - s.s * u_mean;
             // A flat window: its spread is within the sums' rounding.
-            if !(var > FLAT * s.q) {
+            if var.is_nan() || var <= FLAT * s.q {
                 return None;
             }
             let gain = t_dev / sqrtf(var);
