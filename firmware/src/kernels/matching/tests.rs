@@ -2,14 +2,19 @@ use super::dot::{dot_row_bytes, dot_row_pairs, row_dot_products, strip_dot_produ
 use super::subpixel::parabola;
 use super::*;
 
+/// Pixels from a fixed LCG (Numerical Recipes' constants) seeded with `seed`.
+fn lcg(seed: u32) -> impl FnMut() -> u8 {
+    let mut x = seed;
+    move || {
+        x = x.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        (x >> 24) as u8
+    }
+}
+
 /// The Cortex-M4's paired row dot product against the byte-at-a-time one, and a hand sum.
 #[test]
 fn the_arm_row_dot_product_is_the_bytewise_one() {
-    let mut x = 987u32;
-    let mut px = || {
-        x = x.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-        (x >> 24) as u8
-    };
+    let mut px = lcg(987);
     for (la, lb) in [(0, 0), (1, 1), (3, 3), (4, 4), (7, 7), (24, 24), (255, 255), (9, 6), (6, 9), (40, 41)] {
         let a: std::vec::Vec<u8> = (0..la).map(|_| px()).collect();
         let b: std::vec::Vec<u8> = (0..lb).map(|_| px()).collect();
@@ -24,11 +29,7 @@ fn the_arm_row_dot_product_is_the_bytewise_one() {
 fn the_arm_row_dot_products_equal_the_strip_ones() {
     // Pixels from a fixed LCG; the Foveal and Peripheral sizes, a remainder of placement
     // rows (ny % 4), widths not a multiple of 4 and under 4.
-    let mut x = 12345u32;
-    let mut px = || {
-        x = x.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-        (x >> 24) as u8
-    };
+    let mut px = lcg(12345);
     let sizes = [(20, 20, 24, 24), (16, 16, 40, 40), (8, 8, 20, 20), (7, 5, 13, 11), (20, 20, 20, 20), (33, 3, 40, 9), (3, 6, 9, 9), (64, 64, 64, 64)];
     for (tw, th, ww, wh) in sizes {
         let t: std::vec::Vec<u8> = (0..tw * th).map(|_| px()).collect();
