@@ -1,10 +1,11 @@
 //! The Foveal (Tracking) processor (thesis 2.3.2, 4.2): NCC or the corner detector at full
 //! resolution around the tracked point; in COOP a master running NCC and a partner running
 //! the corner detector on the same coordinates, the master's [`Policy`] choosing each frame.
+use super::adapt::Adaptive;
 use super::coop::guard::{dist, Guard, GuardParams};
 use super::coop::Policy;
 use super::messages::{Dest, Msg};
-use super::params::{Params, COAST_MARGIN};
+use super::params::{Params, COAST_MARGIN, GROW_MARGIN};
 use super::step::{placements, Mode, Step, Work};
 use super::template::Template;
 use crate::kernels::corner::{CornerDetector, CornerParams};
@@ -12,7 +13,7 @@ use crate::kernels::matching::{best_match, Method};
 use crate::kernels::refine::LkTemplate;
 use crate::kernels::support::{best_match_on, Support};
 use crate::kernels::view::WindowView;
-use crate::types::{Decimation, Point, Source};
+use crate::types::{Decimation, Point, Source, WindowRequest};
 
 /// Lucas-Kanade's side of the template ([`LkTemplate`]), prepared once per template and
 /// kept while it is; `over` says for which pixels (`Some(true)`: its support, `Some(false)`:
@@ -33,11 +34,20 @@ impl LkCache {
     }
 }
 
+/// What NCC measured in a window: the tracked point and its score, and whether the best
+/// placement lay on the window's edge (the target may be beyond it: the next window grows).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct NccFound {
+    point: Point,
+    score: f32,
+    pinned: bool,
+}
+
 /// NCC tracking of `tpl` in `win`: the new point (the best placement, refined to sub-pixel
 /// accuracy by Lucas-Kanade, [`crate::kernels::refine`]) and its score, or `None` if the best
 /// score is under `ncc_min` (the target has left the window, or no longer looks like the
 /// template). `lk` holds the template prepared for the refinement.
-fn ncc_track(win: &WindowView<'_>, tpl: &Template, support: Option<&Support>, lk: &mut LkCache, p: &Params) -> (Option<(Point, f32)>, Work) {
+fn ncc_track(win: &WindowView<'_>, tpl: &Template, support: Option<&Support>, lk: &mut LkCache, p: &Params) -> (Option<NccFound>, Work) {
     let n = tpl.side();
     // The cost model counts the whole template: the support is a part of it.
     let work = Work::Match { method: Method::Ncc, template: (n * n) as u32, placements: placements(win, n, 1) };
@@ -60,7 +70,8 @@ fn ncc_track(win: &WindowView<'_>, tpl: &Template, support: Option<&Support>, lk
     let (ox, oy) = win.origin();
     let refined = lk.prepared(&tv, support).refine(win, m.sub_x, m.sub_y);
     let (x, y) = refined.map_or((m.frame_x, m.frame_y), |(x, y)| (x + ox as f32, y + oy as f32));
-    (Some((tpl.point_at(x, y), score)), work)
+    let pinned = m.x == 0 || m.y == 0 || m.x + n >= win.width() || m.y + n >= win.height();
+    (Some(NccFound { point: tpl.point_at(x, y), score, pinned }), work)
 }
 
 /// The corner in `win`, or `None` when the detector finds none.
@@ -102,6 +113,12 @@ pub struct Foveal {
     /// COOP master: own result of the current window, waiting for the partner's.
     own: Option<Option<(Point, f32)>>,
     partner: Option<Option<Point>>,
+    /// With [`Params::adapt`]: the template's adaptation ([`super::adapt`]).
+    adapt: Option<Adaptive>,
+    /// The last NCC placement sat on the window's edge: the next window is wider.
+    pinned: bool,
+    /// Where a coasting track expects the point (its window's centre), while it coasts.
+    predicted: Option<Point>,
 }
 
 impl Foveal {
@@ -119,6 +136,9 @@ impl Foveal {
             coop: Policy::Guarded(Guard::new(GuardParams::default())),
             own: None,
             partner: None,
+            adapt: None,
+            pinned: false,
+            predicted: None,
         };
         if let Some(t) = template {
             f.set_template(t);
@@ -136,6 +156,19 @@ impl Foveal {
         self.lk.over = None;
         if let Some(v) = tpl.view() {
             self.lk.prepared(&v, self.support.as_ref());
+        }
+        // A corner template's support is the object's part of it: the corner detector, not
+        // the template, follows such an object's changes.
+        let adapts = self.params.adapt && self.support.is_none() && matches!(self.kind, FovealKind::Ncc | FovealKind::CoopMaster);
+        self.adapt = adapts.then(|| Adaptive::new(&tpl));
+        self.template = Some(tpl);
+    }
+
+    /// Takes the adapted template `tpl` (one with no support) in place of the current one.
+    fn adopt(&mut self, tpl: Template) {
+        self.lk.over = None;
+        if let Some(v) = tpl.view() {
+            self.lk.prepared(&v, None);
         }
         self.template = Some(tpl);
     }
@@ -224,7 +257,7 @@ impl Foveal {
                 if self.kind == FovealKind::CoopPartner {
                     step.send(Dest::Foveal, Msg::Result(found));
                 } else {
-                    self.follow(step, found, Source::Cd, None);
+                    self.follow(step, t, found, Source::Cd, None);
                 }
             }
             FovealKind::Ncc | FovealKind::CoopMaster => {
@@ -233,11 +266,16 @@ impl Foveal {
                     None => (None, Work::None),
                 };
                 step.clear(work);
+                self.pinned = found.is_some_and(|f| f.pinned);
+                if let (Some(a), Some(f), Some(tpl)) = (self.adapt.as_mut(), found, self.template.as_ref()) {
+                    a.propose(win, f.point, f.score, tpl.side());
+                }
+                let own = found.map(|f| (f.point, f.score));
                 if self.kind == FovealKind::CoopMaster {
-                    self.own = Some(found);
+                    self.own = Some(own);
                     self.decide(t, step);
                 } else {
-                    self.follow(step, found.map(|(p, _)| p), Source::Ncc, found.map(|(_, s)| s));
+                    self.follow(step, t, own.map(|(p, _)| p), Source::Ncc, own.map(|(_, s)| s));
                 }
             }
         }
@@ -254,16 +292,27 @@ impl Foveal {
         if let Some(q) = chosen.is_none().then(|| self.coop.coast(t)).flatten() {
             // Nothing measured the point: look where it should be next, report nothing.
             let side = self.params.foveal + 2 * COAST_MARGIN;
+            self.predicted = Some(q);
+            if let Some(a) = self.adapt.as_mut() {
+                a.discard();
+            }
             step.ask(Some(self.params.window(q, side, Decimation::Full))).send(Dest::FovealCd, Msg::Follow(q));
             return true;
         }
+        self.predicted = None;
         let (found, source) = (chosen.map(|c| c.0), chosen.map_or(Source::Ncc, |c| c.1));
         // NCC vouches for the point it measured, or one fused with it.
         let score = own.zip(found).filter(|((n, _), p)| dist(*n, *p) <= VOUCH).map(|((_, s), _)| s);
-        self.follow(step, found, source, score);
+        self.follow(step, t, found, source, score);
         match (step.request, found, step.lost) {
-            (Some(_), Some(p), _) => {
-                step.send(Dest::FovealCd, Msg::Follow(p));
+            (Some(req), Some(_), _) => {
+                // The partner looks where the master's window is centred.
+                let centre = Point {
+                    x: f32::from(req.x0) + (f32::from(req.width) - 1.0) / 2.0,
+                    y: f32::from(req.y0) + (f32::from(req.height) - 1.0) / 2.0,
+                };
+                let at = if self.adapt.is_some() { centre } else { found.unwrap_or(centre) };
+                step.send(Dest::FovealCd, Msg::Follow(at));
             }
             // The partner stops with the master; the Peripheral takes over.
             (_, _, Some(last)) => {
@@ -274,11 +323,20 @@ impl Foveal {
         true
     }
 
-    fn follow(&mut self, step: &mut Step, found: Option<Point>, source: Source, score: Option<f32>) {
+    /// Follows `found` (measured by `source`, with NCC's `score` when NCC vouches for it) at
+    /// time `t`: the next window, the Peripheral told, the report; or the loss. An adapting
+    /// template takes the window's proposal when NCC measured the point followed.
+    fn follow(&mut self, step: &mut Step, t: f64, found: Option<Point>, source: Source, score: Option<f32>) {
+        if let Some(a) = self.adapt.as_mut() {
+            match a.take() {
+                Some(next) if score.is_some() => self.adopt(next),
+                _ => {}
+            }
+        }
         match (found, self.tracking) {
             (Some(p), _) => {
                 self.tracking = Some(p);
-                step.ask(Some(self.params.foveal_window(p))).send(Dest::Peripheral, Msg::Tracked(p));
+                step.ask(Some(self.next_window(p, t))).send(Dest::Peripheral, Msg::Tracked(p));
                 step.report = Some((p, source));
                 step.score = score;
             }
@@ -289,6 +347,23 @@ impl Foveal {
             }
             (None, None) => {}
         }
+    }
+
+    /// The Foveal window after following `p` at `t`: with [`Params::adapt`], centred where
+    /// the motion puts the point at the next window and widened by [`GROW_MARGIN`] on each
+    /// side after a match on the window's edge; otherwise the thesis's, centred on `p`.
+    fn next_window(&self, p: Point, t: f64) -> WindowRequest {
+        if self.adapt.is_none() {
+            return self.params.foveal_window(p);
+        }
+        let centre = self.coop.ahead(t).unwrap_or(p);
+        let side = self.params.foveal + if self.pinned { 2 * GROW_MARGIN } else { 0 };
+        self.params.window(centre, side, Decimation::Full)
+    }
+
+    /// Where a coasting track expects the point, while it coasts (no measurement).
+    pub fn predicted(&self) -> Option<Point> {
+        self.predicted
     }
 }
 

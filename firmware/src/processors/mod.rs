@@ -18,6 +18,7 @@
 //!
 //! One file a processor; [`messages`], [`template`], [`params`] and [`step`] are what they
 //! share, and [`coop`] the COOP master's decision.
+pub mod adapt;
 pub mod coop;
 pub mod foveal;
 pub mod messages;
@@ -33,7 +34,7 @@ pub mod watch;
 pub use coop::Policy;
 pub use foveal::{Foveal, FovealKind};
 pub use messages::{Dest, Msg};
-pub use params::{Params, COAST_MARGIN};
+pub use params::{Params, COAST_MARGIN, GROW_MARGIN};
 pub use peripheral::Peripheral;
 pub use spmf::Spmf;
 pub use step::{Mode, Step, Work};

@@ -6,6 +6,10 @@ use crate::types::{Decimation, Point, WindowRequest};
 /// +-2 px search: the prediction drifts while nothing is measured.
 pub const COAST_MARGIN: u16 = 6;
 
+/// Extra pixels on each side of an adapting track's Foveal window after a match on the
+/// window's edge (the target moved further than the window's own search).
+pub const GROW_MARGIN: u16 = 3;
+
 
 /// Tuning shared by the processors (thesis Table 2.2 sizes by default).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -30,6 +34,10 @@ pub struct Params {
     pub ssd_max: f32,
     /// Corner detector edge threshold TH.
     pub corner_threshold: u16,
+    /// Beyond the thesis (issue 21): the Foveal template adapts to the object's appearance
+    /// with drift correction ([`super::adapt`]) and its window is placed where the motion
+    /// predicts the point. Off: the thesis's template cut once, windows on the last point.
+    pub adapt: bool,
 }
 
 impl Default for Params {
@@ -45,6 +53,7 @@ impl Default for Params {
             ncc_min: 0.97,
             ssd_max: 900.0,
             corner_threshold: 50,
+            adapt: false,
         }
     }
 }

@@ -60,6 +60,15 @@ impl Policy {
         }
     }
 
+    /// Where the followed point should be one window interval after `t` (see
+    /// [`Guard::ahead`]); the thesis's policies do not predict.
+    pub(super) fn ahead(&self, t: f64) -> Option<Point> {
+        match self {
+            Policy::Guarded(g) => g.ahead(t),
+            Policy::Sse(_) | Policy::Kalman(_) => None,
+        }
+    }
+
     /// A track starts at `p` (see [`Guard::begin`]).
     pub(super) fn begin(&mut self, p: Point, exact: bool) {
         if let Policy::Guarded(g) = self {

@@ -11,6 +11,7 @@
 //! - [`path`]: where the part's corner is at each moment;
 //! - [`render`]: a frame's pixels (supersampling, occluder, lamp, noise);
 //! - [`rng`]: the deterministic generator behind texture, clutter and noise.
+pub mod appearance;
 pub mod path;
 pub mod render;
 pub mod rng;
@@ -18,6 +19,7 @@ pub mod texture;
 
 use super::groundtruth::Truth;
 use super::{FrameCache, FrameError, FrameSource};
+pub use appearance::{Appearance, Pose};
 use rng::Rng;
 use texture::Photo;
 
@@ -62,6 +64,8 @@ pub struct SceneConfig {
     /// Real photographs for the part's surface and the background (`fixtures/real/`), in
     /// place of the synthetic texture and flat background.
     pub photo: bool,
+    /// Rotation, scale, tilt, blur, shadow and cover ([`appearance`]); none by default.
+    pub appearance: Appearance,
 }
 
 impl Default for SceneConfig {
@@ -79,7 +83,46 @@ impl Default for SceneConfig {
             noise: 0.0,
             seed: 1,
             photo: false,
+            appearance: Appearance::default(),
         }
+    }
+}
+
+/// The part's placement at one moment (see [`Scene::placed`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Placed {
+    /// Where the part's corner would be without the pose (the path's point).
+    corner: (f64, f64),
+    /// The map from part coordinates about the centroid to the frame.
+    pose: Pose,
+}
+
+impl Placed {
+    /// The centroid in the frame.
+    pub(super) fn pivot(&self) -> (f64, f64) {
+        let g = texture::part_centroid();
+        (self.corner.0 + g.0, self.corner.1 + g.1)
+    }
+
+    /// The frame position of part point `o` (part coordinates from its corner).
+    pub(super) fn frame_point(&self, o: (f64, f64)) -> (f64, f64) {
+        if self.pose == Pose::RIGID {
+            // The rigid part's own arithmetic, so rigid scenes stay bit for bit as they were.
+            return (self.corner.0 + o.0, self.corner.1 + o.1);
+        }
+        let (g, p) = (texture::part_centroid(), self.pivot());
+        let d = self.pose.apply((o.0 - g.0, o.1 - g.1));
+        (p.0 + d.0, p.1 + d.1)
+    }
+
+    /// The part coordinates of frame point `(x, y)`: [`Placed::frame_point`]'s inverse.
+    pub(super) fn part_point(&self, x: f64, y: f64) -> (f64, f64) {
+        if self.pose == Pose::RIGID {
+            return (x - self.corner.0, y - self.corner.1);
+        }
+        let (g, p) = (texture::part_centroid(), self.pivot());
+        let d = self.pose.invert((x - p.0, y - p.1));
+        (g.0 + d.0, g.1 + d.1)
     }
 }
 
@@ -113,13 +156,23 @@ impl Scene {
 
     /// Ground truth of frame `k`.
     pub fn truth(&self, k: usize) -> Truth {
-        let c = self.corner_at(k as f64 / self.cfg.fps);
-        let g = texture::part_centroid();
+        let placed = self.placed(k as f64 / self.cfg.fps);
         let inside = |p: (f64, f64)| {
             p.0 >= 0.0 && p.1 >= 0.0 && p.0 <= self.cfg.width as f64 - 1.0 && p.1 <= self.cfg.height as f64 - 1.0
         };
-        let centre = (c.0 + g.0, c.1 + g.1);
-        Truth { frame: k, centre, corner: c, visible: inside(centre) }
+        let centre = placed.pivot();
+        let covered = self.cfg.appearance.cover(k, self.cfg.frames).0;
+        Truth { frame: k, centre, corner: placed.frame_point((0.0, 0.0)), visible: inside(centre) && !covered }
+    }
+
+    /// Where the part is at `t` seconds: the path's corner (displaced after a cover) and the
+    /// part's pose about its centroid.
+    pub(super) fn placed(&self, t: f64) -> Placed {
+        let c = self.corner_at(t);
+        let k = (t * self.cfg.fps).round().max(0.0) as usize;
+        let jump = self.cfg.appearance.cover(k, self.cfg.frames).1;
+        let u = t * self.cfg.fps / self.cfg.frames.max(1) as f64;
+        Placed { corner: (c.0 + jump.0, c.1 + jump.1), pose: self.cfg.appearance.pose(u) }
     }
 
     /// Ground truth of every frame.

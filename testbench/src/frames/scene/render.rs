@@ -64,41 +64,64 @@ impl Scene {
         let (w, h) = (self.cfg.width, self.cfg.height);
         let mut coverage = vec![0f32; w * h];
         let truth = self.truth(k);
-        let c = truth.corner;
         let mut img = self.background.clone();
-        // Only pixels near the part are supersampled.
-        let xs = PART.iter().map(|p| p.0 + c.0);
-        let ys = PART.iter().map(|p| p.1 + c.1);
-        let (x0, x1) = (xs.clone().fold(f64::MAX, f64::min), xs.fold(f64::MIN, f64::max));
-        let (y0, y1) = (ys.clone().fold(f64::MAX, f64::min), ys.fold(f64::MIN, f64::max));
+        let (covered, _) = self.cfg.appearance.cover(k, self.cfg.frames);
+        // A blurred frame averages the part over sub-frames spread across the frame period.
+        let exposure: Vec<f64> = self.cfg.appearance.exposure().collect();
+        let mut sum = vec![0f64; w * h];
+        let mut hits = vec![0u32; w * h];
         let clampi = |v: f64, hi: usize| (v.max(0.0) as usize).min(hi);
         // Samples per pixel side: 4 for the synthetic part; 8 for a photo, whose texture has
         // detail at the pixel scale that a coarser grid would alias.
         let grid: usize = if self.part_photo.is_some() { 8 } else { 4 };
         let step = 1.0 / grid as f64;
-        for py in clampi(y0 - 1.0, h)..clampi(y1 + 2.0, h) {
-            for px in clampi(x0 - 1.0, w)..clampi(x1 + 2.0, w) {
-                let mut acc = 0.0;
-                let mut covered = 0;
-                for sy in 0..grid {
-                    for sx in 0..grid {
-                        let (x, y) = (px as f64 + step * (sx as f64 + 0.5) - 0.5, py as f64 + step * (sy as f64 + 0.5) - 0.5);
-                        let (ox, oy) = (x - c.0, y - c.1);
-                        if inside_part(ox, oy) {
-                            covered += 1;
-                            acc += part_surface(self.part_photo.as_ref(), ox, oy);
+        let mut span = (usize::MAX, 0, usize::MAX, 0);
+        for dt in &exposure {
+            let placed = self.placed((k as f64 + dt) / self.cfg.fps);
+            // Only pixels near the part are supersampled.
+            let corners: Vec<(f64, f64)> = PART.iter().map(|&o| placed.frame_point(o)).collect();
+            let (x0, x1) = corners.iter().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.0), b.max(p.0)));
+            let (y0, y1) = corners.iter().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.1), b.max(p.1)));
+            let (px0, px1, py0, py1) = (clampi(x0 - 1.0, w), clampi(x1 + 2.0, w), clampi(y0 - 1.0, h), clampi(y1 + 2.0, h));
+            span = (span.0.min(px0), span.1.max(px1), span.2.min(py0), span.3.max(py1));
+            for py in py0..py1 {
+                for px in px0..px1 {
+                    for sy in 0..grid {
+                        for sx in 0..grid {
+                            let (x, y) = (px as f64 + step * (sx as f64 + 0.5) - 0.5, py as f64 + step * (sy as f64 + 0.5) - 0.5);
+                            let (ox, oy) = placed.part_point(x, y);
+                            if inside_part(ox, oy) {
+                                hits[py * w + px] += 1;
+                                sum[py * w + px] += part_surface(self.part_photo.as_ref(), ox, oy);
+                            }
                         }
                     }
                 }
-                if covered > 0 {
+            }
+        }
+        let samples = grid * grid * exposure.len();
+        for py in span.2..span.3 {
+            for px in span.0..span.1 {
+                let (n, acc) = (hits[py * w + px] as usize, sum[py * w + px]);
+                if n > 0 {
                     let bg = img[py * w + px] as f64;
-                    let samples = grid * grid;
-                    coverage[py * w + px] = covered as f32 / samples as f32;
-                    img[py * w + px] = ((acc + bg * (samples - covered) as f64) / samples as f64) as f32;
+                    coverage[py * w + px] = n as f32 / samples as f32;
+                    img[py * w + px] = ((acc + bg * (samples - n) as f64) / samples as f64) as f32;
+                }
+            }
+        }
+        if covered {
+            // A flat gray object over the whole part while it is covered.
+            let (cx, cy) = truth.centre;
+            for py in clampi(cy - 40.0, h)..clampi(cy + 41.0, h) {
+                for px in clampi(cx - 40.0, w)..clampi(cx + 41.0, w) {
+                    img[py * w + px] = 90.0;
+                    coverage[py * w + px] = 0.0;
                 }
             }
         }
         if self.cfg.occlusion {
+            let c = truth.corner;
             let n = self.cfg.frames.max(1) as f64;
             let u = k as f64 / n;
             if (0.45..0.55).contains(&u) {
@@ -112,13 +135,15 @@ impl Scene {
             }
         }
         let lamp = self.lamp(k);
+        let u = k as f64 / self.cfg.frames.max(1) as f64;
         let mut rng = Rng::new(self.cfg.seed.wrapping_mul(1_000_003).wrapping_add(k as u64));
         let pixels = img
             .iter()
             .enumerate()
             .map(|(i, &v)| {
                 let n = if self.cfg.noise > 0.0 { self.cfg.noise * rng.normal() } else { 0.0 };
-                (self.lit(v as f64, i % w, i / w, lamp) + n).round().clamp(0.0, 255.0) as u8
+                let v = self.lit(v as f64, i % w, i / w, lamp) * self.cfg.appearance.gain((i % w) as f64, w as f64, u);
+                (v + n).round().clamp(0.0, 255.0) as u8
             })
             .collect();
         (pixels, coverage, truth)

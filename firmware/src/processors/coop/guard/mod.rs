@@ -249,6 +249,13 @@ impl Guard {
         self.predict(t + (t1 - t0))
     }
 
+    /// Where the followed point should be one window interval (the last two positions'
+    /// spacing) after `t`, from the positions followed; `None` before there are two.
+    pub fn ahead(&self, t: f64) -> Option<Point> {
+        let (Some((t1, _)), Some((t0, _))) = (self.history[0], self.history[1]) else { return None };
+        (t1 > t0).then(|| self.predict(t + (t1 - t0))).flatten()
+    }
+
     /// Inverse-variance fusion of two agreeing measurements (see the module docs).
     fn fuse(&mut self, t: f64, n: Point, c: Point) -> (Point, Source) {
         for (k, (src, p)) in [(Source::Ncc, n), (Source::Cd, c)].into_iter().enumerate() {
