@@ -15,6 +15,8 @@
 //!    Lucas-Kanade from its best placement). When it still matches (score `>=` [`CONFIRM`])
 //!    and lands within [`DRIFT`] px of `p_n`, the new template is cut at `T_1`'s point `p*`,
 //!    which carries no accumulated error.
+//!    When `T_1` matches as well as at lock-on (score `>=` [`RECLAIM`]) its point is taken at
+//!    any distance in the window: the object looks as it did, and any drift is dropped.
 //! 4. Otherwise (the object has turned too far for `T_1` to match) the new template is cut
 //!    at `p_n`: drift can accumulate only while the object looks unlike its first view, and
 //!    is removed as soon as it looks like it again.
@@ -30,10 +32,13 @@ use crate::types::Point;
 /// Score against the current template under which a new template is proposed.
 pub const REFRESH: f32 = 0.99;
 /// Score of the first template from which its alignment corrects the drift.
-pub const CONFIRM: f32 = 0.8;
+pub const CONFIRM: f32 = 0.9;
 /// Largest distance in pixels between the current template's point and the first template's
 /// for the first to confirm it.
 pub const DRIFT: f32 = 1.0;
+/// Score from which the first template's point is taken at any distance: the object looks
+/// as it did at lock-on again, and whatever the updates accumulated is dropped.
+pub const RECLAIM: f32 = 0.95;
 
 /// The first template, prepared for alignment, and the template proposed by the last window.
 pub struct Adaptive {
@@ -64,20 +69,25 @@ impl Adaptive {
         if score >= REFRESH {
             return;
         }
-        let cut_at = self.first_point(win).filter(|p| dist(*p, at) <= DRIFT).unwrap_or(at);
+        let cut_at = match self.first_point(win) {
+            Some((p, s)) if s >= RECLAIM || dist(p, at) <= DRIFT => p,
+            _ => at,
+        };
         self.pending = Template::capture(win, cut_at, n);
     }
 
-    /// The first template's point in `win` when it still matches (score `>=` [`CONFIRM`]).
-    fn first_point(&self, win: &WindowView<'_>) -> Option<Point> {
+    /// The first template's point in `win` and its score, when it still matches (score `>=`
+    /// [`CONFIRM`]).
+    fn first_point(&self, win: &WindowView<'_>) -> Option<(Point, f32)> {
         let tv = self.first.view()?;
         let m = best_match(Method::Ncc, win, &tv).ok()?;
-        if (m.score as f32) < CONFIRM {
+        let score = m.score as f32;
+        if score < CONFIRM {
             return None;
         }
         let (ox, oy) = win.origin();
         let (x, y) = self.first_lk.refine(win, m.sub_x, m.sub_y).map_or((m.frame_x, m.frame_y), |(x, y)| (x + ox as f32, y + oy as f32));
-        Some(self.first.point_at(x, y))
+        Some((self.first.point_at(x, y), score))
     }
 
     /// The proposed template, if the last window proposed one (taken: proposed once).
@@ -125,12 +135,19 @@ mod tests {
     fn where_the_first_template_lands_too_far_away_the_cut_is_at_the_current_point() {
         let mut a = Adaptive::new(&template());
         let win = square(24, 14, 16, Decimation::Full);
-        // The block moved by (3, 2): the first template matches exactly 3.6 px from the point
-        // given, over DRIFT, so it does not confirm it and the cut is where the point is.
-        let moved = frame(Some((33, 22)));
+        // The block moved by (3, 2) and a bright pixel changed its look: the first template
+        // matches 3.6 px from the point given, over DRIFT, with NCC under RECLAIM, so it
+        // does not confirm the point and the cut is where the point is.
+        let mut moved = frame(Some((33, 22)));
+        moved[27 * 64 + 36] = 255;
         let at = Point { x: TARGET.x + 0.4, y: TARGET.y - 0.2 };
         a.propose(&cut(&moved, &win), at, 0.9, 8);
         let t = a.take().expect("a proposal");
         assert_eq!(Some(t), Template::capture(&cut(&moved, &win), at, 8));
+        // Unchanged but moved, the block matches the first template exactly (NCC 1 >=
+        // RECLAIM): its point is taken, 3.6 px away, and the template is the first one again.
+        let moved = frame(Some((33, 22)));
+        a.propose(&cut(&moved, &win), at, 0.9, 8);
+        assert_eq!(a.take().map(|t| t.pixels().to_vec()), Some(template().pixels().to_vec()));
     }
 }

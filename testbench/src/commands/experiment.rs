@@ -3,14 +3,15 @@
 use super::args::{HdlArg, ProfileArg};
 use super::output::{create_folder, OutFile};
 use super::CliError;
-use crate::experiments::real_images::conditions;
+use crate::experiments::{appearance, real_images};
 use crate::experiments::{Context, Experiment};
 use std::path::{Path, PathBuf};
 
 /// `coopwin experiment`'s options.
 #[derive(clap::Args)]
 pub struct ExperimentArgs {
-    /// table-2.3, fig-2.9, fig-2.10, fig-3.5, fig-3.7, fig-3.10, table-4.1, real-images, or all
+    /// table-2.3, fig-2.9, fig-2.10, fig-3.5, fig-3.7, fig-3.10, table-4.1, real-images,
+    /// appearance, or all
     pub name: String,
     /// Output folder
     #[arg(long)]
@@ -21,8 +22,8 @@ pub struct ExperimentArgs {
     /// Window units: the behavioural model, the rust-hdl blocks, or the Verilog in Verilator
     #[arg(long, value_enum, default_value_t = HdlArg::Model)]
     pub hdl: HdlArg,
-    /// With real-images: also write its sequences (PNG frames + groundtruth.csv) under DIR,
-    /// the input of scripts/opencv_real.py
+    /// Also write the real-image and appearance sequences (PNG frames + groundtruth.csv)
+    /// under DIR, the input of scripts/opencv_real.py
     #[arg(long, value_name = "DIR")]
     pub sequences: Option<PathBuf>,
 }
@@ -52,10 +53,10 @@ pub fn write_results(args: ExperimentArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// Writes every real-image condition's frames, `groundtruth.csv` and `fingerprint.txt` (the
+/// Writes every real-image and appearance condition's frames, `groundtruth.csv` and `fingerprint.txt` (the
 /// frames' fingerprint) under `root/<name>/`, the input of `scripts/opencv_real.py`.
 fn write_sequences(root: &Path) -> Result<(), CliError> {
-    for c in conditions() {
+    for c in real_images::conditions().into_iter().chain(appearance::conditions()) {
         eprintln!("  sequence {}", c.name);
         let dir = root.join(&c.name);
         // A refused folder here is a failure of the run (exit 1), not of an argument.

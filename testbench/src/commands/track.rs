@@ -49,6 +49,12 @@ pub struct TrackArgs {
     /// (1..16), so the target may move R pixels between two of its windows
     #[arg(long, value_name = "R", default_value_t = 2, value_parser = args::parse_in::<u16>(1, 16, "a search margin"))]
     pub search: u16,
+    /// Keep the template cut at the start, as the thesis does (by default the Foveal template
+    /// adapts to the object's appearance, corrected against the first one, and the Foveal
+    /// window is placed where the motion predicts the target; `--policy sse` and `kalman`
+    /// always keep it fixed)
+    #[arg(long)]
+    pub fixed_template: bool,
     /// Processor speeds: our kernels on this machine (native), or the thesis's C40 timing,
     /// which the experiments use
     #[arg(long, value_enum, default_value_t = ProfileArg::Native)]
@@ -125,7 +131,12 @@ impl TrackArgs {
     fn config(&self) -> SystemConfig {
         let n = self.template_side();
         SystemConfig {
-            params: coopwin_firmware::processors::Params { template: n, foveal: n + 2 * self.search, ..Default::default() },
+            params: coopwin_firmware::processors::Params {
+                template: n,
+                foveal: n + 2 * self.search,
+                adapt: !self.fixed_template && self.policy == PolicyArg::Guarded,
+                ..Default::default()
+            },
             coop_n: self.coop_n,
             target: self.target_point(),
             backend: self.hdl.into(),

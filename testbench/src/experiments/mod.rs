@@ -5,6 +5,7 @@
 //!
 //! A new experiment is a file here, an [`Experiment`] variant and its arm in
 //! [`Experiment::reproduce`].
+pub mod appearance;
 pub mod fig_2_10;
 pub mod fig_2_9;
 pub mod fig_3_10;
@@ -52,6 +53,10 @@ pub enum Experiment {
     /// The real-image evaluation against OpenCV's trackers (native profile).
     #[value(name = "real-images")]
     RealImages,
+    /// Appearance changes (rotation, scale, tilt, shadow, blur, cover) against OpenCV's
+    /// trackers (native profile).
+    #[value(name = "appearance")]
+    Appearance,
 }
 
 impl Experiment {
@@ -85,6 +90,7 @@ impl Experiment {
             Experiment::Fig3_10 => fig_3_10::reproduce,
             Experiment::Table4_1 => table_4_1::reproduce,
             Experiment::RealImages => return real_images::evaluate(ctx.dir, ctx.progress),
+            Experiment::Appearance => return appearance::evaluate(ctx.dir, ctx.progress),
         };
         ctx.thesis_section(self.name(), body)
     }

@@ -140,8 +140,15 @@ pub fn score(positions: &[Option<(usize, (f64, f64))>], truth: &[Truth], tracked
 /// Runs one of coopwin's trackers on a condition's frames, at the firmware's native speed, the
 /// target given as the true point of frame 0.
 pub fn run_ours(c: &Condition, frames: &mut Prerendered, strategy: Strategy, policy: CoopPolicy) -> Result<Score, SimError> {
+    run_configured(c, frames, strategy, policy, false)
+}
+
+/// [`run_ours`], with the Foveal template adapting to the object's appearance when `adapt`
+/// ([`coopwin_firmware::processors::Params::adapt`]).
+pub fn run_configured(c: &Condition, frames: &mut Prerendered, strategy: Strategy, policy: CoopPolicy, adapt: bool) -> Result<Score, SimError> {
     let target = frames.truth.first().map(|t| c.tracked.of(t));
-    let cfg = SystemConfig { policy, ..SystemConfig::thesis(strategy, CostModel::NATIVE, target) };
+    let mut cfg = SystemConfig { policy, ..SystemConfig::thesis(strategy, CostModel::NATIVE, target) };
+    cfg.params.adapt = adapt;
     let log = system::simulate(&cfg, frames, &mut |_| {})?;
     let positions: Vec<_> =
         log.frames.iter().map(|r| r.point.zip(r.measured_frame).map(|(p, m)| (m, p))).collect();
