@@ -43,7 +43,7 @@ const TRACK_EXAMPLES: &str = "Examples:
       no target: lock on to the first motion; a wider Foveal search for fast motion
   coopwin track --frames tri --profile c40 --strategy mpdf
       the thesis's C40 processor timing, as the experiments use it
-CSV columns: frame,x,y,mode,source,measured_frame,file,box_x,box_y,box_w,box_h,confidence,ok
+CSV columns: frame,x,y,mode,source,measured_frame,file,box_x,box_y,box_w,box_h,confidence,ok,state
   (x, y: pixel centres at integers; confidence: NCC's score from 0 at its acceptance level
   to 1; ok: a position measured at most 2 frames before)";
 

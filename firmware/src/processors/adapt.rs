@@ -11,7 +11,8 @@
 //! 1. Track with the current template `T_n`: the point `p_n` and its score `s_n`.
 //! 2. Only when `s_n < `[`REFRESH`] (the appearance has changed measurably) is a new template
 //!    proposed; while it holds, `T_n` is kept and nothing accumulates.
-//! 3. Drift correction: the first template `T_1` is aligned in the same window (NCC, then
+//! 3. Drift correction: the first template `T_1` is aligned in the same window (zero-mean
+//!    NCC, as the adapting track matches, then
 //!    Lucas-Kanade from its best placement). When it still matches (score `>=` [`CONFIRM`])
 //!    and lands within [`DRIFT`] px of `p_n`, the new template is cut at `T_1`'s point `p*`,
 //!    which carries no accumulated error.
@@ -80,7 +81,7 @@ impl Adaptive {
     /// [`CONFIRM`]).
     fn first_point(&self, win: &WindowView<'_>) -> Option<(Point, f32)> {
         let tv = self.first.view()?;
-        let m = best_match(Method::Ncc, win, &tv).ok()?;
+        let m = best_match(Method::Zncc, win, &tv).ok()?;
         let score = m.score as f32;
         if score < CONFIRM {
             return None;

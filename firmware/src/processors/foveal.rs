@@ -9,7 +9,7 @@ use super::params::{Params, COAST_MARGIN, GROW_MARGIN};
 use super::step::{placements, Mode, Step, Work};
 use super::template::Template;
 use crate::kernels::corner::{CornerDetector, CornerParams};
-use crate::kernels::matching::{best_match, Method};
+use crate::kernels::matching::best_match;
 use crate::kernels::refine::LkTemplate;
 use crate::kernels::support::{best_match_on, Support};
 use crate::kernels::view::WindowView;
@@ -50,14 +50,14 @@ struct NccFound {
 fn ncc_track(win: &WindowView<'_>, tpl: &Template, support: Option<&Support>, lk: &mut LkCache, p: &Params) -> (Option<NccFound>, Work) {
     let n = tpl.side();
     // The cost model counts the whole template: the support is a part of it.
-    let work = Work::Match { method: Method::Ncc, template: (n * n) as u32, placements: placements(win, n, 1) };
+    let work = Work::Match { method: p.ncc_method(), template: (n * n) as u32, placements: placements(win, n, 1) };
     let Some(tv) = tpl.view() else { return (None, work) };
     // The object's part of a corner template first; the whole template where that finds no
     // placement with the object's texture (a lamp's highlight across the support).
     let on_support = support.and_then(|s| Some((best_match_on(win, &tv, s).ok()?, s)));
     let (m, support) = match on_support {
         Some((m, s)) => (m, Some(s)),
-        None => match best_match(Method::Ncc, win, &tv) {
+        None => match best_match(p.ncc_method(), win, &tv) {
             Ok(m) => (m, None),
             Err(_) => return (None, work),
         },
@@ -350,15 +350,21 @@ impl Foveal {
     }
 
     /// The Foveal window after following `p` at `t`: with [`Params::adapt`], centred where
-    /// the motion puts the point at the next window and widened by [`GROW_MARGIN`] on each
-    /// side after a match on the window's edge; otherwise the thesis's, centred on `p`.
+    /// the motion puts the point at the next window, widened on each side by half the
+    /// predicted step, or by [`GROW_MARGIN`] after a match on the window's edge or before the
+    /// motion is known; otherwise the thesis's, centred on `p`.
     fn next_window(&self, p: Point, t: f64) -> WindowRequest {
         if self.adapt.is_none() {
             return self.params.foveal_window(p);
         }
-        let centre = self.coop.ahead(t).unwrap_or(p);
-        let side = self.params.foveal + if self.pinned { 2 * GROW_MARGIN } else { 0 };
-        self.params.window(centre, side, Decimation::Full)
+        // Without a prediction yet (the track's first window) the motion is unknown too. A
+        // fast target also accelerates by more: half its step a window is added.
+        let ahead = self.coop.ahead(t);
+        let extra = match ahead {
+            Some(q) if !self.pinned => (libm::roundf(dist(p, q) / 2.0) as u16).min(GROW_MARGIN),
+            _ => GROW_MARGIN,
+        };
+        self.params.window(ahead.unwrap_or(p), self.params.foveal + 2 * extra, Decimation::Full)
     }
 
     /// Where a coasting track expects the point, while it coasts (no measurement).
@@ -370,6 +376,7 @@ impl Foveal {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::kernels::matching::Method;
     use crate::processors::testing::{cut, frame, params, square, template, TARGET};
 
     fn near(p: Point, q: Point) -> bool {

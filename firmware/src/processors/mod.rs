@@ -34,7 +34,7 @@ pub mod watch;
 pub use coop::Policy;
 pub use foveal::{Foveal, FovealKind};
 pub use messages::{Dest, Msg};
-pub use params::{Params, COAST_MARGIN, GROW_MARGIN};
+pub use params::{Params, ADAPT_NCC_MIN, COAST_MARGIN, GROW_MARGIN};
 pub use peripheral::Peripheral;
 pub use spmf::Spmf;
 pub use step::{Mode, Step, Work};

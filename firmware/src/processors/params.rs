@@ -1,5 +1,6 @@
 //! The processors' tuning (thesis Table 2.2's window sizes by default) and the placement of a
 //! square window inside the frame.
+use crate::kernels::matching::Method;
 use crate::types::{Decimation, Point, WindowRequest};
 
 /// Extra pixels on each side of a coasting track's Foveal window, beyond the window's own
@@ -7,8 +8,9 @@ use crate::types::{Decimation, Point, WindowRequest};
 pub const COAST_MARGIN: u16 = 6;
 
 /// Extra pixels on each side of an adapting track's Foveal window after a match on the
-/// window's edge (the target moved further than the window's own search).
-pub const GROW_MARGIN: u16 = 3;
+/// window's edge (the target moved further than the window's own search), or while its
+/// motion is not known: 6 px a frame is a brisk motion at 25-30 frames/s.
+pub const GROW_MARGIN: u16 = 6;
 
 
 /// Tuning shared by the processors (thesis Table 2.2 sizes by default).
@@ -58,7 +60,20 @@ impl Default for Params {
     }
 }
 
+/// Zero-mean NCC acceptance with an adapting template ([`Params::adaptive`]). The template is
+/// at most a few frames old, so a lower score means a changed look (a turn, a zoom, blur)
+/// more often than another object; zero-mean NCC, unlike the thesis's, scores a flat or
+/// unrelated patch near 0 however bright it is (a cut to another scene is not followed),
+/// and the guard's prediction gate keeps a match far from the motion out.
+pub const ADAPT_NCC_MIN: f32 = 0.7;
+
 impl Params {
+    /// These parameters with the template adapting ([`Params::adapt`]) and matched by
+    /// zero-mean NCC, accepted from [`ADAPT_NCC_MIN`].
+    pub fn adaptive(self) -> Params {
+        Params { adapt: true, ncc_min: ADAPT_NCC_MIN, ..self }
+    }
+
     /// A `side`x`side` window centred on `p`, moved inside the frame.
     pub fn window(&self, p: Point, side: u16, decimation: Decimation) -> WindowRequest {
         let side = side.min(self.frame_w).min(self.frame_h).max(2);
@@ -67,6 +82,16 @@ impl Params {
             start.clamp(0.0, f32::from(len - side)) as u16
         };
         WindowRequest { x0: place(p.x, self.frame_w), y0: place(p.y, self.frame_h), width: side, height: side, decimation }
+    }
+
+    /// The Foveal processor's correlation: the thesis's NCC, or zero-mean NCC when the
+    /// template adapts.
+    pub fn ncc_method(&self) -> Method {
+        if self.adapt {
+            Method::Zncc
+        } else {
+            Method::Ncc
+        }
     }
 
     pub(super) fn foveal_window(&self, p: Point) -> WindowRequest {

@@ -15,6 +15,7 @@ use crate::report::{self, csv, overlay};
 use crate::system::{self, RunLog, SystemConfig};
 use crate::units::clocked::Trace;
 use crate::units::clocks::Clocks;
+use coopwin_firmware::processors::Params;
 use coopwin_hdl::sim::camera::Jitter;
 use std::io::IsTerminal;
 use std::ops::Range;
@@ -72,7 +73,7 @@ pub struct TrackArgs {
     #[arg(long, value_enum, default_value_t = PolicyArg::Guarded)]
     pub policy: PolicyArg,
     /// CSV to write, one line a frame (frame,x,y,mode,source,measured_frame,file,box_x,box_y,
-    /// box_w,box_h,confidence,ok; see the README); - for standard output
+    /// box_w,box_h,confidence,ok,state; see the README); - for standard output
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Animated overlay of the run: FILE.gif, or FILE.mp4 (needs FFmpeg): each frame with the
@@ -124,19 +125,25 @@ impl TrackArgs {
     fn csv_box(&self) -> CsvBox {
         let n = usize::from(self.template_side());
         let size = self.target_box.map_or((n, n), |(_, _, w, h)| (w as usize, h as usize));
-        CsvBox { size, acceptance: coopwin_firmware::processors::Params::default().ncc_min }
+        CsvBox { size, acceptance: self.params().ncc_min }
+    }
+
+    /// The processors' parameters: the template side, the search margin, and the template
+    /// adapting unless kept fixed.
+    fn params(&self) -> Params {
+        let n = self.template_side();
+        let p = Params { template: n, foveal: n + 2 * self.search, ..Default::default() };
+        if self.fixed_template || self.policy != PolicyArg::Guarded {
+            p
+        } else {
+            p.adaptive()
+        }
     }
 
     /// The run the options ask for.
     fn config(&self) -> SystemConfig {
-        let n = self.template_side();
         SystemConfig {
-            params: coopwin_firmware::processors::Params {
-                template: n,
-                foveal: n + 2 * self.search,
-                adapt: !self.fixed_template && self.policy == PolicyArg::Guarded,
-                ..Default::default()
-            },
+            params: self.params(),
             coop_n: self.coop_n,
             target: self.target_point(),
             backend: self.hdl.into(),

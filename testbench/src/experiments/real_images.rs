@@ -148,7 +148,9 @@ pub fn run_ours(c: &Condition, frames: &mut Prerendered, strategy: Strategy, pol
 pub fn run_configured(c: &Condition, frames: &mut Prerendered, strategy: Strategy, policy: CoopPolicy, adapt: bool) -> Result<Score, SimError> {
     let target = frames.truth.first().map(|t| c.tracked.of(t));
     let mut cfg = SystemConfig { policy, ..SystemConfig::thesis(strategy, CostModel::NATIVE, target) };
-    cfg.params.adapt = adapt;
+    if adapt {
+        cfg.params = cfg.params.adaptive();
+    }
     let log = system::simulate(&cfg, frames, &mut |_| {})?;
     let positions: Vec<_> =
         log.frames.iter().map(|r| r.point.zip(r.measured_frame).map(|(p, m)| (m, p))).collect();

@@ -20,7 +20,7 @@ pub struct CsvBox {
 pub const CD_CONFIDENCE: f64 = 0.5;
 
 /// The header of [`track_csv`].
-pub const TRACK_HEADER: &str = "frame,x,y,mode,source,measured_frame,file,box_x,box_y,box_w,box_h,confidence,ok";
+pub const TRACK_HEADER: &str = "frame,x,y,mode,source,measured_frame,file,box_x,box_y,box_w,box_h,confidence,ok,state";
 
 /// The CSV of a run, one line a frame (see [`TRACK_HEADER`]): the position (pixel centres at
 /// integers), the mode, the source (`ncc`, `cd` or `none`), the frame the position was
@@ -28,16 +28,18 @@ pub const TRACK_HEADER: &str = "frame,x,y,mode,source,measured_frame,file,box_x,
 /// `shape.size` centred on the position (OpenCV's convention: columns `box_x..box_x+box_w-1`),
 /// the confidence in 0..1 (the NCC score scaled from the acceptance level, 0, to a perfect
 /// match, 1; [`CD_CONFIDENCE`] for the corner detector alone) and `ok`: 1 when the frame has a
-/// position measured at most [`MAX_AGE`] frames before, else 0. Fields without a position are
-/// empty.
+/// position measured at most [`MAX_AGE`] frames before, else 0; and the `state`
+/// (`tracking`, `predicted`, `searching`, `lost`). Without a measured position
+/// the row gives the estimate (a coasting track's prediction, or the last position while the
+/// target is searched for or lost) with `ok` 0; fields with neither are empty.
 pub fn track_csv(frames: &[FrameRecord], files: Option<&[String]>, shape: CsvBox) -> String {
     let mut s = format!("{TRACK_HEADER}\n");
     let (bw, bh) = shape.size;
     for r in frames {
-        let (x, y) = r.point.map(|(x, y)| (format!("{x:.3}"), format!("{y:.3}"))).unwrap_or_default();
+        let shown = r.point.or(r.estimate);
+        let (x, y) = shown.map(|(x, y)| (format!("{x:.3}"), format!("{y:.3}"))).unwrap_or_default();
         let file = files.and_then(|f| f.get(r.frame)).map(|n| csv_field(n)).unwrap_or_default();
-        let boxed = r
-            .point
+        let boxed = shown
             .map(|(x, y)| format!("{:.3},{:.3},{bw},{bh}", x - (bw as f64 - 1.0) / 2.0, y - (bh as f64 - 1.0) / 2.0))
             .unwrap_or_else(|| ",,,".into());
         let confidence = match (r.point, r.score) {
@@ -48,12 +50,13 @@ pub fn track_csv(frames: &[FrameRecord], files: Option<&[String]>, shape: CsvBox
         let ok = r.measured_frame.is_some_and(|m| m <= r.frame && r.frame - m <= MAX_AGE) && r.point.is_some();
         let _ = writeln!(
             s,
-            "{},{x},{y},{},{},{},{file},{boxed},{confidence},{}",
+            "{},{x},{y},{},{},{},{file},{boxed},{confidence},{},{}",
             r.frame,
             mode_name(r.mode),
             r.source.map(algo_name).unwrap_or("none"),
             r.measured_frame.map(|f| f.to_string()).unwrap_or_default(),
-            u8::from(ok)
+            u8::from(ok),
+            r.state.name()
         );
     }
     s

@@ -23,6 +23,37 @@ pub struct FrameRecord {
     pub source: Option<Source>,
     /// The NCC score behind `point`, when NCC measured it.
     pub score: Option<f32>,
+    /// What the track is doing at the end of the frame period.
+    pub state: TrackState,
+    /// Without a current `point`: where the target is expected (a coasting track's prediction)
+    /// or was last measured (while it is searched for, or lost).
+    pub estimate: Option<(f64, f64)>,
+}
+
+/// What a track is doing in a frame, as a user reads it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TrackState {
+    /// A position measured in a recent window.
+    Tracking,
+    /// No measurement (an occluder, a blurred or changed look): the position is predicted
+    /// from the motion, and the Foveal window looks there.
+    Predicted,
+    /// The Foveal window gave the target up: the Peripheral window searches for it.
+    Searching,
+    /// No window on the target: waiting for motion.
+    Lost,
+}
+
+impl TrackState {
+    /// The name in the CSV.
+    pub fn name(self) -> &'static str {
+        match self {
+            TrackState::Tracking => "tracking",
+            TrackState::Predicted => "predicted",
+            TrackState::Searching => "searching",
+            TrackState::Lost => "lost",
+        }
+    }
 }
 
 /// A position report: when it was made, for which frame's window, where, and by what.
@@ -106,12 +137,14 @@ pub(super) struct Recorder {
     pub(super) log: RunLog,
     robot: FramedPositionSink<VecDeque<u8>>,
     last: Option<Report>,
+    /// The last position reported, kept through a loss.
+    last_seen: Option<Point>,
 }
 
 impl Recorder {
     /// An empty log.
     pub(super) fn new(log: RunLog) -> Self {
-        Recorder { log, robot: FramedPositionSink::new(VecDeque::new()), last: None }
+        Recorder { log, robot: FramedPositionSink::new(VecDeque::new()), last: None, last_seen: None }
     }
 
     /// What a step finished at `t` seconds tells the outside: its position report, measured
@@ -130,6 +163,7 @@ impl Recorder {
             self.emit(&r)?;
             self.log.reports.push(r);
             self.last = Some(r);
+            self.last_seen = Some(point);
         }
         if step.lost.is_some() {
             self.log.losses.push(t);
@@ -149,14 +183,24 @@ impl Recorder {
     pub(super) fn end_frame(&mut self, frame: usize, roster: &Roster) {
         let mode = roster.mode();
         // A coasting COOP track has no current position: its last one is not this frame's.
-        let tracked = if mode == Mode::Track && !roster.coasting() { self.last } else { None };
+        let coasting = roster.coasting();
+        let tracked = if mode == Mode::Track && !coasting { self.last } else { None };
+        let (state, estimate) = match mode {
+            Mode::Track if coasting => (TrackState::Predicted, roster.predicted().or(self.last_seen)),
+            Mode::Track => (TrackState::Tracking, None),
+            Mode::Detect => (TrackState::Searching, self.last_seen),
+            Mode::Watch => (TrackState::Lost, self.last_seen),
+        };
+        let xy = |p: Point| (f64::from(p.x), f64::from(p.y));
         self.log.frames.push(FrameRecord {
             frame,
-            point: tracked.map(|r| (f64::from(r.point.x), f64::from(r.point.y))),
+            point: tracked.map(|r| xy(r.point)),
             measured_frame: tracked.map(|r| r.frame),
             mode,
             source: tracked.map(|r| r.algo),
             score: tracked.and_then(|r| r.score),
+            state,
+            estimate: estimate.map(xy),
         });
     }
 

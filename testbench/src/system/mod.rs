@@ -20,7 +20,7 @@ mod writes;
 
 pub use config::{CoopPolicy, MpdfWatch, SystemConfig};
 pub use event_loop::simulate_with;
-pub use log::{FrameRecord, Report, Role, RunLog};
+pub use log::{FrameRecord, Report, Role, RunLog, TrackState};
 pub use roster::Strategy;
 
 use crate::frames::{FrameError, FrameSource};

@@ -235,4 +235,12 @@ impl<'b> Roster<'b> {
     pub(super) fn coasting(&self) -> bool {
         self.processors.iter().any(|p| matches!(p, Processor::Foveal(f) if f.coasting()))
     }
+
+    /// Where a coasting track expects the target, while it coasts.
+    pub(super) fn predicted(&self) -> Option<Point> {
+        self.processors.iter().find_map(|p| match p {
+            Processor::Foveal(f) => f.predicted(),
+            _ => None,
+        })
+    }
 }
