@@ -46,24 +46,26 @@ struct NccFound {
 /// NCC tracking of `tpl` in `win`: the new point (the best placement, refined to sub-pixel
 /// accuracy by Lucas-Kanade, [`crate::kernels::refine`]) and its score, or `None` if the best
 /// score is under `ncc_min` (the target has left the window, or no longer looks like the
-/// template). `lk` holds the template prepared for the refinement.
-fn ncc_track(win: &WindowView<'_>, tpl: &Template, support: Option<&Support>, lk: &mut LkCache, p: &Params) -> (Option<NccFound>, Work) {
+/// template). `lk` holds the template prepared for the refinement; an `adapting` template is
+/// matched by zero-mean NCC ([`Params::correlation`]).
+fn ncc_track(win: &WindowView<'_>, tpl: &Template, support: Option<&Support>, lk: &mut LkCache, p: &Params, adapting: bool) -> (Option<NccFound>, Work) {
+    let (method, acceptance) = p.correlation(adapting);
     let n = tpl.side();
     // The cost model counts the whole template: the support is a part of it.
-    let work = Work::Match { method: p.ncc_method(), template: (n * n) as u32, placements: placements(win, n, 1) };
+    let work = Work::Match { method, template: (n * n) as u32, placements: placements(win, n, 1) };
     let Some(tv) = tpl.view() else { return (None, work) };
     // The object's part of a corner template first; the whole template where that finds no
     // placement with the object's texture (a lamp's highlight across the support).
     let on_support = support.and_then(|s| Some((best_match_on(win, &tv, s).ok()?, s)));
     let (m, support) = match on_support {
         Some((m, s)) => (m, Some(s)),
-        None => match best_match(p.ncc_method(), win, &tv) {
+        None => match best_match(method, win, &tv) {
             Ok(m) => (m, None),
             Err(_) => return (None, work),
         },
     };
     let score = m.score as f32;
-    if score < p.ncc_min {
+    if score < acceptance {
         return (None, work);
     }
     // Lucas-Kanade from the parabola's placement; the parabola's own when it is refused.
@@ -262,7 +264,7 @@ impl Foveal {
             }
             FovealKind::Ncc | FovealKind::CoopMaster => {
                 let (found, work) = match &self.template {
-                    Some(tpl) => ncc_track(win, tpl, self.support.as_ref(), &mut self.lk, &self.params),
+                    Some(tpl) => ncc_track(win, tpl, self.support.as_ref(), &mut self.lk, &self.params, self.adapt.is_some()),
                     None => (None, Work::None),
                 };
                 step.clear(work);

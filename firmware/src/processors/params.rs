@@ -60,18 +60,27 @@ impl Default for Params {
     }
 }
 
-/// Zero-mean NCC acceptance with an adapting template ([`Params::adaptive`]). The template is
-/// at most a few frames old, so a lower score means a changed look (a turn, a zoom, blur)
-/// more often than another object; zero-mean NCC, unlike the thesis's, scores a flat or
-/// unrelated patch near 0 however bright it is (a cut to another scene is not followed),
-/// and the guard's prediction gate keeps a match far from the motion out.
+/// Zero-mean NCC acceptance of an adapting template ([`Params::adapt`]). The template is at
+/// most a few frames old, so a lower score means a changed look (a turn, a zoom, blur) more
+/// often than another object; zero-mean NCC, unlike the thesis's, scores a flat or unrelated
+/// patch near 0 however bright it is (a cut to another scene is not followed), and the
+/// guard's prediction gate keeps a match far from the motion out.
 pub const ADAPT_NCC_MIN: f32 = 0.7;
 
 impl Params {
-    /// These parameters with the template adapting ([`Params::adapt`]) and matched by
-    /// zero-mean NCC, accepted from [`ADAPT_NCC_MIN`].
+    /// These parameters with the template adapting ([`Params::adapt`]).
     pub fn adaptive(self) -> Params {
-        Params { adapt: true, ncc_min: ADAPT_NCC_MIN, ..self }
+        Params { adapt: true, ..self }
+    }
+
+    /// The Foveal processor's correlation and its acceptance: the thesis's NCC from
+    /// `ncc_min`, or zero-mean NCC from [`ADAPT_NCC_MIN`] for a template that adapts.
+    pub fn correlation(&self, adapting: bool) -> (Method, f32) {
+        if adapting {
+            (Method::Zncc, ADAPT_NCC_MIN)
+        } else {
+            (Method::Ncc, self.ncc_min)
+        }
     }
 
     /// A `side`x`side` window centred on `p`, moved inside the frame.
@@ -82,16 +91,6 @@ impl Params {
             start.clamp(0.0, f32::from(len - side)) as u16
         };
         WindowRequest { x0: place(p.x, self.frame_w), y0: place(p.y, self.frame_h), width: side, height: side, decimation }
-    }
-
-    /// The Foveal processor's correlation: the thesis's NCC, or zero-mean NCC when the
-    /// template adapts.
-    pub fn ncc_method(&self) -> Method {
-        if self.adapt {
-            Method::Zncc
-        } else {
-            Method::Ncc
-        }
     }
 
     pub(super) fn foveal_window(&self, p: Point) -> WindowRequest {

@@ -125,7 +125,8 @@ impl TrackArgs {
     fn csv_box(&self) -> CsvBox {
         let n = usize::from(self.template_side());
         let size = self.target_box.map_or((n, n), |(_, _, w, h)| (w as usize, h as usize));
-        CsvBox { size, acceptance: self.params().ncc_min }
+        let p = self.params();
+        CsvBox { size, acceptance: p.correlation(p.adapt).1 }
     }
 
     /// The processors' parameters: the template side, the search margin, and the template
