@@ -34,7 +34,7 @@ fn coopwin(args: &[&str]) -> Run {
 }
 
 /// The track CSV's header, as the README documents it.
-const HEADER: &str = "frame,x,y,mode,source,measured_frame,file,box_x,box_y,box_w,box_h,confidence,ok";
+const HEADER: &str = "frame,x,y,mode,source,measured_frame,file,box_x,box_y,box_w,box_h,confidence,ok,time_s,damaged";
 
 fn scratch(name: &str) -> PathBuf {
     let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("reliability").join(name);
@@ -266,7 +266,7 @@ fn every_bad_argument_exits_2_with_one_line_that_says_why() {
         (vec!["track", "--frames", f, "--target", "-5,10"], vec!["negative"]),
         (vec!["track", "--frames", f, "--target", "NaN,NaN"], vec!["not a number"]),
         (vec!["track", "--frames", f, "--target", "inf,4"], vec!["not a number"]),
-        (vec!["track", "--frames", f, "--target", "1e308,5"], vec!["beyond the largest frame", "0..1023"]),
+        (vec!["track", "--frames", f, "--target", "1e308,5"], vec!["beyond the largest frame", "0..4095"]),
         (vec!["track", "--frames", f, "--target", "300,10"], vec!["outside the 256x256 frames"]),
         (vec!["track", "--frames", f, "--target", "10"], vec!["X,Y"]),
         (vec!["track", "--frames", f, "--hdl", "rust-hdl", "--vcd", "v.vcd", "--vcd-frames", "5..3"], vec!["reversed"]),

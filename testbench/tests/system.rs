@@ -21,6 +21,7 @@ fn every_strategy_tracks_a_given_target() {
     for (strategy, bound) in [(Strategy::Spmf, 0.5), (Strategy::Tpdf, 0.5), (Strategy::Mpdf, 0.5), (Strategy::Coop, 1.0)] {
         let cfg = SystemConfig::thesis(strategy, CostModel::C40, Some(corner0(&scene)));
         let (log, m) = run_scene(&cfg, scene.clone()).unwrap();
+        println!("MEASURED {strategy:?}: RMS {:.4} px, RLT {:.4}", m.rms, m.rlt);
         assert!(m.rms < bound, "{strategy:?}: RMS {}", m.rms);
         assert!(m.rlt < 0.05, "{strategy:?}: RLT {}", m.rlt);
         assert!(log.reports.len() >= 50, "{strategy:?}: {} reports", log.reports.len());
@@ -31,6 +32,7 @@ fn every_strategy_tracks_a_given_target() {
 fn corner_detector_tracks_the_corner_within_a_pixel_and_a_half() {
     let scene = short_triangle(40.0);
     let (_, m) = run_scene(&SystemConfig::thesis(Strategy::TpdfCd, CostModel::C40, Some(corner0(&scene))), scene).unwrap();
+    println!("MEASURED TpdfCd: RMS {:.4} px, RLT {:.4}", m.rms, m.rlt);
     assert!(m.rms < 1.5 && m.rlt < 0.05, "RMS {} RLT {}", m.rms, m.rlt);
 }
 
@@ -97,6 +99,7 @@ fn coop_with_the_kalman_policy_tracks_within_a_pixel() {
     let mut cfg = SystemConfig::thesis(Strategy::Coop, CostModel::C40, Some(corner0(&scene)));
     cfg.policy = coopwin_testbench::system::CoopPolicy::Kalman;
     let (log, m) = run_scene(&cfg, scene).unwrap();
+    println!("MEASURED Kalman COOP: RMS {:.4} px, RLT {:.4}", m.rms, m.rlt);
     assert!(m.rms < 1.0 && m.rlt < 0.05, "RMS {} RLT {}", m.rms, m.rlt);
     assert!(log.reports.len() >= 50);
 }

@@ -23,7 +23,7 @@ use std::path::{Path, PathBuf};
 /// `coopwin track`'s options.
 #[derive(clap::Args)]
 pub struct TrackArgs {
-    /// Folder of PNG frames (8-bit gray or colour, 64x64 to 1024x1024, one size), or a video
+    /// Folder of PNG frames (8-bit gray or colour, 64x64 to 4096x4096, one size), or a video
     /// file FFmpeg reads (MP4, AVI, MKV, ...; needs the `ffmpeg` program)
     #[arg(long)]
     pub frames: PathBuf,

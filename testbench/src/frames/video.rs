@@ -51,6 +51,41 @@ impl std::fmt::Display for VideoError {
 
 impl std::error::Error for VideoError {}
 
+fn spawn_error(program: &'static str, e: std::io::Error) -> VideoError {
+    if e.kind() == std::io::ErrorKind::NotFound {
+        VideoError::Missing(program)
+    } else {
+        VideoError::Io(e)
+    }
+}
+
+fn last_line(stderr: &[u8]) -> String {
+    let text = String::from_utf8_lossy(stderr);
+    text.lines().rev().find(|l| !l.trim().is_empty()).unwrap_or("no message").trim().to_string()
+}
+
+/// The first video stream's size and declared rate, from `ffprobe`.
+fn probe(path: &Path) -> Result<((usize, usize), Option<f64>), VideoError> {
+    let out = Command::new("ffprobe")
+        .args(["-v", "error", "-select_streams", "v:0", "-show_entries", "stream=width,height,avg_frame_rate", "-of", "csv=p=0"])
+        .arg(path)
+        .stdin(Stdio::null())
+        .output()
+        .map_err(|e| spawn_error("ffprobe", e))?;
+    if !out.status.success() {
+        return Err(VideoError::Failed { path: path.into(), message: last_line(&out.stderr) });
+    }
+    let text = String::from_utf8_lossy(&out.stdout);
+    let fields: Vec<&str> = text.trim().split(',').collect();
+    let unusable = |why: &str| VideoError::Unusable { path: path.into(), why: why.into() };
+    let [w, h, rate] = fields[..] else { return Err(unusable("no video stream")) };
+    let (w, h) = (w.parse::<usize>(), h.parse::<usize>());
+    let (Ok(w), Ok(h)) = (w, h) else { return Err(unusable("no video stream")) };
+    // "30000/1001", "25/1", or "0/0" for none.
+    let fps = rate.split_once('/').and_then(|(n, d)| Some(n.parse::<f64>().ok()? / d.parse::<f64>().ok()?));
+    Ok(((w, h), fps.filter(|r| r.is_finite() && *r > 0.0)))
+}
+
 /// Decodes with FFmpeg's `ffmpeg` program: the options shared by the scan and the decode,
 /// so both see the same frames. One decoding thread, so an error is logged just before the
 /// frame it damages; every frame the decoder gives, with its own timestamp
@@ -174,6 +209,10 @@ fn log_line(line: &str) -> LogLine {
             let time = field("pts_time:").and_then(|v| v.parse::<f64>().ok()).unwrap_or(f64::NAN);
             return LogLine::Frame { time, key: field("iskey:") == Some("1") };
         }
+        return LogLine::Other;
+    }
+    // The muxer's complaints concern the scan's own (discarded) output, not the file.
+    if text.contains("muxer") {
         return LogLine::Other;
     }
     match level {
@@ -389,3 +428,32 @@ impl<W: Write + Send + 'static> Mp4Encoder<W> {
     }
 }
 
+
+#[cfg(test)]
+mod tests {
+    use super::{frame_runs, log_line, LogLine};
+
+    #[test]
+    fn ffmpeg_log_lines_are_read_as_frames_and_problems() {
+        // Reference: lines as FFmpeg 5.1 prints them with `-loglevel level+info -vf showinfo`.
+        let frame = "[Parsed_showinfo_0 @ 0x55a5f5a82cc0] [info] n:  12 pts:   6144 pts_time:0.48    pos:     5678 fmt:yuv420p sar:1/1 s:160x120 i:P iskey:0 type:P checksum:7EA557FD";
+        assert_eq!(log_line(frame), LogLine::Frame { time: 0.48, key: false });
+        let key = "[Parsed_showinfo_0 @ 0x1] [info] n:   0 pts:      0 pts_time:0       pos:       48 iskey:1 type:I";
+        assert_eq!(log_line(key), LogLine::Frame { time: 0.0, key: true });
+        let error = "[h264 @ 0x55e41ed2d680] [error] Invalid NAL unit size (121 > 119).";
+        assert_eq!(log_line(error), LogLine::Problem("Invalid NAL unit size (121 > 119).".into()));
+        assert_eq!(log_line("[warning] half.mp4: corrupt input packet in stream 0"), LogLine::Problem("half.mp4: corrupt input packet in stream 0".into()));
+        // Not problems with the file: other warnings, the scan's own muxer, the banner.
+        assert_eq!(log_line("[swscaler @ 0x1] [warning] deprecated pixel format used"), LogLine::Other);
+        assert_eq!(log_line("[null @ 0x1] [error] Application provided invalid, non monotonically increasing dts to muxer in stream 0: 28 >= 28"), LogLine::Other);
+        assert_eq!(log_line("[Parsed_showinfo_0 @ 0x1] [info] config in time_base: 1/12800, frame_rate: 25/1"), LogLine::Other);
+        assert_eq!(log_line("[info] Input #0, mov,mp4,m4a,3gp,3g2,mj2, from 'c.mp4':"), LogLine::Other);
+    }
+
+    #[test]
+    fn damaged_frames_are_listed_as_runs() {
+        // Reference: the runs written out by hand.
+        let f = [false, true, true, false, true, false, false, true, true, true];
+        assert_eq!(frame_runs(&f), "frames 1-2, frame 4, frames 7-9");
+    }
+}
