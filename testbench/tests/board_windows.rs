@@ -34,6 +34,7 @@ fn the_replay_reports_the_true_corner() {
     }
     assert_eq!(n, scene().frames);
     println!("MEASURED worst error {worst:.4} px");
-    // The testbench's COOP errors on this kind of scene are well under a pixel.
-    assert!(worst < 1.0, "worst error {worst:.3} px");
+    // Measured 0.225 px (2026-12-01, `cargo test -p coopwin-testbench --test board_windows --
+    // --nocapture` prints it); the bound is twice that.
+    assert!(worst < 0.45, "worst error {worst:.3} px");
 }

@@ -285,7 +285,7 @@ fn memory_does_not_grow_with_the_clip() {
 }
 
 #[test]
-#[ignore = "long: a 30,000-frame 640x480 clip; run with cargo test --release -p coopwin-testbench --test footage -- --ignored --nocapture"]
+#[ignore = "long: a 30,000-frame 640x480 clip; run with cargo test -p coopwin-testbench --test footage -- --ignored --nocapture"]
 fn a_30000_frame_640x480_clip_tracks_in_under_200_mb() {
     // Issue 24's figure: peak memory under 200 MB for 30,000 frames at 640x480 (a run that kept
     // the clip would need 9.2 GB).
