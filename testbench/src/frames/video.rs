@@ -1,7 +1,9 @@
 //! Video files in and out through the `ffmpeg` and `ffprobe` programs (Debian package
-//! `ffmpeg`): a clip is decoded to 8-bit gray frames for tracking, and an overlay is encoded
-//! to MP4. No codec is linked into coopwin; without the programs these give a typed error
-//! that says what to install.
+//! `ffmpeg`): a clip is scanned once (each frame's timestamp, and the decoding errors FFmpeg
+//! logs, [`scan`]) and then decoded to 8-bit gray frames as it is tracked, a few frames held
+//! at a time ([`VideoFrames`]); an overlay is encoded to MP4 a frame at a time
+//! ([`Mp4Encoder`]). No codec is linked into coopwin; without the programs these give a typed
+//! error that says what to install.
 use std::collections::VecDeque;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::path::{Path, PathBuf};
