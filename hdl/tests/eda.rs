@@ -2,7 +2,7 @@
 //! clock for clock (two more simulators, each independent of rust-hdl), Verilator lints every
 //! size with -Wall, Yosys maps a unit to an iCE40. The replays also check what was delivered
 //! against the software crop of each frame (`Window::crop`, an independent model).
-//! Without the tools these tests skip with a message, unless COOPWIN_REQUIRE_EDA=1.
+//! Without the tools these tests fail, or skip visibly with COOPWIN_ALLOW_MISSING_EDA=1.
 mod common;
 use common::{have_tool, run, scratch, verilog_dir};
 use coopwin_hdl::sim::camera::{CameraBus, RasterTiming, Window};

@@ -46,7 +46,7 @@ fn track_refuses_bad_folders_with_one_clear_line() {
     track_fails(&corrupt, "not a readable PNG");
     let tiny = scratch("cli_tiny");
     image::GrayImage::new(32, 32).save(tiny.join("a.png")).unwrap();
-    track_fails(&tiny, "64x64 to 1024x1024");
+    track_fails(&tiny, "64x64 to 4096x4096");
 }
 
 #[test]
@@ -66,7 +66,7 @@ fn scene_then_track_writes_the_csv_with_the_documented_columns() {
     assert!(out.contains("| tpdf |"), "summary printed: {out}");
     let text = std::fs::read_to_string(&csv).unwrap();
     let mut lines = text.lines();
-    assert_eq!(lines.next().unwrap(), "frame,x,y,mode,source,measured_frame,file,box_x,box_y,box_w,box_h,confidence,ok,state");
+    assert_eq!(lines.next().unwrap(), "frame,x,y,mode,source,measured_frame,file,box_x,box_y,box_w,box_h,confidence,ok,time_s,damaged,state");
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     assert_eq!(rows.len(), 40);
     assert!(rows.iter().any(|r| r[3] == "track" && r[4] == "ncc" && !r[1].is_empty()));

@@ -8,15 +8,8 @@ use coopwin_testbench::system::cost::CostModel;
 use coopwin_testbench::system::{Strategy, SystemConfig};
 use coopwin_testbench::units::UnitBackend;
 
-/// Verilator present, or required (COOPWIN_REQUIRE_EDA=1, which makes its absence a failure).
-fn verilator() -> bool {
-    let found = std::process::Command::new("verilator").arg("--version").output().is_ok();
-    if !found {
-        assert!(std::env::var("COOPWIN_REQUIRE_EDA").as_deref() != Ok("1"), "COOPWIN_REQUIRE_EDA=1 and verilator not found");
-        eprintln!("SKIPPED the Verilator backend: verilator not found (apt-get install -y verilator)");
-    }
-    found
-}
+mod common;
+use common::have_verilator as verilator;
 
 fn both(cfg: &SystemConfig, scene: &SceneConfig) {
     let backends = if verilator() { vec![UnitBackend::RustHdl, UnitBackend::Verilator] } else { vec![UnitBackend::RustHdl] };

@@ -34,7 +34,7 @@ fn coopwin(args: &[&str]) -> Run {
 }
 
 /// The track CSV's header, as the README documents it.
-const HEADER: &str = "frame,x,y,mode,source,measured_frame,file,box_x,box_y,box_w,box_h,confidence,ok,state";
+const HEADER: &str = "frame,x,y,mode,source,measured_frame,file,box_x,box_y,box_w,box_h,confidence,ok,time_s,damaged,state";
 
 fn scratch(name: &str) -> PathBuf {
     let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("reliability").join(name);
@@ -266,7 +266,7 @@ fn every_bad_argument_exits_2_with_one_line_that_says_why() {
         (vec!["track", "--frames", f, "--target", "-5,10"], vec!["negative"]),
         (vec!["track", "--frames", f, "--target", "NaN,NaN"], vec!["not a number"]),
         (vec!["track", "--frames", f, "--target", "inf,4"], vec!["not a number"]),
-        (vec!["track", "--frames", f, "--target", "1e308,5"], vec!["beyond the largest frame", "0..1023"]),
+        (vec!["track", "--frames", f, "--target", "1e308,5"], vec!["beyond the largest frame", "0..4095"]),
         (vec!["track", "--frames", f, "--target", "300,10"], vec!["outside the 256x256 frames"]),
         (vec!["track", "--frames", f, "--target", "10"], vec!["X,Y"]),
         (vec!["track", "--frames", f, "--hdl", "rust-hdl", "--vcd", "v.vcd", "--vcd-frames", "5..3"], vec!["reversed"]),
@@ -367,15 +367,8 @@ fn a_lost_run_reads_as_lost_before_any_error_figure() {
 
 // ---- the Verilator model -----------------------------------------------------------------
 
-/// Verilator present, or required (COOPWIN_REQUIRE_EDA=1, which makes its absence a failure).
-fn verilator() -> bool {
-    let found = Command::new("verilator").arg("--version").output().is_ok();
-    if !found {
-        assert!(std::env::var("COOPWIN_REQUIRE_EDA").as_deref() != Ok("1"), "COOPWIN_REQUIRE_EDA=1 and verilator not found");
-        eprintln!("SKIPPED: verilator not found (apt-get install -y verilator)");
-    }
-    found
-}
+mod common;
+use common::have_verilator as verilator;
 
 #[test]
 fn two_processes_build_the_verilator_model_from_nothing_at_once() {
@@ -383,12 +376,12 @@ fn two_processes_build_the_verilator_model_from_nothing_at_once() {
         return;
     }
     let (frames, target) = shared_scene();
-    // A temp folder no run has used: both processes find no library and build it together.
+    // A cache folder no run has used: both processes find no library and build it together.
     let tmp = scratch("verilator_race");
     let start = || {
         Command::new(env!("CARGO_BIN_EXE_coopwin"))
             .args(["track", "--frames", s(frames), "--target", target, "--hdl", "verilator", "--out", "-"])
-            .env("TMPDIR", &tmp)
+            .env("XDG_CACHE_HOME", &tmp)
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
             .spawn()
@@ -404,7 +397,7 @@ fn two_processes_build_the_verilator_model_from_nothing_at_once() {
     assert_eq!(a.stdout, model.stdout.as_bytes(), "Verilator and the model disagree");
     assert_eq!(a.stdout, b.stdout);
     // One library, and no build folder left behind.
-    let keyed: Vec<PathBuf> = std::fs::read_dir(&tmp).unwrap().map(|e| e.unwrap().path()).collect();
+    let keyed: Vec<PathBuf> = std::fs::read_dir(tmp.join("coopwin")).unwrap().map(|e| e.unwrap().path()).collect();
     assert_eq!(keyed.len(), 1, "{keyed:?}");
     let inside: Vec<String> = std::fs::read_dir(&keyed[0]).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into()).collect();
     assert_eq!(inside, vec!["libwindow_network.so".to_string()]);

@@ -15,12 +15,14 @@ fn corner0(s: &SceneConfig) -> (f64, f64) {
 
 #[test]
 fn every_strategy_tracks_a_given_target() {
-    // NCC strategies within half a pixel; COOP mixes in the corner detector (about 0.8 px on
-    // this part, see the next test), so within a pixel.
+    // Bounds twice the RMS measured on 2026-12-01 (`cargo test -p coopwin-testbench --test
+    // system -- --nocapture` prints the MEASURED lines): 0.082 px for the NCC strategies,
+    // 0.066 px for COOP.
     let scene = short_triangle(60.0);
-    for (strategy, bound) in [(Strategy::Spmf, 0.5), (Strategy::Tpdf, 0.5), (Strategy::Mpdf, 0.5), (Strategy::Coop, 1.0)] {
+    for (strategy, bound) in [(Strategy::Spmf, 0.17), (Strategy::Tpdf, 0.17), (Strategy::Mpdf, 0.17), (Strategy::Coop, 0.14)] {
         let cfg = SystemConfig::thesis(strategy, CostModel::C40, Some(corner0(&scene)));
         let (log, m) = run_scene(&cfg, scene.clone()).unwrap();
+        println!("MEASURED {strategy:?}: RMS {:.4} px, RLT {:.4}", m.rms, m.rlt);
         assert!(m.rms < bound, "{strategy:?}: RMS {}", m.rms);
         assert!(m.rlt < 0.05, "{strategy:?}: RLT {}", m.rlt);
         assert!(log.reports.len() >= 50, "{strategy:?}: {} reports", log.reports.len());
@@ -28,10 +30,12 @@ fn every_strategy_tracks_a_given_target() {
 }
 
 #[test]
-fn corner_detector_tracks_the_corner_within_a_pixel_and_a_half() {
+fn corner_detector_tracks_the_corner_within_a_tenth_of_a_pixel() {
     let scene = short_triangle(40.0);
     let (_, m) = run_scene(&SystemConfig::thesis(Strategy::TpdfCd, CostModel::C40, Some(corner0(&scene))), scene).unwrap();
-    assert!(m.rms < 1.5 && m.rlt < 0.05, "RMS {} RLT {}", m.rms, m.rlt);
+    println!("MEASURED TpdfCd: RMS {:.4} px, RLT {:.4}", m.rms, m.rlt);
+    // Twice the 0.041 px measured on 2026-12-01.
+    assert!(m.rms < 0.09 && m.rlt < 0.05, "RMS {} RLT {}", m.rms, m.rlt);
 }
 
 #[test]
@@ -90,14 +94,16 @@ fn a_window_request_applies_to_the_next_frame_only() {
 }
 
 #[test]
-fn coop_with_the_kalman_policy_tracks_within_a_pixel() {
+fn coop_with_the_kalman_policy_tracks_within_a_fifth_of_a_pixel() {
     // Thesis 5.2's proposed policy behind the same interface (its choices are unit-tested in
-    // the firmware): the cooperative pair must still track within COOP's bound.
+    // the firmware): the cooperative pair must still track the corner closely.
     let scene = SceneConfig { lighting_ramp: true, ..short_triangle(40.0) };
     let mut cfg = SystemConfig::thesis(Strategy::Coop, CostModel::C40, Some(corner0(&scene)));
     cfg.policy = coopwin_testbench::system::CoopPolicy::Kalman;
     let (log, m) = run_scene(&cfg, scene).unwrap();
-    assert!(m.rms < 1.0 && m.rlt < 0.05, "RMS {} RLT {}", m.rms, m.rlt);
+    println!("MEASURED Kalman COOP: RMS {:.4} px, RLT {:.4}", m.rms, m.rlt);
+    // Twice the 0.098 px measured on 2026-12-01.
+    assert!(m.rms < 0.2 && m.rlt < 0.05, "RMS {} RLT {}", m.rms, m.rlt);
     assert!(log.reports.len() >= 50);
 }
 

@@ -65,6 +65,13 @@ pub enum VerilatorError {
     Load(String),
     /// The model's constructor returned nothing.
     NoModel,
+    /// The cache folder could be written by someone else: no library is loaded from it.
+    Unsafe {
+        /// The folder.
+        dir: PathBuf,
+        /// What is wrong with it.
+        why: String,
+    },
 }
 
 impl std::fmt::Display for VerilatorError {
@@ -79,6 +86,11 @@ impl std::fmt::Display for VerilatorError {
             }
             VerilatorError::NoInclude(root) => write!(f, "Verilator's include folder not found under {}", root.display()),
             VerilatorError::NoModel => f.write_str("the Verilator model could not be created"),
+            VerilatorError::Unsafe { dir, why } => write!(
+                f,
+                "refusing to load the Verilator model from {}: {why}; remove the folder (or set XDG_CACHE_HOME to a folder of your own) and run again",
+                dir.display()
+            ),
         }
     }
 }
@@ -107,24 +119,84 @@ fn run_tool(cmd: &mut Command, what: &'static str) -> Result<(), VerilatorError>
     }
 }
 
-/// Builds (or reuses) the shared library for the current Verilog, in the system temp folder.
-///
-/// The library lives at `coopwin-verilator-<key>/libwindow_network.so`, where the key is a hash
-/// of the Verilog, the harness and the flags. Each build runs in a folder of its own under the
-/// key's folder (named by process id and a counter), and the finished library is linked into
-/// place without replacing one that is already there; so concurrent threads and processes
-/// never see a half-built library, and the first one installed is the one every run loads.
+/// The per-user cache the model is built in: `$XDG_CACHE_HOME/coopwin`, else
+/// `$HOME/.cache/coopwin`, else `coopwin-<uid>` in the system temp folder.
+pub fn cache_root() -> PathBuf {
+    let absolute = |v: Option<std::ffi::OsString>| v.map(PathBuf::from).filter(|p| p.is_absolute());
+    match (absolute(std::env::var_os("XDG_CACHE_HOME")), absolute(std::env::var_os("HOME"))) {
+        (Some(xdg), _) => xdg.join("coopwin"),
+        (None, Some(home)) => home.join(".cache").join("coopwin"),
+        // SAFETY: geteuid has no preconditions.
+        (None, None) => std::env::temp_dir().join(format!("coopwin-{}", unsafe { libc::geteuid() })),
+    }
+}
+
+/// Where the library for the current Verilog lives under the cache `root`:
+/// `verilator-<key>/libwindow_network.so`, the key a hash of the Verilog, the harness and
+/// the flags.
+pub fn library_in(root: &Path) -> PathBuf {
+    let files = crate::verilog::exported(UNITS, &crate::verilog::Geometry::CA_D1);
+    root.join(format!("verilator-{:016x}", key(&files))).join("libwindow_network.so")
+}
+
+/// Makes `dir` (mode 0700) if it is missing, then checks that it is a real folder (not a
+/// link), owned by this user and closed to everyone else: only then may a library in it be
+/// loaded, since whoever can write there chooses the code this process runs.
+fn private_dir(dir: &Path) -> Result<(), VerilatorError> {
+    use std::os::unix::fs::{DirBuilderExt, MetadataExt};
+    let io = |action, source| VerilatorError::Io { action, path: dir.display().to_string(), source };
+    match std::fs::DirBuilder::new().mode(0o700).create(dir) {
+        Ok(()) => {}
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
+        Err(source) => return Err(io("create", source)),
+    }
+    let m = std::fs::symlink_metadata(dir).map_err(|source| io("examine", source))?;
+    // SAFETY: geteuid has no preconditions.
+    let me = unsafe { libc::geteuid() };
+    let why = if !m.file_type().is_dir() {
+        Some("it is not a folder (a link or a file)".to_string())
+    } else if m.uid() != me {
+        Some(format!("it belongs to user {}, not to you (user {me})", m.uid()))
+    } else if m.mode() & 0o077 != 0 {
+        Some(format!("its mode is {:04o}, open to other users (it must be 0700)", m.mode() & 0o7777))
+    } else {
+        None
+    };
+    match why {
+        Some(why) => Err(VerilatorError::Unsafe { dir: dir.into(), why }),
+        None => Ok(()),
+    }
+}
+
+/// Builds (or reuses) the shared library for the current Verilog in the per-user cache
+/// ([`cache_root`]).
 pub fn build() -> Result<PathBuf, VerilatorError> {
+    build_in(&cache_root())
+}
+
+/// Builds (or reuses) the shared library for the current Verilog under the cache `root`.
+///
+/// The library lives at [`library_in`]`(root)`. The cache folder and the key's folder are
+/// made with mode 0700 and checked (owner and mode, see [`private_dir`]) before a library
+/// there is used. Each build runs in a folder of its own under the key's folder (named by
+/// process id and a counter), and the finished library is linked into place without
+/// replacing one that is already there; so concurrent threads and processes never see a
+/// half-built library, and the first one installed is the one every run loads.
+pub fn build_in(root: &Path) -> Result<PathBuf, VerilatorError> {
     // One build at a time within a process; other processes are kept apart by the private folders.
     static BUILDING: std::sync::Mutex<()> = std::sync::Mutex::new(());
     let _guard = BUILDING.lock().unwrap_or_else(|e| e.into_inner());
     let files = crate::verilog::exported(UNITS, &crate::verilog::Geometry::CA_D1);
-    let dir = std::env::temp_dir().join(format!("coopwin-verilator-{:016x}", key(&files)));
-    let lib = dir.join("libwindow_network.so");
+    let lib = library_in(root);
+    let dir = lib.parent().map_or_else(|| root.to_path_buf(), Path::to_path_buf);
+    if let Some(parent) = root.parent() {
+        std::fs::create_dir_all(parent).map_err(|source| VerilatorError::Io { action: "create", path: parent.display().to_string(), source })?;
+    }
+    private_dir(root)?;
+    private_dir(&dir)?;
     if lib.exists() {
         return Ok(lib);
     }
-    std::fs::create_dir_all(&dir).map_err(|source| VerilatorError::Io { action: "create", path: dir.display().to_string(), source })?;
     let work = private_folder(&dir)?;
     let built = compile(&work, &files);
     let installed = built.and_then(|so| install(&so, &lib));

@@ -275,7 +275,7 @@ pub fn parse_point(s: &str) -> Result<(f64, f64), ValueError> {
         match v.parse::<f64>() {
             Ok(x) if !x.is_finite() => Err(ValueError::NotANumber(v.into())),
             Ok(x) if x < 0.0 => Err(ValueError::NegativeCoordinate(v.into())),
-            // Frames are at most 1024 pixels a side (see `coopwin track --help`).
+            // Frames are at most `SIDES.end()` pixels a side (see `coopwin track --help`).
             Ok(x) if x > (SIDES.end() - 1) as f64 => Err(ValueError::BeyondFrames(v.into())),
             Ok(x) => Ok(x),
             Err(_) => Err(ValueError::NotANumber(v.into())),

@@ -6,7 +6,7 @@ use crate::frames::scene::{Scene, SceneConfig};
 use super::track::OverlayKind;
 use crate::analysis::metrics::true_points;
 use crate::frames::scene::SceneFrames;
-use crate::report::csv::{track_csv, CsvBox};
+use crate::report::csv::{write_track_csv, CsvBox, FrameInfo};
 use crate::report::plot::{self, Chart, Series};
 use crate::report::{summary_table, verdict};
 use crate::system::cost::CostModel;
@@ -69,12 +69,14 @@ pub fn write_report(out: &Path) -> Result<(), CliError> {
     };
     plot::write(&chart, out, "error")?;
     let shape = CsvBox { size: (20, 20), acceptance: Params::default().ncc_min };
-    coop_csv.write(track_csv(&logs[0].1.frames, None, shape).as_bytes())?;
+    let mut csv = Vec::new();
+    let info = FrameInfo { period: logs[0].1.frame_period, ..FrameInfo::default() };
+    write_track_csv(&mut csv, &logs[0].1.frames, info, shape).map_err(|e| super::io_error("write", &coop_csv.path, e))?;
+    coop_csv.write(&csv)?;
     summary_md.write(table.as_bytes())?;
     let coop = &logs[0].1;
     let points = true_points(coop, &truth);
-    let gif = OverlayKind::Gif.encode(&mut SceneFrames::new(scene), coop, Some(&points), shape.size, 1.0 / coop.frame_period)?;
-    overlay.write(&gif)?;
+    OverlayKind::Gif.write(&overlay, &mut SceneFrames::new(scene), coop, Some(&points), shape.size, 1.0 / coop.frame_period)?.finish()?;
     println!("wrote {0}/coop.csv, {0}/summary.md, {0}/error.svg, {0}/error.png, {0}/overlay.gif", out.display());
     Ok(())
 }

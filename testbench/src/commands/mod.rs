@@ -5,6 +5,7 @@ pub mod args;
 pub mod audit;
 pub mod corner;
 pub mod experiment;
+pub mod interrupt;
 pub mod main_job;
 pub mod matching;
 pub mod motion;
@@ -15,34 +16,36 @@ pub mod verilog;
 pub mod waves;
 
 /// A failure a person can act on, printed as one line. A bad argument (a value on the command
-/// line that cannot be used, found while parsing or after) exits with code 2, anything else
-/// (unreadable input, a failed write, a failed run) with code 1.
+/// line that cannot be used, found while parsing or after) exits with code 2, an interrupted
+/// run (Ctrl-C) with 130 (the shells' 128 + SIGINT), anything else (unreadable input, a failed
+/// write, a failed run) with code 1.
 #[derive(Debug)]
 pub struct CliError {
     /// What went wrong and what to do about it.
     pub message: String,
-    /// The command line asked for something invalid.
-    pub bad_argument: bool,
+    /// The process exit code.
+    pub code: u8,
 }
 
 impl CliError {
     /// An error in the run or its inputs (exit code 1).
     pub fn new(message: impl Into<String>) -> Self {
-        CliError { message: message.into(), bad_argument: false }
+        CliError { message: message.into(), code: 1 }
     }
 
     /// A bad argument (exit code 2).
     pub fn arg(message: impl Into<String>) -> Self {
-        CliError { message: message.into(), bad_argument: true }
+        CliError { message: message.into(), code: 2 }
     }
 
-    /// The process exit code: 2 for a bad argument, 1 otherwise.
+    /// The run was interrupted by Ctrl-C (exit code 130).
+    pub fn interrupted() -> Self {
+        CliError { message: "interrupted (Ctrl-C): no output written, earlier files left as they were".into(), code: 130 }
+    }
+
+    /// The process exit code: 2 for a bad argument, 130 for an interrupted run, 1 otherwise.
     pub fn exit_code(&self) -> u8 {
-        if self.bad_argument {
-            2
-        } else {
-            1
-        }
+        self.code
     }
 }
 
@@ -72,6 +75,7 @@ macro_rules! run_errors {
 
 run_errors!(
     crate::frames::folder::FolderError,
+    crate::frames::FrameError,
     crate::frames::gray::ImageError,
     crate::frames::groundtruth::GroundTruthError,
     crate::system::SimError,

@@ -11,8 +11,14 @@
 //! - A folder, a block device or a socket is refused.
 //! - The folder that holds the output must exist: no folders are created for an output file.
 //!
+//! - An output is never an input: [`check_apart`] refuses (exit 2) an output that is an input
+//!   file (the same file after following links, hard links included), lies inside an input
+//!   folder, or is another output of the same run.
+//!
 //! Outputs are checked before any work starts ([`OutFile::check`]), so a bad path is reported
-//! at once, with exit code 2.
+//! at once, with exit code 2; a folder that cannot take the file (read-only, full, no
+//! permission) is found then too, by creating and removing the temporary file, with exit
+//! code 1.
 use super::{io_error, CliError};
 use std::fs::{File, OpenOptions};
 use std::io::Write;
@@ -78,6 +84,9 @@ impl OutFile {
             if !parent.is_dir() {
                 return Err(bad(format!("the folder {} does not exist; create it first", parent.display())));
             }
+            // The run's output will go through a temporary file here: make sure one can be made.
+            let (tmp, _) = temp_file(p).map_err(|e| io_error("write", path, e))?;
+            let _ = std::fs::remove_file(tmp);
         }
         Ok(OutFile { path: path.into(), kind })
     }
@@ -111,6 +120,73 @@ impl OutFile {
         };
         Ok(Stream { out: std::io::BufWriter::new(file), temp, path: self.path.clone() })
     }
+}
+
+/// Where a file is: its device and inode when it exists (so links and hard links to one file
+/// agree), else its absolute path with the folder's links resolved.
+#[derive(Debug, PartialEq)]
+enum Place {
+    Inode(u64, u64),
+    Path(PathBuf),
+}
+
+impl Place {
+    fn of(p: &Path) -> Place {
+        use std::os::unix::fs::MetadataExt;
+        match std::fs::metadata(p) {
+            Ok(m) => Place::Inode(m.dev(), m.ino()),
+            Err(_) => Place::Path(real_path(p)),
+        }
+    }
+}
+
+/// `p` with its folder's links resolved (`p` itself need not exist).
+fn real_path(p: &Path) -> PathBuf {
+    let dir = std::fs::canonicalize(folder_of(p)).unwrap_or_else(|_| folder_of(p));
+    p.file_name().map_or(dir.clone(), |n| dir.join(n))
+}
+
+/// Refuses (exit 2) an output of `outputs` that would overwrite one of `inputs` or another
+/// output: an output that is an input file or a file inside an input folder (compared by
+/// inode, so links and hard links are seen), that lies inside an input folder, or that is
+/// the same file as another output. Each pair is (option, path). Standard output, devices
+/// and FIFOs are written through and never replace anything, so they are not compared.
+pub fn check_apart(inputs: &[(&str, &Path)], outputs: &[(&str, &OutFile)]) -> Result<(), CliError> {
+    let mut input_files = Vec::new();
+    let mut input_dirs = Vec::new();
+    for &(option, p) in inputs {
+        if p.is_dir() {
+            let dir = std::fs::canonicalize(p).map_err(|e| io_error("read", p, e))?;
+            for entry in std::fs::read_dir(p).map_err(|e| io_error("read", p, e))?.flatten() {
+                input_files.push((option, entry.path(), Place::of(&entry.path())));
+            }
+            input_dirs.push((option, p, dir));
+        } else {
+            input_files.push((option, p.to_path_buf(), Place::of(p)));
+        }
+    }
+    let replaced: Vec<(&str, &OutFile, Place)> = outputs
+        .iter()
+        .filter_map(|&(option, o)| match &o.kind {
+            Kind::Replace(p) => Some((option, o, Place::of(p))),
+            _ => None,
+        })
+        .collect();
+    for (i, (option, o, place)) in replaced.iter().enumerate() {
+        let refuse = |why: String| CliError::arg(format!("{option} {}: {why}; give another path", o.path.display()));
+        if let Some((input, p, _)) = input_files.iter().find(|(_, _, q)| q == place) {
+            return Err(refuse(format!("is the input {input} {}, which it would overwrite", p.display())));
+        }
+        let Kind::Replace(p) = &o.kind else { continue };
+        let real = real_path(p);
+        if let Some((input, dir, _)) = input_dirs.iter().find(|(_, _, d)| real.starts_with(d)) {
+            return Err(refuse(format!("lies inside the input folder {input} {}", dir.display())));
+        }
+        if let Some((other, _, _)) = replaced[..i].iter().find(|(_, _, q)| q == place) {
+            return Err(refuse(format!("is also the output of {other}")));
+        }
+    }
+    Ok(())
 }
 
 /// The folder that holds `p` (`.` for a bare file name).

@@ -56,7 +56,7 @@ pub struct SceneArgs {
     /// Real photographs (fixtures/real/) for the part's surface and the background
     #[arg(long)]
     pub photo: bool,
-    /// Frame size WxH, each side 64..1024 (the path scales with it)
+    /// Frame size WxH, each side 64..4096 (the path scales with it)
     #[arg(long, value_name = "WxH", default_value = "256x256", value_parser = args::parse_size)]
     pub size: (usize, usize),
     /// Write colour (RGB) frames: the gray scene as their luma, the part tinted warm and the

@@ -3,28 +3,28 @@
 //! a VCD and its requests CSV; on request an overlay GIF or MP4), and prints the summary
 //! against `groundtruth.csv` when the folder has one.
 use super::args::{self, HdlArg, PolicyArg, ProfileArg, StrategyArg, WatchArg};
-use super::output::OutFile;
-use super::CliError;
+use super::output::{self, OutFile, Shared, Stream};
+use super::{interrupt, CliError};
 use crate::analysis::audit::requests;
 use crate::analysis::metrics;
 use crate::frames::folder::FolderFrames;
-use crate::frames::video::{self, Clip};
-use crate::frames::{groundtruth, FrameSource};
-use crate::report::csv::CsvBox;
+use crate::frames::video::{self, Scan, VideoError, VideoFrames};
+use crate::frames::{groundtruth, FrameError, FrameSource};
+use crate::report::csv::{CsvBox, FrameInfo};
 use crate::report::{self, csv, overlay};
 use crate::system::{self, RunLog, SystemConfig};
 use crate::units::clocked::Trace;
 use crate::units::clocks::Clocks;
 use coopwin_firmware::processors::Params;
 use coopwin_hdl::sim::camera::Jitter;
-use std::io::IsTerminal;
+use std::io::{IsTerminal, Write};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 /// `coopwin track`'s options.
 #[derive(clap::Args)]
 pub struct TrackArgs {
-    /// Folder of PNG frames (8-bit gray or colour, 64x64 to 1024x1024, one size), or a video
+    /// Folder of PNG frames (8-bit gray or colour, 64x64 to 4096x4096, one size), or a video
     /// file FFmpeg reads (MP4, AVI, MKV, ...; needs the `ffmpeg` program)
     #[arg(long)]
     pub frames: PathBuf,
@@ -85,6 +85,11 @@ pub struct TrackArgs {
     /// Print the frames in the order they are tracked (frame,file) and stop
     #[arg(long)]
     pub list: bool,
+    /// Track a video FFmpeg reports decoding errors in: the frames that decode are tracked,
+    /// and the damaged ones (decoded after an error, or predicted from such a frame up to the
+    /// next key frame) have damaged=1 in the CSV [default: refuse a damaged video, exit 1]
+    #[arg(long)]
+    pub allow_damaged: bool,
     /// Window units: the behavioural model, the rust-hdl blocks, or the Verilog in Verilator
     #[arg(long, value_enum, default_value_t = HdlArg::Model)]
     pub hdl: HdlArg,
@@ -157,38 +162,94 @@ impl TrackArgs {
     }
 }
 
-/// Where the frames come from: a folder of PNG files or a decoded video.
+/// Where the frames come from: a folder of PNG files or a video, decoded as it is tracked.
 pub enum Input {
     /// A folder of PNG frames.
     Folder(FolderFrames),
-    /// A video file, decoded whole.
-    Video(Clip),
+    /// A video file and what its scan found.
+    Video {
+        /// The file.
+        path: PathBuf,
+        /// Its frames' timestamps and damage.
+        scan: Scan,
+    },
+}
+
+/// One pass over an input's frames.
+pub enum Frames<'a> {
+    /// A folder's frames, decoded on demand.
+    Folder(&'a mut FolderFrames),
+    /// A video being decoded.
+    Video(VideoFrames),
+}
+
+impl FrameSource for Frames<'_> {
+    fn size(&self) -> (usize, usize) {
+        match self {
+            Frames::Folder(f) => f.size(),
+            Frames::Video(v) => v.size(),
+        }
+    }
+    fn len(&self) -> usize {
+        match self {
+            Frames::Folder(f) => f.len(),
+            Frames::Video(v) => v.len(),
+        }
+    }
+    fn frame(&mut self, k: usize) -> Result<&[u8], FrameError> {
+        match self {
+            Frames::Folder(f) => f.frame(k),
+            Frames::Video(v) => v.frame(k),
+        }
+    }
+}
+
+fn video_error(e: VideoError) -> CliError {
+    match e {
+        VideoError::Interrupted => CliError::interrupted(),
+        e => CliError::new(e.to_string()),
+    }
 }
 
 impl Input {
-    /// Opens `path`: a folder of frames, or a video file through FFmpeg.
-    pub fn open(path: &Path) -> Result<Input, CliError> {
-        if path.is_file() {
-            let clip = video::decode(path, crate::frames::folder::SIDES, MAX_VIDEO_FRAMES).map_err(|e| CliError::new(e.to_string()))?;
-            Ok(Input::Video(clip))
-        } else {
-            Ok(Input::Folder(FolderFrames::open(path)?))
+    /// Opens `path`: a folder of frames, or a video file, scanned once through FFmpeg. A video
+    /// with decoding errors is refused unless `allow_damaged`.
+    pub fn open(path: &Path, allow_damaged: bool) -> Result<Input, CliError> {
+        if !path.is_file() {
+            return Ok(Input::Folder(FolderFrames::open(path)?));
+        }
+        let scan = video::scan(path, crate::frames::folder::SIDES, &interrupt::requested).map_err(video_error)?;
+        if scan.is_damaged() && !allow_damaged {
+            return Err(CliError::new(format!(
+                "{}: the video is damaged: {}; --allow-damaged tracks the frames that decode and marks these in the CSV's damaged column",
+                path.display(),
+                scan.damage_report()
+            )));
+        }
+        Ok(Input::Video { path: path.into(), scan })
+    }
+
+    /// A pass over the frames, from the first (a video is decoded again for each pass).
+    pub fn frames(&mut self) -> Result<Frames<'_>, CliError> {
+        match self {
+            Input::Folder(f) => Ok(Frames::Folder(f)),
+            Input::Video { path, scan } => Ok(Frames::Video(VideoFrames::open(path, scan).map_err(video_error)?)),
         }
     }
 
-    /// The frames.
-    pub fn source(&mut self) -> &mut dyn FrameSource {
+    /// Width and height of the frames.
+    fn size(&self) -> (usize, usize) {
         match self {
-            Input::Folder(f) => f,
-            Input::Video(c) => c,
+            Input::Folder(f) => f.size(),
+            Input::Video { scan, .. } => scan.size,
         }
     }
 
-    /// Each frame's file name (empty for a video's frames).
-    pub fn names(&self) -> Vec<String> {
+    /// What the CSV says of each frame beyond the run: file names, timestamps, damage.
+    fn info<'a>(&'a self, names: &'a [String], period: f64) -> FrameInfo<'a> {
         match self {
-            Input::Folder(f) => f.names(),
-            Input::Video(c) => vec![String::new(); c.frames.len()],
+            Input::Folder(_) => FrameInfo { files: Some(names), period, ..FrameInfo::default() },
+            Input::Video { scan, .. } => FrameInfo { times: Some(&scan.times), damaged: Some(&scan.damaged), period, files: None },
         }
     }
 
@@ -196,17 +257,19 @@ impl Input {
     fn declared_fps(&self) -> Option<f64> {
         match self {
             Input::Folder(_) => None,
-            Input::Video(c) => c.fps,
+            Input::Video { scan, .. } => scan.fps,
         }
     }
 }
 
-/// Longest video decoded, in frames (about 17 minutes at 30 frames/s, or 10 GB at 640x480).
-pub const MAX_VIDEO_FRAMES: usize = 30_000;
-
 /// Tracks the frames, writes the outputs asked for and prints the report (on standard error
-/// when the CSV goes to standard output).
+/// when the CSV goes to standard output). Ctrl-C ends it with exit code 130, nothing written.
 pub fn track_folder(args: TrackArgs) -> Result<(), CliError> {
+    interrupt::install();
+    track(args).map_err(|e| if interrupt::requested() { CliError::interrupted() } else { e })
+}
+
+fn track(args: TrackArgs) -> Result<(), CliError> {
     if args.list {
         print!("{}", csv::frame_listing(&FolderFrames::open(&args.frames)?.names()));
         return Ok(());
@@ -227,39 +290,70 @@ pub fn track_folder(args: TrackArgs) -> Result<(), CliError> {
         Some(p) => Some((OverlayKind::of(p)?, OutFile::check(p, "--overlay")?)),
         None => None,
     };
+    let named = [("--out", out.as_ref()), ("--overlay", overlay_out.as_ref().map(|(_, o)| o))]
+        .into_iter()
+        .chain(vcd.iter().flat_map(|(v, r)| [("--vcd", Some(v)), ("--vcd", Some(r))]))
+        .filter_map(|(option, o)| o.map(|o| (option, o)))
+        .collect::<Vec<_>>();
+    output::check_apart(&[("--frames", &args.frames)], &named)?;
     // With the CSV on standard output, the report goes to standard error.
     let to_stdout = out.as_ref().is_some_and(OutFile::is_stdout);
     let say = |line: String| if to_stdout { eprintln!("{line}") } else { println!("{line}") };
-    let mut input = Input::open(&args.frames)?;
+    let mut input = Input::open(&args.frames, args.allow_damaged)?;
+    if let Input::Video { scan, .. } = &input {
+        if scan.is_damaged() {
+            eprintln!("warning: {}: {}", args.frames.display(), scan.damage_report());
+        }
+    }
     let mut cfg = args.config();
     let fps = args.fps.or(input.declared_fps());
     if let Some(fps) = fps {
         // The pixel clock that gives this frame rate with the camera's blanking.
-        let clocks = Clocks::camera_timing(input.source().size()).frame_clocks() as f64;
+        let clocks = Clocks::camera_timing(input.size()).frame_clocks() as f64;
         cfg.pixel_clock_hz = clocks * fps;
     }
     let started = std::time::Instant::now();
     let truth_path = args.frames.join("groundtruth.csv");
     let truth = if args.frames.is_dir() && truth_path.exists() { Some(groundtruth::read(&truth_path)?) } else { None };
-    let log = track_frames(input.source(), &cfg, vcd.as_ref().map(|(v, _)| (v, args.vcd_frames.clone())))?;
+    let (log, vcd_stream) = track_frames(&mut input.frames()?, &cfg, vcd.as_ref().map(|(v, _)| (v, args.vcd_frames.clone())))?;
     let summary = truth.as_ref().map(|t| metrics::summarise(&log, t));
     let secs = started.elapsed().as_secs_f64();
     let shape = args.csv_box();
+    // Every output is completed only once all are written: an interrupted or failed run
+    // replaces none of them.
+    let mut done = Vec::new();
     if let Some(o) = &out {
-        o.write(csv::track_csv(&log.frames, Some(&input.names()), shape).as_bytes())?;
-        if !to_stdout {
-            say(format!("wrote {}", o.path.display()));
-        }
+        let names = match &input {
+            Input::Folder(f) => f.names(),
+            Input::Video { .. } => Vec::new(),
+        };
+        let mut stream = o.stream()?;
+        csv::write_track_csv(&mut stream, &log.frames, input.info(&names, log.frame_period), shape).map_err(|e| super::io_error("write", &o.path, e))?;
+        done.push((stream, (!to_stdout).then(|| format!("wrote {}", o.path.display()))));
     }
     if let Some((v, req)) = &vcd {
-        req.write(requests::to_csv(&log).as_bytes())?;
-        say(format!("wrote {} and {} (every unit; check one with `coopwin audit --unit K`)", v.path.display(), req.path.display()));
+        let mut stream = req.stream()?;
+        stream.write_all(requests::to_csv(&log).as_bytes()).map_err(|e| super::io_error("write", &req.path, e))?;
+        let line = format!("wrote {} and {} (every unit; check one with `coopwin audit --unit K`)", v.path.display(), req.path.display());
+        done.push((stream, Some(line)));
     }
     if let Some((kind, o)) = &overlay_out {
         let points = truth.as_ref().map(|t| metrics::true_points(&log, t));
         let fps = fps.unwrap_or(1.0 / log.frame_period);
-        o.write(&kind.encode(input.source(), &log, points.as_deref(), shape.size, fps)?)?;
-        say(format!("wrote {}", o.path.display()));
+        let stream = kind.write(o, &mut interrupt::Interruptible(&mut input.frames()?), &log, points.as_deref(), shape.size, fps)?;
+        done.push((stream, Some(format!("wrote {}", o.path.display()))));
+    }
+    if interrupt::requested() {
+        return Err(CliError::interrupted());
+    }
+    if let Some(v) = vcd_stream {
+        v.finish()?;
+    }
+    for (stream, line) in done {
+        stream.finish()?;
+        if let Some(l) = line {
+            say(l);
+        }
     }
     let tracked = log.frames.iter().filter(|r| r.point.is_some()).count();
     if log.hdl_clocks > 0 {
@@ -317,41 +411,57 @@ impl OverlayKind {
         }
     }
 
-    /// The overlay of `log` over `frames`, encoded. A GIF shows each frame for `1/fps` s
+    /// Draws the overlay of `log` over `frames` and writes it to `out`, a frame at a time,
+    /// returning the stream for the caller to finish. A GIF shows each frame for `1/fps` s
     /// rounded to hundredths, at least 0.02 s (browsers slow anything shorter).
-    pub fn encode(self, frames: &mut dyn FrameSource, log: &RunLog, truth: Option<&[(f64, f64)]>, size: (usize, usize), fps: f64) -> Result<Vec<u8>, CliError> {
-        let canvases = overlay::draw_run(frames, log, truth, size).map_err(|e| CliError::new(e.to_string()))?;
-        match self {
+    pub fn write(self, out: &OutFile, frames: &mut dyn FrameSource, log: &RunLog, truth: Option<&[(f64, f64)]>, size: (usize, usize), fps: f64) -> Result<Stream, CliError> {
+        let painter = overlay::Painter::new(log, truth, size);
+        let stream = out.stream()?;
+        let err = |e: &dyn std::fmt::Display| CliError::new(e.to_string());
+        let stream = match self {
             OverlayKind::Gif => {
                 let delay = (100.0 / fps.max(1e-3)).round().clamp(2.0, 65535.0) as u16;
-                overlay::encode_gif(&canvases, delay).map_err(|e| CliError::new(e.to_string()))
+                let mut gif = overlay::GifWriter::new(stream, frames.size(), delay).map_err(|e| err(&e))?;
+                painter.draw_all(frames, &mut |c| gif.push(c).map_err(|e| err(&e)))?;
+                gif.finish().map_err(|e| err(&e))?
             }
             OverlayKind::Mp4 => {
-                let (w, h) = frames.size();
-                video::mp4_bytes((w, h), fps, canvases.iter().map(overlay::Canvas::to_rgb).collect()).map_err(|e| CliError::new(e.to_string()))
+                let mut mp4 = video::Mp4Encoder::start(frames.size(), fps, stream).map_err(video_error)?;
+                painter.draw_all(frames, &mut |c| mp4.push(&c.to_rgb()).map_err(video_error))?;
+                mp4.finish().map_err(video_error)?
             }
-        }
+        };
+        Ok(stream)
     }
 }
 
-/// A progress bar on stderr when it is a terminal.
-pub fn progress_bar(total: usize, label: &'static str) -> impl FnMut(usize) {
+/// A progress line on stderr when it is a terminal: frames done, frames/s and the time left,
+/// redrawn at most four times a second.
+pub fn progress_line(total: usize, label: &'static str) -> impl FnMut(usize) {
     let tty = std::io::stderr().is_terminal();
+    let started = std::time::Instant::now();
+    let mut shown = started;
     move |k: usize| {
-        if tty && (k.is_multiple_of(8) || k + 1 == total) {
-            let done = (k + 1) * 40 / total.max(1);
-            eprint!("\r{label} [{}{}] {}/{}", "#".repeat(done), " ".repeat(40 - done), k + 1, total);
-            if k + 1 == total {
-                eprintln!();
-            }
+        let now = std::time::Instant::now();
+        let last = k + 1 == total;
+        if !tty || !(last || now.duration_since(shown).as_secs_f64() >= 0.25) {
+            return;
+        }
+        shown = now;
+        let rate = (k + 1) as f64 / now.duration_since(started).as_secs_f64().max(1e-9);
+        let left = (total - k - 1) as f64 / rate.max(1e-9);
+        eprint!("\r{label}: frame {}/{total}, {rate:.0} frames/s, ETA {}:{:02}   ", k + 1, left as u64 / 60, left as u64 % 60);
+        if last {
+            eprintln!();
         }
     }
 }
 
 /// Tracks `frames`; with `vcd`, every window unit is traced into it, for the frames in its
-/// range (all without). The target, the traced range and the write phase are checked against
-/// the frames before the run (bad ones are argument errors).
-pub fn track_frames(frames: &mut dyn FrameSource, cfg: &SystemConfig, vcd: Option<(&OutFile, Option<Range<usize>>)>) -> Result<RunLog, CliError> {
+/// range (all without), and its stream is returned for the caller to finish. The target, the
+/// traced range and the write phase are checked against the frames before the run (bad ones
+/// are argument errors).
+pub fn track_frames(frames: &mut dyn FrameSource, cfg: &SystemConfig, vcd: Option<(&OutFile, Option<Range<usize>>)>) -> Result<(RunLog, Option<Shared>), CliError> {
     let (w, h) = frames.size();
     if let Some((x, y)) = cfg.target {
         if !(x.is_finite() && y.is_finite() && x >= 0.0 && y >= 0.0 && x <= (w - 1) as f64 && y <= (h - 1) as f64) {
@@ -372,15 +482,23 @@ pub fn track_frames(frames: &mut dyn FrameSource, cfg: &SystemConfig, vcd: Optio
             if range.end > n {
                 return Err(CliError::arg(format!("--vcd-frames {}..{}: the folder has frames 0..{n} (the end is excluded)", range.start, range.end)));
             }
+            // Measured on 2026-12-01: 455 MB for 4 frames of 256x256 with COOP's 4 units, so
+            // about 110 MB a frame, in proportion to the pixels and the units.
+            let mb = 110.0 * (w * h) as f64 / 65_536.0 * cfg.strategy.units() as f64 / 4.0;
+            if range.len() > 4 {
+                eprintln!(
+                    "warning: --vcd traces {} frames, about {:.0} MB each ({:.1} GB); --vcd-frames FIRST..END traces fewer",
+                    range.len(),
+                    mb,
+                    mb * range.len() as f64 / 1000.0
+                );
+            }
             let shared = out.stream()?.shared();
             stream = Some(shared.clone());
             Some(Trace { out: Box::new(shared), frames: range })
         }
         None => None,
     };
-    let log = system::simulate_traced(cfg, frames, &mut progress_bar(n, "tracking"), trace)?;
-    if let Some(s) = stream {
-        s.finish()?;
-    }
-    Ok(log)
+    let log = system::simulate_traced(cfg, &mut interrupt::Interruptible(frames), &mut progress_line(n, "tracking"), trace)?;
+    Ok((log, stream))
 }

@@ -3,8 +3,9 @@
 use super::{FrameCache, FrameError, FrameSource};
 use std::path::{Path, PathBuf};
 
-/// Smallest and largest frame side accepted.
-pub const SIDES: std::ops::RangeInclusive<usize> = 64..=1024;
+/// Smallest and largest frame side accepted: the largest sensor the window unit's Verilog
+/// takes (`coopwin verilog`, 4096x4096).
+pub const SIDES: std::ops::RangeInclusive<usize> = 64..=4096;
 
 /// PNG frames in a folder, in natural order of their names (`img2.png` before `img10.png`),
 /// decoded on demand (a few kept in memory).
@@ -56,7 +57,7 @@ impl std::fmt::Display for FolderError {
             FolderError::NoFrames(dir) => write!(f, "no PNG frames in {}", dir.display()),
             FolderError::NotPng { path, source } => write!(f, "{}: not a readable PNG ({source})", path.display()),
             FolderError::BadSize { path, size } => {
-                write!(f, "{}: frames must be 64x64 to 1024x1024, this one is {}x{}", path.display(), size.0, size.1)
+                write!(f, "{}: frames must be {1}x{1} to {2}x{2}, this one is {3}x{4}", path.display(), SIDES.start(), SIDES.end(), size.0, size.1)
             }
             FolderError::MixedSizes { first: (a, s), other: (b, d) } => write!(
                 f,

@@ -38,6 +38,10 @@ pub enum FrameError {
         /// The decoder's reason.
         source: image::ImageError,
     },
+    /// A video's decoder stopped or disagreed with its scan: the reason.
+    Video(String),
+    /// The run was interrupted (Ctrl-C).
+    Interrupted,
 }
 
 impl std::fmt::Display for FrameError {
@@ -45,6 +49,8 @@ impl std::fmt::Display for FrameError {
         match self {
             FrameError::Missing(k) => write!(f, "no frame {k}"),
             FrameError::Decode { path, source } => write!(f, "{}: {source}", path.display()),
+            FrameError::Video(why) => f.write_str(why),
+            FrameError::Interrupted => f.write_str("interrupted"),
         }
     }
 }

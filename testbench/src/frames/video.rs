@@ -1,10 +1,13 @@
 //! Video files in and out through the `ffmpeg` and `ffprobe` programs (Debian package
-//! `ffmpeg`): a clip is decoded to 8-bit gray frames for tracking, and an overlay is encoded
-//! to MP4. No codec is linked into coopwin; without the programs these give a typed error
-//! that says what to install.
-use std::io::{Read, Write};
+//! `ffmpeg`): a clip is scanned once (each frame's timestamp, and the decoding errors FFmpeg
+//! logs, [`scan`]) and then decoded to 8-bit gray frames as it is tracked, a few frames held
+//! at a time ([`VideoFrames`]); an overlay is encoded to MP4 a frame at a time
+//! ([`Mp4Encoder`]). No codec is linked into coopwin; without the programs these give a typed
+//! error that says what to install.
+use std::collections::VecDeque;
+use std::io::{BufRead, BufReader, Read, Write};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
 
 /// Why a video could not be read or written.
 #[derive(Debug)]
@@ -29,6 +32,8 @@ pub enum VideoError {
     Encode(String),
     /// Reading or writing the program's pipes failed.
     Io(std::io::Error),
+    /// Ctrl-C while decoding.
+    Interrupted,
 }
 
 impl std::fmt::Display for VideoError {
@@ -41,22 +46,12 @@ impl std::fmt::Display for VideoError {
             VideoError::Unusable { path, why } => write!(f, "{}: {why}", path.display()),
             VideoError::Encode(message) => write!(f, "FFmpeg could not encode the MP4: {message}"),
             VideoError::Io(e) => write!(f, "talking to FFmpeg: {e}"),
+            VideoError::Interrupted => f.write_str("interrupted"),
         }
     }
 }
 
 impl std::error::Error for VideoError {}
-
-/// A decoded clip: gray frames, row by row, and the rate the file declares.
-#[derive(Clone, Debug)]
-pub struct Clip {
-    /// Width and height in pixels.
-    pub size: (usize, usize),
-    /// Frames per second the stream declares (`None` when it declares none).
-    pub fps: Option<f64>,
-    /// The frames, `width * height` bytes each.
-    pub frames: Vec<Vec<u8>>,
-}
 
 fn spawn_error(program: &'static str, e: std::io::Error) -> VideoError {
     if e.kind() == std::io::ErrorKind::NotFound {
@@ -93,10 +88,146 @@ fn probe(path: &Path) -> Result<((usize, usize), Option<f64>), VideoError> {
     Ok(((w, h), fps.filter(|r| r.is_finite() && *r > 0.0)))
 }
 
-/// Decodes every frame of the first video stream of `path` to 8-bit gray (ITU-R BT.601
-/// luma, FFmpeg's `gray` format), refusing a frame side outside `sides` or a clip longer
-/// than `max_frames`.
-pub fn decode(path: &Path, sides: std::ops::RangeInclusive<usize>, max_frames: usize) -> Result<Clip, VideoError> {
+/// Decodes with FFmpeg's `ffmpeg` program: the options shared by the scan and the decode,
+/// so both see the same frames. One decoding thread, so an error is logged just before the
+/// frame it damages; every frame the decoder gives, with its own timestamp
+/// (`-fps_mode passthrough`: no frame duplicated or dropped to make a constant rate;
+/// `-copyts`: timestamps as the file has them, as ffprobe reports them).
+fn decoder(path: &Path) -> Command {
+    let mut cmd = Command::new("ffmpeg");
+    cmd.args(["-hide_banner", "-nostdin", "-nostats", "-threads", "1", "-copyts", "-i"])
+        .arg(path)
+        .args(["-map", "0:v:0", "-fps_mode", "passthrough"])
+        .stdin(Stdio::null());
+    cmd
+}
+
+/// Messages of one decoding problem kept for the report (the rest are counted).
+const KEPT_PROBLEMS: usize = 3;
+
+/// What decoding a clip once found (its pixels are not kept): one timestamp and one damage
+/// flag per frame, in the order FFmpeg (and OpenCV) number the frames.
+#[derive(Clone, Debug, Default)]
+pub struct Scan {
+    /// Width and height in pixels.
+    pub size: (usize, usize),
+    /// Frames per second the stream declares (`None` when it declares none).
+    pub fps: Option<f64>,
+    /// Each frame's presentation time in seconds, from the stream's timestamps (NaN when the
+    /// frame has none).
+    pub times: Vec<f64>,
+    /// Each frame: decoded after a decoding error, or predicted from such a frame (until the
+    /// next key frame).
+    pub damaged: Vec<bool>,
+    /// The first decoding problems: (the frame decoded next, or the frame count for the
+    /// file's end; FFmpeg's message).
+    pub problems: Vec<(usize, String)>,
+    /// Decoding problems in all.
+    pub problem_count: usize,
+}
+
+impl Scan {
+    /// Number of frames.
+    pub fn len(&self) -> usize {
+        self.times.len()
+    }
+
+    /// True when the clip decoded no frame.
+    pub fn is_empty(&self) -> bool {
+        self.times.is_empty()
+    }
+
+    /// True when FFmpeg reported any decoding problem.
+    pub fn is_damaged(&self) -> bool {
+        self.problem_count > 0
+    }
+
+    /// One line on the damage: how many problems, the damaged frames, FFmpeg's first reasons.
+    pub fn damage_report(&self) -> String {
+        let flagged = self.damaged.iter().filter(|&&d| d).count();
+        let runs = frame_runs(&self.damaged);
+        let reasons: Vec<String> = self
+            .problems
+            .iter()
+            .map(|(k, m)| if *k < self.len() { format!("before frame {k}: {m}") } else { format!("at the end of the file: {m}") })
+            .collect();
+        format!(
+            "{} decoding errors; {flagged} of {} frames damaged{}; FFmpeg said: {}",
+            self.problem_count,
+            self.len(),
+            if runs.is_empty() { String::new() } else { format!(" ({runs})") },
+            reasons.join("; ")
+        )
+    }
+}
+
+/// Runs of true flags as `a-b` ranges (`3`, `10-19`), the first few.
+fn frame_runs(flags: &[bool]) -> String {
+    let mut runs = Vec::new();
+    let mut k = 0;
+    while k < flags.len() {
+        if flags[k] {
+            let start = k;
+            while k < flags.len() && flags[k] {
+                k += 1;
+            }
+            runs.push(if k - start == 1 { format!("frame {start}") } else { format!("frames {start}-{}", k - 1) });
+        } else {
+            k += 1;
+        }
+    }
+    let more = runs.len().saturating_sub(4);
+    runs.truncate(4);
+    if more > 0 {
+        runs.push(format!("{more} more runs"));
+    }
+    runs.join(", ")
+}
+
+/// One line of FFmpeg's log (`-loglevel level+info`), as far as the scan cares.
+#[derive(Debug, PartialEq)]
+enum LogLine {
+    /// The `showinfo` filter's line for a frame: its presentation time and whether it is a
+    /// key frame.
+    Frame { time: f64, key: bool },
+    /// A decoding problem: an error, or a warning about corrupt data; the message.
+    Problem(String),
+    /// Anything else.
+    Other,
+}
+
+/// Reads one log line. A line is `[context @ 0x..] [level] text` or `[level] text`.
+fn log_line(line: &str) -> LogLine {
+    let rest = match line.strip_prefix('[') {
+        Some(r) if !r.starts_with("info]") && !r.starts_with("error]") && !r.starts_with("warning]") && !r.starts_with("fatal]") => {
+            r.split_once("] ").map_or(line, |(_, t)| t)
+        }
+        _ => line,
+    };
+    let Some((level, text)) = rest.strip_prefix('[').and_then(|r| r.split_once("] ")) else { return LogLine::Other };
+    if line.contains("Parsed_showinfo") {
+        let field = |name: &str| text.split_whitespace().find_map(|t| t.strip_prefix(name));
+        if text.trim_start().starts_with("n:") {
+            let time = field("pts_time:").and_then(|v| v.parse::<f64>().ok()).unwrap_or(f64::NAN);
+            return LogLine::Frame { time, key: field("iskey:") == Some("1") };
+        }
+        return LogLine::Other;
+    }
+    // The muxer's complaints concern the scan's own (discarded) output, not the file.
+    if text.contains("muxer") {
+        return LogLine::Other;
+    }
+    match level {
+        "error" | "fatal" | "panic" => LogLine::Problem(text.trim().to_string()),
+        "warning" if text.contains("corrupt") => LogLine::Problem(text.trim().to_string()),
+        _ => LogLine::Other,
+    }
+}
+
+/// Decodes the first video stream of `path` once, keeping no pixels: its frames' timestamps,
+/// and the decoding problems FFmpeg logs with the frames they damage. Refuses a frame side
+/// outside `sides`. `stop` is asked between log lines (Ctrl-C).
+pub fn scan(path: &Path, sides: std::ops::RangeInclusive<usize>, stop: &dyn Fn() -> bool) -> Result<Scan, VideoError> {
     let (size, fps) = probe(path)?;
     if !sides.contains(&size.0) || !sides.contains(&size.1) {
         return Err(VideoError::Unusable {
@@ -104,80 +235,227 @@ pub fn decode(path: &Path, sides: std::ops::RangeInclusive<usize>, max_frames: u
             why: format!("frames must be {0}x{0} to {1}x{1}, this video is {2}x{3}", sides.start(), sides.end(), size.0, size.1),
         });
     }
-    let mut child = Command::new("ffmpeg")
-        .args(["-v", "error", "-nostdin", "-i"])
-        .arg(path)
-        .args(["-map", "0:v:0", "-f", "rawvideo", "-pix_fmt", "gray", "-"])
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
+    let mut child = decoder(path)
+        .args(["-loglevel", "level+info", "-vf", "showinfo", "-f", "null", "-"])
+        .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()
         .map_err(|e| spawn_error("ffmpeg", e))?;
-    let n = size.0 * size.1;
-    let mut frames = Vec::new();
-    let mut stdout = child.stdout.take().ok_or_else(|| VideoError::Io(std::io::Error::other("no pipe")))?;
-    loop {
-        let mut buf = vec![0u8; n];
-        match stdout.read_exact(&mut buf) {
-            Ok(()) => frames.push(buf),
-            Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => break,
-            Err(e) => return Err(VideoError::Io(e)),
-        }
-        if frames.len() > max_frames {
+    let stderr = child.stderr.take().ok_or_else(|| VideoError::Io(std::io::Error::other("no pipe")))?;
+    let mut scan = Scan { size, fps, ..Scan::default() };
+    let mut pending = false;
+    let mut last_error = None;
+    for line in BufReader::new(stderr).split(b'\n') {
+        if stop() {
             let _ = child.kill();
             let _ = child.wait();
-            return Err(VideoError::Unusable { path: path.into(), why: format!("longer than {max_frames} frames") });
+            return Err(VideoError::Interrupted);
+        }
+        let line = line.map_err(VideoError::Io)?;
+        match log_line(&String::from_utf8_lossy(&line)) {
+            LogLine::Frame { time, key } => {
+                let previous = scan.damaged.last().copied().unwrap_or(false);
+                scan.times.push(time);
+                scan.damaged.push(pending || (previous && !key));
+                pending = false;
+            }
+            LogLine::Problem(m) => {
+                pending = true;
+                scan.problem_count += 1;
+                if scan.problems.len() < KEPT_PROBLEMS {
+                    scan.problems.push((scan.times.len(), m.clone()));
+                }
+                last_error = Some(m);
+            }
+            LogLine::Other => {}
         }
     }
-    let out = child.wait_with_output().map_err(VideoError::Io)?;
-    if !out.status.success() || frames.is_empty() {
-        return Err(VideoError::Failed { path: path.into(), message: last_line(&out.stderr) });
+    let status = child.wait().map_err(VideoError::Io)?;
+    if scan.is_empty() {
+        return Err(VideoError::Failed { path: path.into(), message: last_error.unwrap_or_else(|| "no frame decoded".into()) });
     }
-    Ok(Clip { size, fps, frames })
+    if !status.success() && !scan.is_damaged() {
+        // FFmpeg failed without saying why in a line we read: the file did not decode to its end.
+        scan.problem_count += 1;
+        scan.problems.push((scan.len(), format!("ffmpeg stopped ({status})")));
+    }
+    Ok(scan)
 }
 
-/// Encodes RGB frames (`width * height * 3` bytes each) at `fps` as an H.264 MP4 (yuv420p,
-/// so any player shows it; odd sides are padded by one pixel; fragmented, so it streams to
-/// any output without seeking) and returns its bytes.
-pub fn mp4_bytes(size: (usize, usize), fps: f64, frames: Vec<Vec<u8>>) -> Result<Vec<u8>, VideoError> {
-    let mut child = Command::new("ffmpeg")
-        .args(["-v", "error", "-nostdin", "-f", "rawvideo", "-pix_fmt", "rgb24"])
-        .args(["-s", &format!("{}x{}", size.0, size.1), "-r", &format!("{fps}"), "-i", "-"])
-        .args(["-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-pix_fmt", "yuv420p"])
-        .args(["-f", "mp4", "-movflags", "frag_keyframe+empty_moov", "-"])
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .map_err(|e| spawn_error("ffmpeg", e))?;
-    let mut stdin = child.stdin.take().ok_or_else(|| VideoError::Io(std::io::Error::other("no pipe")))?;
-    // A thread feeds the frames while this one collects the output: neither pipe can fill up
-    // and stall the other.
-    let feeder = std::thread::spawn(move || -> std::io::Result<()> {
-        for f in &frames {
-            stdin.write_all(f)?;
-        }
-        Ok(())
-    });
-    let out = child.wait_with_output().map_err(VideoError::Io)?;
-    let fed = feeder.join().unwrap_or_else(|_| Err(std::io::Error::other("the frame feeder stopped")));
-    if !out.status.success() || out.stdout.is_empty() {
-        return Err(VideoError::Encode(last_line(&out.stderr)));
-    }
-    fed.map_err(VideoError::Io)?;
-    Ok(out.stdout)
+/// A video decoded as it is tracked: the frames of a [`Scan`] read from FFmpeg in order,
+/// the last few kept, so memory does not grow with the clip's length.
+pub struct VideoFrames {
+    path: PathBuf,
+    size: (usize, usize),
+    len: usize,
+    child: Child,
+    stdout: ChildStdout,
+    /// Frames read so far.
+    next: usize,
+    /// The last [`Self::KEPT`] frames read: (index, pixels), oldest first.
+    kept: VecDeque<(usize, Vec<u8>)>,
+    /// FFmpeg's last log line, collected by a thread so its pipe never fills.
+    log: Option<std::thread::JoinHandle<String>>,
 }
 
-impl super::FrameSource for Clip {
+impl VideoFrames {
+    /// Frames kept for a second look (a run asks for frames in order, a window's frame at
+    /// most one or two behind the newest).
+    const KEPT: usize = 4;
+
+    /// Starts decoding `path`, whose `scan` says how many frames it gives and how large.
+    pub fn open(path: &Path, scan: &Scan) -> Result<VideoFrames, VideoError> {
+        let mut child = decoder(path)
+            .args(["-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "gray", "-"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .map_err(|e| spawn_error("ffmpeg", e))?;
+        let no_pipe = || VideoError::Io(std::io::Error::other("no pipe"));
+        let stdout = child.stdout.take().ok_or_else(no_pipe)?;
+        let log = drain(child.stderr.take().ok_or_else(no_pipe)?);
+        Ok(VideoFrames { path: path.into(), size: scan.size, len: scan.len(), child, stdout, next: 0, kept: VecDeque::new(), log: Some(log) })
+    }
+}
+
+impl Drop for VideoFrames {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+impl super::FrameSource for VideoFrames {
     fn size(&self) -> (usize, usize) {
         self.size
     }
 
     fn len(&self) -> usize {
-        self.frames.len()
+        self.len
     }
 
     fn frame(&mut self, k: usize) -> Result<&[u8], super::FrameError> {
-        self.frames.get(k).map(Vec::as_slice).ok_or(super::FrameError::Missing(k))
+        if k >= self.len {
+            return Err(super::FrameError::Missing(k));
+        }
+        while self.next <= k {
+            // Reuse the oldest buffer once the window is full.
+            let mut buf = if self.kept.len() >= Self::KEPT { self.kept.pop_front().map(|(_, b)| b).unwrap_or_default() } else { Vec::new() };
+            buf.resize(self.size.0 * self.size.1, 0);
+            if let Err(e) = self.stdout.read_exact(&mut buf) {
+                let _ = self.child.kill();
+                let _ = self.child.wait();
+                let why = if e.kind() == std::io::ErrorKind::UnexpectedEof { "ended" } else { "failed" };
+                let log = self.log.take().and_then(|t| t.join().ok()).unwrap_or_default();
+                return Err(super::FrameError::Video(format!(
+                    "{}: FFmpeg's decoding {why} at frame {} of the {} its scan found ({log})",
+                    self.path.display(),
+                    self.next,
+                    self.len
+                )));
+            }
+            self.kept.push_back((self.next, buf));
+            self.next += 1;
+        }
+        match self.kept.iter().find(|(j, _)| *j == k) {
+            Some((_, b)) => Ok(b),
+            None => Err(super::FrameError::Video(format!("internal: frame {k} asked for after frame {} of a video decoded in order", self.next - 1))),
+        }
+    }
+}
+
+/// Collects a child's log on a thread (so its pipe never fills) and gives its last line.
+fn drain(mut pipe: impl Read + Send + 'static) -> std::thread::JoinHandle<String> {
+    std::thread::spawn(move || {
+        let mut text = Vec::new();
+        let _ = pipe.read_to_end(&mut text);
+        last_line(&text)
+    })
+}
+
+/// An H.264 MP4 (yuv420p, so any player shows it; odd sides padded by one pixel;
+/// fragmented, so it streams to any output without seeking) encoded by FFmpeg from RGB
+/// frames pushed one at a time, its bytes copied into `W` as they come.
+pub struct Mp4Encoder<W> {
+    child: Child,
+    stdin: Option<ChildStdin>,
+    copier: std::thread::JoinHandle<std::io::Result<W>>,
+    log: std::thread::JoinHandle<String>,
+}
+
+impl<W: Write + Send + 'static> Mp4Encoder<W> {
+    /// Starts encoding `size` frames at `fps` into `out`.
+    pub fn start(size: (usize, usize), fps: f64, mut out: W) -> Result<Self, VideoError> {
+        let mut child = Command::new("ffmpeg")
+            .args(["-v", "error", "-nostdin", "-f", "rawvideo", "-pix_fmt", "rgb24"])
+            .args(["-s", &format!("{}x{}", size.0, size.1), "-r", &format!("{fps}"), "-i", "-"])
+            .args(["-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-pix_fmt", "yuv420p"])
+            .args(["-f", "mp4", "-movflags", "frag_keyframe+empty_moov", "-"])
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .map_err(|e| spawn_error("ffmpeg", e))?;
+        let no_pipe = || VideoError::Io(std::io::Error::other("no pipe"));
+        let stdin = child.stdin.take().ok_or_else(no_pipe)?;
+        let mut stdout = child.stdout.take().ok_or_else(no_pipe)?;
+        let log = drain(child.stderr.take().ok_or_else(no_pipe)?);
+        // The output is copied on its own thread, so neither pipe can fill and stall the other.
+        let copier = std::thread::spawn(move || std::io::copy(&mut stdout, &mut out).map(|_| out));
+        Ok(Mp4Encoder { child, stdin: Some(stdin), copier, log })
+    }
+
+    /// Encodes one frame (`width * height * 3` bytes).
+    pub fn push(&mut self, rgb: &[u8]) -> Result<(), VideoError> {
+        let stdin = self.stdin.as_mut().ok_or_else(|| VideoError::Encode("the encoder is closed".into()))?;
+        if stdin.write_all(rgb).is_err() {
+            // FFmpeg stopped: its own reason is in its log.
+            self.stdin = None;
+            let _ = self.child.wait();
+            return Err(VideoError::Encode("ffmpeg stopped taking frames".into()));
+        }
+        Ok(())
+    }
+
+    /// Ends the MP4 and gives its writer back.
+    pub fn finish(mut self) -> Result<W, VideoError> {
+        drop(self.stdin.take());
+        let status = self.child.wait().map_err(VideoError::Io)?;
+        let copied = self.copier.join().unwrap_or_else(|_| Err(std::io::Error::other("the copier stopped")));
+        let log = self.log.join().unwrap_or_default();
+        if !status.success() {
+            return Err(VideoError::Encode(log));
+        }
+        copied.map_err(VideoError::Io)
+    }
+}
+
+
+#[cfg(test)]
+mod tests {
+    use super::{frame_runs, log_line, LogLine};
+
+    #[test]
+    fn ffmpeg_log_lines_are_read_as_frames_and_problems() {
+        // Reference: lines as FFmpeg 5.1 prints them with `-loglevel level+info -vf showinfo`.
+        let frame = "[Parsed_showinfo_0 @ 0x55a5f5a82cc0] [info] n:  12 pts:   6144 pts_time:0.48    pos:     5678 fmt:yuv420p sar:1/1 s:160x120 i:P iskey:0 type:P checksum:7EA557FD";
+        assert_eq!(log_line(frame), LogLine::Frame { time: 0.48, key: false });
+        let key = "[Parsed_showinfo_0 @ 0x1] [info] n:   0 pts:      0 pts_time:0       pos:       48 iskey:1 type:I";
+        assert_eq!(log_line(key), LogLine::Frame { time: 0.0, key: true });
+        let error = "[h264 @ 0x55e41ed2d680] [error] Invalid NAL unit size (121 > 119).";
+        assert_eq!(log_line(error), LogLine::Problem("Invalid NAL unit size (121 > 119).".into()));
+        assert_eq!(log_line("[warning] half.mp4: corrupt input packet in stream 0"), LogLine::Problem("half.mp4: corrupt input packet in stream 0".into()));
+        // Not problems with the file: other warnings, the scan's own muxer, the banner.
+        assert_eq!(log_line("[swscaler @ 0x1] [warning] deprecated pixel format used"), LogLine::Other);
+        assert_eq!(log_line("[null @ 0x1] [error] Application provided invalid, non monotonically increasing dts to muxer in stream 0: 28 >= 28"), LogLine::Other);
+        assert_eq!(log_line("[Parsed_showinfo_0 @ 0x1] [info] config in time_base: 1/12800, frame_rate: 25/1"), LogLine::Other);
+        assert_eq!(log_line("[info] Input #0, mov,mp4,m4a,3gp,3g2,mj2, from 'c.mp4':"), LogLine::Other);
+    }
+
+    #[test]
+    fn damaged_frames_are_listed_as_runs() {
+        // Reference: the runs written out by hand.
+        let f = [false, true, true, false, true, false, false, true, true, true];
+        assert_eq!(frame_runs(&f), "frames 1-2, frame 4, frames 7-9");
     }
 }

@@ -19,47 +19,75 @@ pub struct CsvBox {
 /// Confidence of a position measured by the corner detector alone, which gives no score.
 pub const CD_CONFIDENCE: f64 = 0.5;
 
-/// The header of [`track_csv`].
-pub const TRACK_HEADER: &str = "frame,x,y,mode,source,measured_frame,file,box_x,box_y,box_w,box_h,confidence,ok,state";
+/// The header of [`write_track_csv`].
+pub const TRACK_HEADER: &str = "frame,x,y,mode,source,measured_frame,file,box_x,box_y,box_w,box_h,confidence,ok,time_s,damaged,state";
 
-/// The CSV of a run, one line a frame (see [`TRACK_HEADER`]): the position (pixel centres at
+/// What the CSV says of each frame beyond the run's record: its file name, its time and
+/// whether the decoder damaged it.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FrameInfo<'a> {
+    /// Each frame's file name (a folder of frames).
+    pub files: Option<&'a [String]>,
+    /// Each frame's time in seconds from the video's timestamps; without them, a frame's
+    /// time is its index times `period`.
+    pub times: Option<&'a [f64]>,
+    /// The frame period in seconds.
+    pub period: f64,
+    /// Each frame: damaged by a decoding error (a video tracked with `--allow-damaged`).
+    pub damaged: Option<&'a [bool]>,
+}
+
+/// Writes the CSV of a run, one line a frame (see [`TRACK_HEADER`] and [`track_row`]).
+pub fn write_track_csv(out: &mut dyn std::io::Write, frames: &[FrameRecord], info: FrameInfo, shape: CsvBox) -> std::io::Result<()> {
+    writeln!(out, "{TRACK_HEADER}")?;
+    for r in frames {
+        writeln!(out, "{}", track_row(r, info, shape))?;
+    }
+    Ok(())
+}
+
+/// One line of the run's CSV (see [`TRACK_HEADER`]): the position (pixel centres at
 /// integers), the mode, the source (`ncc`, `cd` or `none`), the frame the position was
 /// measured in, the frame's file name (empty for frames from no file); then the box of
 /// `shape.size` centred on the position (OpenCV's convention: columns `box_x..box_x+box_w-1`),
 /// the confidence in 0..1 (the NCC score scaled from the acceptance level, 0, to a perfect
-/// match, 1; [`CD_CONFIDENCE`] for the corner detector alone) and `ok`: 1 when the frame has a
-/// position measured at most [`MAX_AGE`] frames before, else 0; and the `state`
-/// (`tracking`, `predicted`, `searching`, `lost`). Without a measured position
-/// the row gives the estimate (a coasting track's prediction, or the last position while the
-/// target is searched for or lost) with `ok` 0; fields with neither are empty.
-pub fn track_csv(frames: &[FrameRecord], files: Option<&[String]>, shape: CsvBox) -> String {
-    let mut s = format!("{TRACK_HEADER}\n");
+/// match, 1; [`CD_CONFIDENCE`] for the corner detector alone), `ok`: 1 when the frame has a
+/// position measured at most [`MAX_AGE`] frames before, else 0; the frame's time in seconds
+/// (empty when the video gives the frame no timestamp) and `damaged` (1 for a frame the
+/// decoder reported damaged); and the `state` (`tracking`, `predicted`, `searching`, `lost`).
+/// Without a measured position the row gives the estimate (a coasting track's prediction, or
+/// the last position while the target is searched for or lost) with `ok` 0; fields with
+/// neither are empty.
+pub fn track_row(r: &FrameRecord, info: FrameInfo, shape: CsvBox) -> String {
     let (bw, bh) = shape.size;
-    for r in frames {
-        let shown = r.point.or(r.estimate);
-        let (x, y) = shown.map(|(x, y)| (format!("{x:.3}"), format!("{y:.3}"))).unwrap_or_default();
-        let file = files.and_then(|f| f.get(r.frame)).map(|n| csv_field(n)).unwrap_or_default();
-        let boxed = shown
-            .map(|(x, y)| format!("{:.3},{:.3},{bw},{bh}", x - (bw as f64 - 1.0) / 2.0, y - (bh as f64 - 1.0) / 2.0))
-            .unwrap_or_else(|| ",,,".into());
-        let confidence = match (r.point, r.score) {
-            (None, _) => String::new(),
-            (Some(_), Some(v)) => format!("{:.3}", confidence(v, shape.acceptance)),
-            (Some(_), None) => format!("{CD_CONFIDENCE:.3}"),
-        };
-        let ok = r.measured_frame.is_some_and(|m| m <= r.frame && r.frame - m <= MAX_AGE) && r.point.is_some();
-        let _ = writeln!(
-            s,
-            "{},{x},{y},{},{},{},{file},{boxed},{confidence},{},{}",
-            r.frame,
-            mode_name(r.mode),
-            r.source.map(algo_name).unwrap_or("none"),
-            r.measured_frame.map(|f| f.to_string()).unwrap_or_default(),
-            u8::from(ok),
-            r.state.name()
-        );
-    }
-    s
+    let shown = r.point.or(r.estimate);
+    let (x, y) = shown.map(|(x, y)| (format!("{x:.3}"), format!("{y:.3}"))).unwrap_or_default();
+    let file = info.files.and_then(|f| f.get(r.frame)).map(|n| csv_field(n)).unwrap_or_default();
+    let boxed = shown
+        .map(|(x, y)| format!("{:.3},{:.3},{bw},{bh}", x - (bw as f64 - 1.0) / 2.0, y - (bh as f64 - 1.0) / 2.0))
+        .unwrap_or_else(|| ",,,".into());
+    let confidence = match (r.point, r.score) {
+        (None, _) => String::new(),
+        (Some(_), Some(v)) => format!("{:.3}", confidence(v, shape.acceptance)),
+        (Some(_), None) => format!("{CD_CONFIDENCE:.3}"),
+    };
+    let ok = r.measured_frame.is_some_and(|m| m <= r.frame && r.frame - m <= MAX_AGE) && r.point.is_some();
+    let time = match info.times {
+        Some(t) => t.get(r.frame).copied().unwrap_or(f64::NAN),
+        None => r.frame as f64 * info.period,
+    };
+    let time = if time.is_finite() { format!("{time:.6}") } else { String::new() };
+    let damaged = info.damaged.and_then(|d| d.get(r.frame)).copied().unwrap_or(false);
+    format!(
+        "{},{x},{y},{},{},{},{file},{boxed},{confidence},{},{time},{},{}",
+        r.frame,
+        mode_name(r.mode),
+        r.source.map(algo_name).unwrap_or("none"),
+        r.measured_frame.map(|f| f.to_string()).unwrap_or_default(),
+        u8::from(ok),
+        u8::from(damaged),
+        r.state.name()
+    )
 }
 
 /// An NCC score as a confidence: 0 at the acceptance level, 1 for a perfect match.

@@ -1,12 +1,13 @@
 //! Overlays: each frame with the windows the processors acquired from it, the position
 //! reported and the ground truth, as an animated GIF (written here, no program needed) or an
-//! MP4 (through FFmpeg, [`crate::frames::video::encode_mp4`]).
+//! MP4 (through FFmpeg, [`crate::frames::video::Mp4Encoder`]); both are drawn and written a
+//! frame at a time ([`Painter`]).
 //!
 //! Frames are drawn in a fixed 256-colour palette: 32 gray levels for the image and a few
 //! saturated colours for the marks, so every frame encodes without quantisation and two runs
 //! give the same bytes.
 use crate::frames::{FrameError, FrameSource};
-use crate::system::{Role, RunLog};
+use crate::system::{FrameRecord, Role, RunLog};
 use coopwin_firmware::processors::Mode;
 use coopwin_firmware::types::Source;
 use std::fmt;
@@ -83,8 +84,15 @@ pub struct Canvas {
 impl Canvas {
     /// The gray frame `gray` (`width * height` bytes) as a canvas.
     pub fn from_gray(gray: &[u8], width: usize, height: usize) -> Canvas {
-        let px = gray.iter().map(|&v| ((usize::from(v) * (GRAYS - 1) + 127) / 255) as u8).collect();
-        Canvas { width, height, px }
+        let mut c = Canvas { width, height, px: Vec::new() };
+        c.paint_gray(gray);
+        c
+    }
+
+    /// Replaces the canvas's pixels with the gray frame `gray`, reusing its buffer.
+    fn paint_gray(&mut self, gray: &[u8]) {
+        self.px.clear();
+        self.px.extend(gray.iter().map(|&v| ((usize::from(v) * (GRAYS - 1) + 127) / 255) as u8));
     }
 
     fn set(&mut self, x: i64, y: i64, c: Colour) {
@@ -197,20 +205,42 @@ fn glyph(c: char) -> [u8; 5] {
     }
 }
 
-/// Draws every frame of a run: the windows each processor was delivered from it (Watch
-/// blue, Peripheral yellow, Foveal green, COOP's corner-detector window magenta), the
-/// position at the end of its period with a `size` box (red when NCC measured it, orange for
-/// the corner detector), the true point when known (a cyan x), and the frame number with the
-/// source or mode.
-pub fn draw_run(frames: &mut dyn FrameSource, log: &RunLog, truth: Option<&[(f64, f64)]>, size: (usize, usize)) -> Result<Vec<Canvas>, FrameError> {
-    let (w, h) = frames.size();
-    let mut out = Vec::with_capacity(log.frames.len());
-    let mut windows = log.windows_delivered.iter().peekable();
-    for rec in &log.frames {
-        let mut c = Canvas::from_gray(frames.frame(rec.frame)?, w, h);
-        while let Some(&&(p, _, req)) = windows.peek().filter(|d| d.1 <= rec.frame) {
-            windows.next();
-            let colour = match (log.roles.get(p), rec.mode) {
+/// Draws a run's frames one at a time, in order: each with the windows each processor was
+/// delivered from it (Watch blue, Peripheral yellow, Foveal green, COOP's corner-detector
+/// window magenta), the position at the end of its period with a `size` box (red when NCC
+/// measured it, orange for the corner detector), the true point when known (a cyan x), and
+/// the frame number with the source or mode. Holds one canvas, whatever the run's length.
+pub struct Painter<'a> {
+    log: &'a RunLog,
+    truth: Option<&'a [(f64, f64)]>,
+    size: (usize, usize),
+    windows: std::iter::Peekable<std::slice::Iter<'a, (usize, usize, coopwin_firmware::types::WindowRequest)>>,
+}
+
+impl<'a> Painter<'a> {
+    /// A painter of `log`'s frames, with the true points `truth` when known.
+    pub fn new(log: &'a RunLog, truth: Option<&'a [(f64, f64)]>, size: (usize, usize)) -> Self {
+        Painter { log, truth, size, windows: log.windows_delivered.iter().peekable() }
+    }
+
+    /// Draws every record of the log over its frame from `frames`, handing each canvas to
+    /// `out` before the next is drawn.
+    pub fn draw_all<E: From<FrameError>>(mut self, frames: &mut dyn FrameSource, out: &mut dyn FnMut(&Canvas) -> Result<(), E>) -> Result<(), E> {
+        let (w, h) = frames.size();
+        let mut c = Canvas { width: w, height: h, px: Vec::new() };
+        for rec in &self.log.frames {
+            c.paint_gray(frames.frame(rec.frame)?);
+            self.mark(&mut c, rec);
+            out(&c)?;
+        }
+        Ok(())
+    }
+
+    /// Draws the marks of frame record `rec` on `c`.
+    fn mark(&mut self, c: &mut Canvas, rec: &FrameRecord) {
+        while let Some(&&(p, _, req)) = self.windows.peek().filter(|d| d.1 <= rec.frame) {
+            self.windows.next();
+            let colour = match (self.log.roles.get(p), rec.mode) {
                 (Some(Role::Watch), _) | (Some(Role::Single), Mode::Watch) => Colour::Blue,
                 (Some(Role::Peripheral), _) | (Some(Role::Single), Mode::Detect) => Colour::Yellow,
                 (Some(Role::FovealCd), _) => Colour::Magenta,
@@ -219,13 +249,13 @@ pub fn draw_run(frames: &mut dyn FrameSource, log: &RunLog, truth: Option<&[(f64
             let (x0, y0) = (i64::from(req.x0), i64::from(req.y0));
             c.rect(x0, y0, x0 + i64::from(req.width) - 1, y0 + i64::from(req.height) - 1, colour);
         }
-        if let Some(&(tx, ty)) = truth.and_then(|t| t.get(rec.frame)) {
+        if let Some(&(tx, ty)) = self.truth.and_then(|t| t.get(rec.frame)) {
             c.saltire(tx, ty, 3, Colour::Cyan);
         }
         let label = match (rec.point, rec.source) {
             (Some((x, y)), source) => {
                 let colour = if source == Some(Source::Cd) { Colour::Orange } else { Colour::Red };
-                let (hw, hh) = ((size.0 as f64 - 1.0) / 2.0, (size.1 as f64 - 1.0) / 2.0);
+                let (hw, hh) = ((self.size.0 as f64 - 1.0) / 2.0, (self.size.1 as f64 - 1.0) / 2.0);
                 c.rect((x - hw).round() as i64, (y - hh).round() as i64, (x + hw).round() as i64, (y + hh).round() as i64, colour);
                 c.cross(x, y, 2, colour);
                 if source == Some(Source::Cd) { "CD" } else { "NCC" }
@@ -237,9 +267,7 @@ pub fn draw_run(frames: &mut dyn FrameSource, log: &RunLog, truth: Option<&[(f64
             },
         };
         c.text(1, 1, &format!("{} {label}", rec.frame), Colour::White);
-        out.push(c);
     }
-    Ok(out)
 }
 
 /// Why an overlay could not be encoded.
@@ -254,23 +282,35 @@ impl fmt::Display for GifError {
 
 impl std::error::Error for GifError {}
 
-/// The canvases as an endlessly looping GIF, each shown `delay_cs` hundredths of a second.
-pub fn encode_gif(frames: &[Canvas], delay_cs: u16) -> Result<Vec<u8>, GifError> {
-    let Some(first) = frames.first() else { return Err(GifError("no frames".into())) };
-    let (w, h) = (first.width, first.height);
-    let side = |v: usize| u16::try_from(v).map_err(|_| GifError(format!("a side of {v} px is over GIF's 65535")));
-    let (gw, gh) = (side(w)?, side(h)?);
-    let mut out = Vec::new();
-    {
-        let mut enc = gif::Encoder::new(&mut out, gw, gh, &palette()).map_err(|e| GifError(e.to_string()))?;
+/// An endlessly looping GIF written canvas by canvas into `W`, each shown `delay_cs`
+/// hundredths of a second.
+pub struct GifWriter<W: std::io::Write> {
+    enc: gif::Encoder<W>,
+    size: (u16, u16),
+    delay_cs: u16,
+}
+
+impl<W: std::io::Write> GifWriter<W> {
+    /// Starts a `width` x `height` GIF in `out`.
+    pub fn new(out: W, (width, height): (usize, usize), delay_cs: u16) -> Result<Self, GifError> {
+        let side = |v: usize| u16::try_from(v).map_err(|_| GifError(format!("a side of {v} px is over GIF's 65535")));
+        let size = (side(width)?, side(height)?);
+        let mut enc = gif::Encoder::new(out, size.0, size.1, &palette()).map_err(|e| GifError(e.to_string()))?;
         enc.set_repeat(gif::Repeat::Infinite).map_err(|e| GifError(e.to_string()))?;
-        for c in frames {
-            let mut f = gif::Frame::from_indexed_pixels(gw, gh, c.px.clone(), None);
-            f.delay = delay_cs;
-            enc.write_frame(&f).map_err(|e| GifError(e.to_string()))?;
-        }
+        Ok(GifWriter { enc, size, delay_cs })
     }
-    Ok(out)
+
+    /// Appends a frame.
+    pub fn push(&mut self, c: &Canvas) -> Result<(), GifError> {
+        let mut f = gif::Frame::from_indexed_pixels(self.size.0, self.size.1, c.px.clone(), None);
+        f.delay = self.delay_cs;
+        self.enc.write_frame(&f).map_err(|e| GifError(e.to_string()))
+    }
+
+    /// Ends the GIF and gives its writer back.
+    pub fn finish(self) -> Result<W, GifError> {
+        self.enc.into_inner().map_err(|e| GifError(e.to_string()))
+    }
 }
 
 #[cfg(test)]
@@ -299,7 +339,10 @@ mod tests {
         let a = Canvas::from_gray(&(0..64).map(|v| (v * 4) as u8).collect::<Vec<_>>(), 8, 8);
         let mut b = a.clone();
         b.cross(3.0, 3.0, 2, Colour::Orange);
-        let bytes = encode_gif(&[a.clone(), b.clone()], 4).expect("encodes");
+        let mut gif = GifWriter::new(Vec::new(), (8, 8), 4).expect("starts");
+        gif.push(&a).expect("encodes");
+        gif.push(&b).expect("encodes");
+        let bytes = gif.finish().expect("ends");
         let mut opts = gif::DecodeOptions::new();
         opts.set_color_output(gif::ColorOutput::Indexed);
         let mut dec = opts.read_info(bytes.as_slice()).expect("a GIF");
