@@ -86,6 +86,9 @@ impl Default for GuardParams {
 /// Positions in the prediction's least-squares fit.
 pub const HISTORY: usize = 8;
 
+/// Positions in the fit that places the next window ([`Guard::ahead`]).
+const LEAD: usize = 3;
+
 /// Weight of the newest squared innovation in each source's running mean.
 const NOISE_WEIGHT: f32 = 0.1;
 
@@ -253,7 +256,8 @@ impl Guard {
     /// spacing) after `t`, from the positions followed; `None` before there are two.
     pub fn ahead(&self, t: f64) -> Option<Point> {
         let (Some((t1, _)), Some((t0, _))) = (self.history[0], self.history[1]) else { return None };
-        (t1 > t0).then(|| self.predict(t + (t1 - t0))).flatten()
+        // The last few positions only: a target that speeds up is followed, not lagged.
+        (t1 > t0).then(|| line_at(&self.history[..LEAD], t + (t1 - t0))).flatten()
     }
 
     /// Inverse-variance fusion of two agreeing measurements (see the module docs).
@@ -315,8 +319,8 @@ impl Guard {
 /// evaluated at `t`; the one position when there is only one. In `f32` (the positions' own
 /// precision; `f64` is software on the Cortex-M4F), with times taken from the newest, which
 /// keeps them small, and positions about their mean.
-fn line_at(history: &[Option<(f64, Point)>; HISTORY], t: f64) -> Option<Point> {
-    let (t_new, p_new) = history[0]?;
+fn line_at(history: &[Option<(f64, Point)>], t: f64) -> Option<Point> {
+    let (t_new, p_new) = (*history.first()?)?;
     let mut pts = [(0.0f32, Point { x: 0.0, y: 0.0 }); HISTORY];
     let mut n = 0;
     for (d, &(ti, p)) in pts.iter_mut().zip(history.iter().flatten()) {
