@@ -20,6 +20,7 @@ import subprocess
 import sys
 
 HELPERS = ("compiler_builtins", "__aeabi", "libm::", "memcmp", "memcpy", "memset", "__float", "__udivmod")
+FOVEAL = re.compile(r"Foveal(<\d+>)?>::on_(window|message)_into$")
 TRACE = re.compile(r"Trace \d+: 0x([0-9a-f]+) \[[0-9a-f]+/([0-9a-f]+)/")
 
 
@@ -69,9 +70,10 @@ def profile(elf, trace):
                 if block is not None:
                     blocks[host], block = block, None
                 name = names.get(pc) or names.setdefault(pc, function(pc))
-                if not open_ and "Foveal>::on_window_into" in name:
+                # `Foveal<N>` (the detector's side) or `Foveal`, whichever the board builds.
+                if not open_ and FOVEAL.search(name) and name.endswith(">::on_window_into"):
                     open_, decided, frames = True, False, frames + 1
-                elif open_ and "Foveal>::on_message_into" in name:
+                elif open_ and FOVEAL.search(name) and name.endswith(">::on_message_into"):
                     decided = True
                 elif open_ and decided and "suite::run" in name:
                     open_ = False

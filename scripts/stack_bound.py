@@ -183,7 +183,8 @@ def analyse_function(f, funcs, secs):
     while work:
         k, d, regs = work.pop()
         if k >= len(code):
-            prev = [i for i in code[:k] if i.op != "nop"]
+            # Padding after a call that does not return: `nop`, or the zero halfword (`movs r0, r0`).
+            prev = [i for i in code[:k] if i.op != "nop" and (i.op, i.args) != ("movs", "r0, r0")]
             if not prev or split_cond(prev[-1].op)[0] != "bl":
                 raise Error(f"{f.name}: control runs off its end")
             continue

@@ -117,10 +117,16 @@ fn match_line(out: &mut dyn Write, id: &str, m: Result<Match, MatchError>) -> fm
 
 /// Runs the whole suite, writing its lines to `out`.
 pub fn run<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
+    run_kernels(out, meter)?;
+    tracker(out, meter, inputs::WINDOWS)
+}
+
+/// The suite without the COOP pair's replay (the lines before the first `tracker` line): every
+/// kernel, the number formats and the decisions, for a board whose RAM does not hold the pair.
+pub fn run_kernels<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
     kernels(out, meter)?;
     float_formats(out, meter)?;
-    decisions(out, meter)?;
-    tracker(out, meter, inputs::WINDOWS)
+    decisions(out, meter)
 }
 
 fn kernels<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
