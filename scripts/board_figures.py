@@ -291,16 +291,18 @@ def main():
             p(f"{fmt_t(path / HZ)}, a {FRAME / (path / HZ):.1f}x margin.")
         p()
         p("Where a frame's instructions go (`scripts/board.sh --profile`: QEMU's execution trace of")
-        p("the same run, each instruction charged to its function, library calls to their caller;")
-        p("its mean matches the meter's to a few instructions):")
+        p("the same run, each instruction charged to its function, library calls to their caller,")
+        p("from `CoopPair::frame`'s entry until the replay is back in `suite::tracker`: the metered")
+        p("frame and the partner's answer to the decision):")
         p()
         table = [l for l in prof.split("\n\n")[1].splitlines()] if "\n\n" in prof else []
         for line in table:
             p(line)
         p()
-        p("`<foveal::Foveal<24>>::on_window_into` (the master) is mostly Lucas-Kanade, inlined; `matching::dot::*` and")
-        p("`matching::best_match::*` are NCC; the corner detector's line fit is in `detect` (inlined")
-        p("point collection and 2-means) and `corner::lines::fit_side`.")
+        p("The processors' own code (Lucas-Kanade, the guard's decision) is inlined into")
+        p("`CoopPair::frame` and its metered closure; `matching::dot::*` and `matching::best_match::*`")
+        p("are NCC; the corner detector's line fit is in `detect` (inlined point collection and")
+        p("2-means) and `corner::lines::fit_side`.")
         if "corner_24_literal" in counts and "corner_24" in counts:
             lit = sum(counts["corner_24_literal"]) / len(counts["corner_24_literal"])
             p()

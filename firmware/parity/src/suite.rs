@@ -343,7 +343,9 @@ impl CoopPair {
 
     /// One COOP frame: the window goes to both, the partner's result to the master, which
     /// decides; returns the master's decision step (`None` if the partner sent no result).
-    /// Metered as `coop_frame`: both Foveal kernels and the decision.
+    /// Metered as `coop_frame`: both Foveal kernels and the decision. Never inlined, so a
+    /// profile finds its frames (`scripts/board_profile.py`).
+    #[inline(never)]
     pub fn frame<M: Meter>(&mut self, meter: &mut M, view: &WindowView<'_>, t: f64) -> Option<&Step> {
         let CoopPair { master, partner, decision, scratch } = self;
         meter.once("coop_frame", &mut || {
@@ -366,6 +368,7 @@ impl CoopPair {
 
 /// Replays `bytes` through a [`CoopPair`]. Each frame the master must ask for the window
 /// recorded next, or the replay has left the recorded run.
+#[inline(never)]
 pub fn tracker<W: Write, M: Meter>(out: &mut W, meter: &mut M, bytes: &[u8]) -> Result<(), SuiteError> {
     let s = Stream::parse(bytes).map_err(SuiteError::Stream)?;
     let anchor = Point { x: s.anchor.0, y: s.anchor.1 };
