@@ -63,6 +63,53 @@ WHAT = {
 }
 
 
+def memory(run, size):
+    """(flash, static RAM, painted stack, sections) of an image from its run and `size -A`."""
+    stack = None
+    for line in run.splitlines():
+        m = re.match(r"# stack used=(\d+)", line)
+        if m:
+            stack = int(m[1])
+    sections = {}
+    for line in size.splitlines():
+        m = re.match(r"(\.\S+)\s+(\d+)\s+(\d+)", line)
+        if m:
+            sections[m[1]] = (int(m[2]), int(m[3]))
+    flash = sum(sections.get(s, (0, 0))[0] for s in [".vector_table", ".text", ".rodata", ".data"])
+    ram = sum(sections.get(s, (0, 0))[0] for s in [".data", ".bss", ".uninit"])
+    return flash, ram, stack, sections
+
+
+def stm32(p, argv):
+    """The "On an STM32F405" section: the image linked for the part, and its figures."""
+    run, size, disasm = (open(f).read() for f in argv[:3])
+    try:
+        sb = stack_bound.analyse(argv[3], disasm, run)
+        stack_bound.check(sb)
+    except stack_bound.Error as e:
+        sys.exit(f"board_figures.py: stack bound (STM32F405): {e}")
+    flash, ram, stack, sections = memory(run, size)
+    bound = sb["models"]["address-taken", sb["times"]]["total"]
+    lines = sum(1 for line in run.splitlines() if line and not line.startswith("#"))
+    p("## On an STM32F405")
+    p()
+    p("`scripts/board.sh` also links the board for an STM32F405 (`--features stm32f405`,")
+    p("`memory-stm32f405.x`: 1 MB of flash at 0x08000000, 128 KB of SRAM at 0x20000000) and runs")
+    p("it on QEMU's `netduinoplus2` (that part, at 168 MHz), semihosting for output as on the")
+    p(f"mps2. This image runs the suite without the COOP pair's replay: its {lines} result lines")
+    p("equal `expected.txt`'s before the first `tracker` line, bit for bit. The pair's replay")
+    p("does not fit the 128 KB yet (see Memory above).")
+    p()
+    p("| | bytes |")
+    p("|---|---:|")
+    p(f"| flash (`.vector_table` at {sections.get('.vector_table', (0, 0))[1]:#x}) | {flash:,} |")
+    p(f"| RAM, static | {ram:,} |")
+    p(f"| stack, measured high-water | {stack:,} |")
+    p(f"| stack, static bound (`scripts/stack_bound.py`, as below) | {bound:,} |")
+    p(f"| **RAM, static + bound** | **{ram + bound:,}** of 131,072 |")
+    p()
+
+
 def main():
     run, size, disasm, prof = (open(p).read() for p in sys.argv[1:5])
     elf = sys.argv[5] if len(sys.argv) > 5 else stack_bound.ELF
@@ -155,16 +202,23 @@ def main():
     for name, b in frames[:8]:
         p(f"| `{name}` | {b:,} |")
     p()
-    p("The stack is dominated by the processors' fixed buffers: a `processors::Foveal` holds a")
-    p("`CornerDetector` (about 69 KB of working arrays, also in the NCC master, which does not use")
-    p("it; 42 KB of it keep the edge points of the line fit) and the template prepared for")
-    p("Lucas-Kanade (`refine::LkTemplate`, 11 KB), and the suite holds the COOP pair (two Foveals)")
-    p("plus a detector of its own, with copies as they are constructed by value. The code and")
-    p("inputs fit an STM32F407's 1 MB of flash; this stack does not fit its 128 KB + 64 KB of SRAM.")
-    p("In the thesis each Foveal window has its own processor, which would hold one Foveal; the")
-    p("QEMU board keeps its 4 MB of RAM (`memory.x`).")
+    p("The stack is dominated by the processors' fixed buffers. A `processors::Foveal<N>` holds a")
+    p("`CornerDetector<N>`, sized for its largest window: 28 bytes a pixel of `N x N` (most of it")
+    p("the edge points of the line fit), 16 KB at `N` = 24, 44 KB at 40, 113 KB at 64, the host's")
+    p("default (`corner::tests::detector_is_sized_by_its_window`). The suite's COOP master has")
+    p("`N` = 24 (it runs the detector only on the 20x20 template), the partner 40 (the 24x24")
+    p("window and a coasting track's 36x36); each also holds the template prepared for")
+    p("Lucas-Kanade (`refine::LkTemplate`, 11 KB, used by the master only). The suite holds the")
+    p("pair and its two answers (`Step`, 4.3 KB each) for the whole run, and `CoopPair::new`'s")
+    p("frame holds copies of the two processors as they are constructed by value (Rust does not")
+    p("build them in place). The code and inputs fit an STM32F405's 1 MB of flash; this stack")
+    p("does not yet fit its 128 KB of SRAM, so the pair runs on the mps2 (4 MB, `memory-mps2.x`).")
+    p("Before the right-sizing (commit 1c1786a, `CornerDetector` 70,160 bytes for 64x64 in every")
+    p("Foveal) the measured high-water mark was 450,676 bytes and the static bound 455,396.")
     p()
     static_bound(p, sb, stack)
+    if len(sys.argv) > 9:
+        stm32(p, sys.argv[6:10])
     p("## Instructions per kernel")
     p()
     p("| kernel | instructions | Cortex-M4 at 168 MHz | C40 (model) | C40 / M4 |")
@@ -237,16 +291,18 @@ def main():
             p(f"{fmt_t(path / HZ)}, a {FRAME / (path / HZ):.1f}x margin.")
         p()
         p("Where a frame's instructions go (`scripts/board.sh --profile`: QEMU's execution trace of")
-        p("the same run, each instruction charged to its function, library calls to their caller;")
-        p("its mean matches the meter's to a few instructions):")
+        p("the same run, each instruction charged to its function, library calls to their caller,")
+        p("from `CoopPair::frame`'s entry until the replay is back in `suite::tracker`: the metered")
+        p("frame and the partner's answer to the decision):")
         p()
         table = [l for l in prof.split("\n\n")[1].splitlines()] if "\n\n" in prof else []
         for line in table:
             p(line)
         p()
-        p("`<foveal::Foveal>::on_window_into` is mostly Lucas-Kanade, inlined; `matching::dot::*` and")
-        p("`matching::best_match::*` are NCC; the corner detector's line fit is in `detect` (inlined")
-        p("point collection and 2-means) and `corner::lines::fit_side`.")
+        p("The processors' own code (Lucas-Kanade, the guard's decision) is inlined into")
+        p("`CoopPair::frame` and its metered closure; `matching::dot::*` and `matching::best_match::*`")
+        p("are NCC; the corner detector's line fit is in `detect` (inlined point collection and")
+        p("2-means) and `corner::lines::fit_side`.")
         if "corner_24_literal" in counts and "corner_24" in counts:
             lit = sum(counts["corner_24_literal"]) / len(counts["corner_24_literal"])
             p()

@@ -7,9 +7,9 @@ usage: board_profile.py ELF TRACE [--lines N]
 
 TRACE is QEMU's `-d exec,nochain,in_asm` log (a file or a FIFO): each translated block's
 instructions once (`IN:`), then a `Trace` line each time the block runs. A frame opens when
-`Foveal::on_window_into` is entered (the master's window) and closes when the run is back in
-the suite after the master's `Foveal::on_message_into` (its decision): what
-`coopwin_parity::suite::CoopPair::frame` meters. Library helpers (soft-float, `memcpy`,
+`coopwin_parity::suite::CoopPair::frame` is entered and closes when the run is back in
+`suite::tracker`: the metered frame (the master's window, the partner's, the decision) and the
+partner's answer to the decision's messages. Library helpers (soft-float, `memcpy`,
 `libm`) are charged to the function that called them. Prints a markdown table of
 instructions per frame by function and, with `--lines N`, the N busiest source lines.
 """
@@ -53,7 +53,7 @@ def profile(elf, trace):
     names = {}                       # guest pc -> function name (cached)
     by_fn = collections.Counter()    # caller (helpers folded in) -> instructions
     by_pc = collections.Counter()    # guest instruction address -> executions
-    frames, open_, decided, owner = 0, False, False, "?"
+    frames, open_, owner = 0, False, "?"
     block = None
     with open(trace, errors="replace") as f:
         for line in f:
@@ -69,11 +69,9 @@ def profile(elf, trace):
                 if block is not None:
                     blocks[host], block = block, None
                 name = names.get(pc) or names.setdefault(pc, function(pc))
-                if not open_ and "Foveal>::on_window_into" in name:
-                    open_, decided, frames = True, False, frames + 1
-                elif open_ and "Foveal>::on_message_into" in name:
-                    decided = True
-                elif open_ and decided and "suite::run" in name:
+                if not open_ and "CoopPair>::frame" in name:
+                    open_, frames = True, frames + 1
+                elif open_ and "suite::tracker" in name:
                     open_ = False
                 if not open_:
                     continue

@@ -146,16 +146,25 @@ class Func:
 
 
 def jump_table(ins, code, secs):
-    """Targets of a `tbb`/`tbh` at ins: the table runs from ins+4 to the next instruction."""
+    """Targets of a `tbb`/`tbh` at ins. The table runs from ins+4 (`[pc, rM]`), or from the
+    address an `addw rN, pc, #imm` just before puts in the base register (`[rN, rM]`, the
+    table then past a padding `nop`), to the next instruction; targets are ins+4 + 2 entry."""
     base, blob = secs[".text"]
     start = ins.addr + 4
-    end = min((i.addr for i in code if i.addr > ins.addr), default=start)
+    reg = ins.args.lstrip("[").split(",")[0].strip()
+    if reg != "pc":
+        prev = [i for i in code if i.addr < ins.addr]
+        m = re.match(r"^(\w+), pc, #(\d+)$", prev[-1].args) if prev and prev[-1].op == "addw" else None
+        if not m or m.group(1) != reg:
+            raise Error(f"{ins.addr:#x} `{ins.op} {ins.args}`: table base not from `addw {reg}, pc, #imm`")
+        start = ((prev[-1].addr + 4) & ~3) + int(m.group(2))
+    end = min((i.addr for i in code if i.addr >= start), default=start)
     raw = blob[start - base:end - base]
     if ins.op == "tbb":
         entries = list(raw)
     else:
         entries = [struct.unpack_from("<H", raw, o)[0] for o in range(0, len(raw) - 1, 2)]
-    return [start + 2 * e for e in entries]
+    return [ins.addr + 4 + 2 * e for e in entries]
 
 
 def analyse_function(f, funcs, secs):
@@ -174,7 +183,8 @@ def analyse_function(f, funcs, secs):
     while work:
         k, d, regs = work.pop()
         if k >= len(code):
-            prev = [i for i in code[:k] if i.op != "nop"]
+            # Padding after a call that does not return: `nop`, or the zero halfword (`movs r0, r0`).
+            prev = [i for i in code[:k] if i.op != "nop" and (i.op, i.args) != ("movs", "r0, r0")]
             if not prev or split_cond(prev[-1].op)[0] != "bl":
                 raise Error(f"{f.name}: control runs off its end")
             continue

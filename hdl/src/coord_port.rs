@@ -151,19 +151,9 @@ impl<const C: usize> CoordPort<C> {
     }
 }
 
-/// True when a `width` x `height` sensor's coordinates take two bytes each.
-pub fn wide_coordinates(width: usize, height: usize) -> bool {
-    width.max(height) > 256
-}
-
-/// Bytes in a coordinate set for a `width` x `height` sensor: 4, or 8 with two-byte coordinates.
-pub fn set_bytes(width: usize, height: usize) -> usize {
-    if wide_coordinates(width, height) {
-        8
-    } else {
-        4
-    }
-}
+/// The set-size rule (one byte a coordinate up to 256 columns and rows, two above), from the
+/// firmware whose `CoordinateWriter` writes the sets: one rule for both sides of the port.
+pub use coopwin_firmware::ports::window::{set_bytes, wide_coordinates};
 
 impl<const C: usize> Logic for CoordPort<C> {
     #[hdl_gen]

@@ -117,10 +117,16 @@ fn match_line(out: &mut dyn Write, id: &str, m: Result<Match, MatchError>) -> fm
 
 /// Runs the whole suite, writing its lines to `out`.
 pub fn run<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
+    run_kernels(out, meter)?;
+    tracker(out, meter, inputs::WINDOWS)
+}
+
+/// The suite without the COOP pair's replay (the lines before the first `tracker` line): every
+/// kernel, the number formats and the decisions, for a board whose RAM does not hold the pair.
+pub fn run_kernels<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
     kernels(out, meter)?;
     float_formats(out, meter)?;
-    decisions(out, meter)?;
-    tracker(out, meter, inputs::WINDOWS)
+    decisions(out, meter)
 }
 
 fn kernels<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
@@ -148,7 +154,8 @@ fn kernels<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteEr
         other => writeln!(out, "watch_motion_256 none={other:?}")?,
     }
 
-    let mut det = CornerDetector::new();
+    // Sized for the benchmark's largest corner window, as a Foveal processor's.
+    let mut det = CornerDetector::<24>::sized();
     let params = CornerParams::new(50);
     let mut edges24 = 0;
     for (id, name, bytes) in [("corner_20", "corner_20", inputs::CORNER_20), ("corner_24", "corner_24", inputs::CORNER_24)] {
@@ -293,33 +300,40 @@ fn to_partner(step: &Step) -> impl Iterator<Item = &Msg> {
     step.sends.iter().filter(|(d, _)| *d == Dest::FovealCd).map(|(_, m)| m)
 }
 
+/// Side of the COOP master's corner detector: it finds the corner of the template
+/// (`Support`), 20x20 at the thesis's sizes.
+pub const MASTER_SIDE: usize = 24;
+/// Side of the COOP partner's corner detector: the Foveal window (24) and a coasting track's,
+/// 12 px wider (`COAST_MARGIN`), rounded up to a multiple of 8.
+pub const PARTNER_SIDE: usize = 40;
+
 /// The COOP Foveal pair (4.2): a master running NCC and the decision, a partner running the
 /// corner detector on the same coordinates, wired to each other as their link would be.
 /// The testbench's recorder and the replay below drive it alike. It keeps the processors'
-/// answers ([`Step`], over 4 KiB each) and has them filled in place, as a board loop would.
+/// answers ([`Step`], over 4 KiB each) and has them filled in place, as a board loop would:
+/// the master's decision and one answer at a time from either processor.
 pub struct CoopPair {
-    master: Foveal,
-    partner: Foveal,
-    /// The master's answer to its window, the partner's to the same window, the master's to
-    /// the partner's result (its decision), and the partner's to the decision's messages.
-    own: Step,
-    theirs: Step,
+    master: Foveal<MASTER_SIDE>,
+    partner: Foveal<PARTNER_SIDE>,
+    /// The master's answer to the partner's result (its decision).
     decision: Step,
-    follow: Step,
+    /// The answer being passed on: the master's to its window, then the partner's to the same
+    /// window, then the partner's to the decision's messages.
+    scratch: Step,
 }
 
 impl CoopPair {
     /// A pair tracking from `start` with `template` (default thesis parameters).
     pub fn new(template: Template, start: Point) -> Self {
         let params = Params::default();
-        let mut master = Foveal::new(FovealKind::CoopMaster, params, Some(template));
-        let mut partner = Foveal::new(FovealKind::CoopPartner, params, None);
+        let mut master = Foveal::sized(FovealKind::CoopMaster, params, Some(template));
+        let mut partner = Foveal::sized(FovealKind::CoopPartner, params, None);
         let decision = master.start_at(start);
-        let mut follow = Step::new(Work::None);
+        let mut scratch = Step::new(Work::None);
         for m in to_partner(&decision) {
-            partner.on_message_into(m, 0.0, &mut follow);
+            partner.on_message_into(m, 0.0, &mut scratch);
         }
-        CoopPair { master, partner, own: Step::new(Work::None), theirs: Step::new(Work::None), decision, follow }
+        CoopPair { master, partner, decision, scratch }
     }
 
     /// The window the pair wants next (both processors' window; `None` once lost).
@@ -329,21 +343,24 @@ impl CoopPair {
 
     /// One COOP frame: the window goes to both, the partner's result to the master, which
     /// decides; returns the master's decision step (`None` if the partner sent no result).
-    /// Metered as `coop_frame`: both Foveal kernels and the decision.
+    /// Metered as `coop_frame`: both Foveal kernels and the decision. Never inlined, so a
+    /// profile finds its frames (`scripts/board_profile.py`).
+    #[inline(never)]
     pub fn frame<M: Meter>(&mut self, meter: &mut M, view: &WindowView<'_>, t: f64) -> Option<&Step> {
-        let CoopPair { master, partner, own, theirs, decision, follow } = self;
+        let CoopPair { master, partner, decision, scratch } = self;
         meter.once("coop_frame", &mut || {
-            master.on_window_into(view, t, own);
-            partner.on_window_into(view, t, theirs);
+            // The master's own answer only records its NCC result until the partner's comes.
+            master.on_window_into(view, t, scratch);
+            partner.on_window_into(view, t, scratch);
             let mut answered = false;
-            for (_, m) in theirs.sends.iter().filter(|(d, _)| *d == Dest::Foveal) {
+            for (_, m) in scratch.sends.iter().filter(|(d, _)| *d == Dest::Foveal) {
                 master.on_message_into(m, t, decision);
                 answered = true;
             }
             answered.then_some(())
         })?;
         for m in to_partner(decision) {
-            partner.on_message_into(m, t, follow);
+            partner.on_message_into(m, t, scratch);
         }
         Some(&self.decision)
     }
@@ -351,6 +368,7 @@ impl CoopPair {
 
 /// Replays `bytes` through a [`CoopPair`]. Each frame the master must ask for the window
 /// recorded next, or the replay has left the recorded run.
+#[inline(never)]
 pub fn tracker<W: Write, M: Meter>(out: &mut W, meter: &mut M, bytes: &[u8]) -> Result<(), SuiteError> {
     let s = Stream::parse(bytes).map_err(SuiteError::Stream)?;
     let anchor = Point { x: s.anchor.0, y: s.anchor.1 };

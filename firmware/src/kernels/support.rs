@@ -107,10 +107,10 @@ impl Support {
     /// pixels): the cone of the corner the detector finds within [`NEAR`] px of the point,
     /// or `None` (the whole template counts) when there is none, the detector finds no edge
     /// directions (the thesis's rules), or the cone is too small.
-    pub fn of_template(
+    pub fn of_template<const N: usize>(
         tpl: &WindowView<'_>,
         point: (f32, f32),
-        detector: &mut CornerDetector,
+        detector: &mut CornerDetector<N>,
         params: &CornerParams,
     ) -> Option<Support> {
         let c = detector.detect(tpl, params).ok()?;

@@ -8,7 +8,7 @@ use super::messages::{Dest, Msg};
 use super::params::{Params, COAST_MARGIN, GROW_MARGIN};
 use super::step::{placements, Mode, Step, Work};
 use super::template::Template;
-use crate::kernels::corner::{CornerDetector, CornerParams};
+use crate::kernels::corner::{CornerDetector, CornerParams, MAX_DIM};
 use crate::kernels::matching::best_match;
 use crate::kernels::refine::LkTemplate;
 use crate::kernels::support::{best_match_on, Support};
@@ -77,7 +77,7 @@ fn ncc_track(win: &WindowView<'_>, tpl: &Template, support: Option<&Support>, lk
 }
 
 /// The corner in `win`, or `None` when the detector finds none.
-fn cd_track(win: &WindowView<'_>, det: &mut CornerDetector, p: &Params) -> (Option<Point>, Work) {
+fn cd_track<const N: usize>(win: &WindowView<'_>, det: &mut CornerDetector<N>, p: &Params) -> (Option<Point>, Work) {
     let work = Work::Corner { pixels: (win.width() * win.height()) as u32 };
     let c = det.detect(win, &CornerParams::new(p.corner_threshold)).ok();
     (c.map(|c| Point { x: c.x, y: c.y }), work)
@@ -101,14 +101,15 @@ pub enum FovealKind {
     CoopPartner,
 }
 
-/// A Foveal (Tracking) processor.
-pub struct Foveal {
+/// A Foveal (Tracking) processor, its corner detector sized for windows (and templates) up
+/// to `N x N`.
+pub struct Foveal<const N: usize = MAX_DIM> {
     kind: FovealKind,
     template: Option<Template>,
     /// The object's part of a corner template ([`crate::kernels::support`]), when it is one.
     support: Option<Support>,
     lk: LkCache,
-    detector: CornerDetector,
+    detector: CornerDetector<N>,
     tracking: Option<Point>,
     params: Params,
     coop: Policy,
@@ -127,12 +128,19 @@ impl Foveal {
     /// A Foveal processor; a COOP master decides with guarded cooperation
     /// ([`Foveal::with_policy`] chooses another policy).
     pub fn new(kind: FovealKind, params: Params, template: Option<Template>) -> Self {
+        Self::sized(kind, params, template)
+    }
+}
+
+impl<const N: usize> Foveal<N> {
+    /// [`Foveal::new`] with a detector for windows up to `N x N`.
+    pub fn sized(kind: FovealKind, params: Params, template: Option<Template>) -> Self {
         let mut f = Foveal {
             kind,
             template: None,
             support: None,
             lk: LkCache { over: None, template: LkTemplate::new() },
-            detector: CornerDetector::default(),
+            detector: CornerDetector::sized(),
             tracking: None,
             params,
             coop: Policy::Guarded(Guard::new(GuardParams::default())),

@@ -247,20 +247,6 @@ impl Window {
         [self.xmin, self.xmax, self.ymin, self.ymax]
     }
 
-    /// The set's bytes as the port takes them: one a coordinate, or two (high byte first) when
-    /// `wide`; `None` when a coordinate does not fit.
-    pub fn port_bytes(&self, wide: bool) -> Option<Vec<u8>> {
-        let mut out = Vec::with_capacity(8);
-        for c in self.bytes() {
-            if wide {
-                out.extend(u16::try_from(c).ok()?.to_be_bytes());
-            } else {
-                out.push(u8::try_from(c).ok()?);
-            }
-        }
-        Some(out)
-    }
-
     /// Valid iff xmin < xmax and ymin < ymax (thesis 2.2.1, rows made 0-based).
     pub fn is_valid(&self) -> bool {
         self.xmin < self.xmax && self.ymin < self.ymax

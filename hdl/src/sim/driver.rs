@@ -8,7 +8,7 @@
 use super::camera::{CameraBus, Window};
 use super::vcd::VcdTrace;
 use crate::window_unit::WindowUnit;
-use coopwin_firmware::ports::window::{CoordinatePins, CoordinateWriter, WriteError};
+use coopwin_firmware::ports::window::{bound_bytes, CoordinatePins, CoordinateWriter, WriteError};
 use rust_hdl::prelude::*;
 use std::io::Write;
 
@@ -254,6 +254,5 @@ pub fn queue_window(
     decimate: bool,
     wide: bool,
 ) -> Result<(), WriteError> {
-    let bytes = w.port_bytes(wide).ok_or(WriteError::OutOfRange)?;
-    writer.write_bytes(&bytes, decimate)
+    writer.write_bytes(&bound_bytes(w.bytes(), wide)?, decimate)
 }

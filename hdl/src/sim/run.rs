@@ -80,7 +80,7 @@ pub fn run_bus<const C: usize, const P: usize>(
 ) -> Recording {
     let wide = wide_coordinates(sensor.0, sensor.1);
     let mut unit = UnitDriver::<C, P>::new(sensor.0, sensor.1);
-    let mut writer = CoordinateWriter::new();
+    let mut writer = CoordinateWriter::for_sensor(sensor.0 as u16, sensor.1 as u16);
     let mut rec = Recording::default();
     let mut pending = requests.iter().peekable();
     let mut last = UnitOutputs::default();

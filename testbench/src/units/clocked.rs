@@ -7,8 +7,8 @@ use super::clocks::Clocks;
 use super::pins::{pixel_pins, port_pins};
 use super::{window_of, Delivered, RequestRefused, UnitError, UnitStats, WindowUnits};
 use crate::frames::FrameSource;
-use coopwin_firmware::types::WindowRequest;
-use coopwin_firmware::ports::window::{coordinate_bytes, CoordinateWriter, PixelReceiver};
+use coopwin_firmware::types::{Decimation, WindowRequest};
+use coopwin_firmware::ports::window::{bound_bytes, CoordinateSet, CoordinateWriter, PixelReceiver, WriteError};
 use coopwin_hdl::sim::camera::CameraBus;
 use coopwin_hdl::sim::driver::{CoordBus, NetworkDriver, UnitOutputs};
 use coopwin_hdl::sim::vcd::VcdTrace;
@@ -187,7 +187,7 @@ impl ClockedUnits {
         for (u, port) in self.units.iter_mut().zip(self.ports.iter_mut()) {
             // Handed to the processor's writer as it has room (a full queue waits a clock).
             while let Some(&(at, req)) = u.queued.front() {
-                if at > c || u.writer.write(&req).is_err() {
+                if at > c || write_on_link(&mut u.writer, &req).is_err() {
                     break;
                 }
                 u.queued.pop_front();
@@ -277,7 +277,7 @@ impl ClockedUnits {
 
 impl WindowUnits for ClockedUnits {
     fn request(&mut self, unit: usize, req: WindowRequest, at: u64) -> Result<(), RequestRefused> {
-        coordinate_bytes(&req).map_err(|reason| RequestRefused::Unwritable { unit, req, reason })?;
+        link_set(&req, false).map_err(|reason| RequestRefused::Unwritable { unit, req, reason })?;
         if let Some(u) = self.units.get_mut(unit) {
             u.queued.push_back((at, req));
         }
@@ -303,5 +303,24 @@ impl WindowUnits for ClockedUnits {
             seconds: self.sim_time.as_secs_f64(),
             sets_before_trace: self.sets_before_trace.clone(),
         })
+    }
+}
+
+/// The bytes of `req`'s bounds as the link carries them, valid or not (a set corrupted on its
+/// way, such as the fault campaign's one-column window, reaches the unit, which refuses it).
+fn link_set(req: &WindowRequest, wide: bool) -> Result<CoordinateSet, WriteError> {
+    if req.width == 0 || req.height == 0 {
+        return Err(WriteError::OutOfRange);
+    }
+    let last = |start: u16, len: u16| (u32::from(start) + u32::from(len)).saturating_sub(1);
+    bound_bytes([req.x0.into(), last(req.x0, req.width), req.y0.into(), last(req.y0, req.height)], wide)
+}
+
+/// Queues `req` on the writer: through the firmware's own check, or, for a set the firmware
+/// would refuse (a request corrupted on the link), as its raw bounds for the unit to judge.
+fn write_on_link(writer: &mut CoordinateWriter, req: &WindowRequest) -> Result<(), WriteError> {
+    match writer.write(req) {
+        Err(WriteError::OutOfRange) => writer.write_bytes(&link_set(req, writer.set_len() == 8)?, req.decimation == Decimation::Quarter),
+        done => done,
     }
 }

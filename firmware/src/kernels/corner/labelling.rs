@@ -1,7 +1,5 @@
 //! Pixel labelling (thesis 3.2.1): keep the most populous 8-connected component.
 
-use super::MAX_DIM;
-
 /// Result of [`keep_largest_component`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Components {
@@ -87,27 +85,30 @@ pub fn keep_largest_component(
     Some(Components { num_labels: u32::from(next) + 1, largest_area: best_area })
 }
 
-/// Most horizontal runs of set pixels a `MAX_DIM x MAX_DIM` map can hold.
-const MAX_RUNS: usize = MAX_DIM * MAX_DIM / 2;
-
-/// Scratch of the run-based labelling ([`largest_component_bits`]).
-pub(super) struct Runs {
-    x0: [u8; MAX_RUNS],
-    x1: [u8; MAX_RUNS],
-    y: [u8; MAX_RUNS],
-    parent: [u16; MAX_RUNS],
-    area: [u16; MAX_RUNS],
+/// Scratch of the run-based labelling ([`largest_component_bits`]) for maps of up to
+/// `N x N` pixels: a row of `w` pixels has at most `w / 2` runs (rounded up; `N` is even), so
+/// `N² / 2` runs, each two columns, a row, a parent and an area. Pairs share an `N x N` array.
+pub(super) struct Runs<const N: usize> {
+    /// First then last columns: `N² / 2` of each.
+    cols: [[u8; N]; N],
+    /// Rows (the first `N² / 2`).
+    rows: [[u8; N]; N],
+    /// Parents then areas: `N² / 2` of each.
+    tree: [[u16; N]; N],
 }
 
-impl Runs {
+impl<const N: usize> Runs<N> {
     pub(super) const fn new() -> Self {
-        Self {
-            x0: [0; MAX_RUNS],
-            x1: [0; MAX_RUNS],
-            y: [0; MAX_RUNS],
-            parent: [0; MAX_RUNS],
-            area: [0; MAX_RUNS],
-        }
+        Self { cols: [[0; N]; N], rows: [[0; N]; N], tree: [[0; N]; N] }
+    }
+
+    /// The arrays as `(x0, x1, y, parent, area)`, `N² / 2` entries each.
+    fn split(&mut self) -> (&mut [u8], &mut [u8], &mut [u8], &mut [u16], &mut [u16]) {
+        let cap = N * N / 2;
+        let (x0, x1) = self.cols.as_flattened_mut().split_at_mut(cap);
+        let (parent, area) = self.tree.as_flattened_mut().split_at_mut(cap);
+        let y = self.rows.as_flattened_mut();
+        (x0, x1, y.get_mut(..cap).unwrap_or(&mut []), parent, area)
     }
 }
 
@@ -133,14 +134,15 @@ fn find(parent: &mut [u16], mut i: usize) -> usize {
 /// overlap. The root of a component is its first run in raster order, so the largest
 /// component with ties to the smallest root is the one `keep_largest_component` keeps.
 /// Returns the number of pixels kept.
-pub(super) fn largest_component_bits(rows: &mut [u64], runs: &mut Runs) -> u32 {
-    let Runs { x0, x1, y: ry, parent, area } = runs;
+pub(super) fn largest_component_bits<const N: usize>(rows: &mut [u64], runs: &mut Runs<N>) -> u32 {
+    let (x0, x1, ry, parent, area) = runs.split();
+    let max_runs = x0.len();
     let mut n = 0usize;
     let mut prev = (0usize, 0usize);
     for (y, row) in rows.iter().enumerate() {
         let start = n;
         let mut b = *row;
-        while b != 0 && n < MAX_RUNS {
+        while b != 0 && n < max_runs {
             let a = b.trailing_zeros();
             let len = (b >> a).trailing_ones();
             let end = a + len; // exclusive, <= 64

@@ -35,11 +35,12 @@
 //! do not depend on the points are constants ([`SIN_MIN_ANGLE`], [`CENTRES`], [`EDGES`]),
 //! checked by the tests.
 
-use super::{NoCorner, MAX_DIM};
+use super::NoCorner;
 use crate::kernels::fmath::sqrtf;
 
-/// Most sub-pixel edge points kept (42 KiB). A point is a pixel, so windows up to 45x45
-/// never reach it; larger windows keep the first ones in raster order.
+/// Most sub-pixel edge points kept. A point is an interior pixel, so windows up to 47x47
+/// never reach it (nor the `N x N` room of a detector of side `N`); larger windows keep the
+/// first ones in raster order.
 const MAX_POINTS: usize = 2048;
 
 /// A point belongs to a side when its edge orientation is within 20° of the side's (the
@@ -156,18 +157,20 @@ const ON_SIDE: [u8; 2] = [2, 4];
 const IN_FIT: [u8; 2] = [8, 16];
 
 /// The sub-pixel edge points of one window (fixed capacity), each with its flags.
-pub(super) struct EdgePoints {
-    points: [EdgePoint; MAX_POINTS],
+pub(super) struct EdgePoints<const N: usize> {
+    /// Room for a point per pixel of an `N x N` window, of which at most [`MAX_POINTS`] are
+    /// taken.
+    points: [[EdgePoint; N]; N],
     /// What the passes of [`apex_from_points`] found about each point ([`SECOND`],
     /// [`ON_SIDE`], [`IN_FIT`]).
-    flags: [u8; MAX_POINTS],
+    flags: [[u8; N]; N],
     n: usize,
 }
 
-impl EdgePoints {
+impl<const N: usize> EdgePoints<N> {
     pub(super) const fn new() -> Self {
         const NONE: EdgePoint = EdgePoint { x: 0.0, y: 0.0, c2: 0.0, s2: 0.0, m: 0.0 };
-        Self { points: [NONE; MAX_POINTS], flags: [0; MAX_POINTS], n: 0 }
+        Self { points: [[NONE; N]; N], flags: [[0; N]; N], n: 0 }
     }
 
     /// Appends a point at `(x, y)` with Sobel gradient `(gx, gy)` of magnitude
@@ -180,7 +183,7 @@ impl EdgePoints {
         if m2 <= 0.0 {
             return true;
         }
-        let Some(slot) = self.points.get_mut(self.n) else { return false };
+        let Some(slot) = self.points.as_flattened_mut().get_mut(self.n).filter(|_| self.n < MAX_POINTS) else { return false };
         *slot = EdgePoint { x, y, c2: (gx * gx - gy * gy) / m2, s2: 2.0 * gx * gy / m2, m };
         self.n += 1;
         true
@@ -188,7 +191,7 @@ impl EdgePoints {
 
     /// The points, each with its flags, in the order collected.
     fn iter(&self) -> impl Iterator<Item = (&EdgePoint, u8)> + '_ {
-        self.points.iter().zip(self.flags.iter().copied()).take(self.n)
+        self.points.as_flattened().iter().zip(self.flags.as_flattened().iter().copied()).take(self.n)
     }
 
     /// The points whose flags include `flag`.
@@ -200,7 +203,7 @@ impl EdgePoints {
     /// point and its flags); whether any point's flags changed.
     fn mark(&mut self, flag: u8, set: impl Fn(&EdgePoint, u8) -> bool) -> bool {
         let mut changed = false;
-        for (p, f) in self.points.iter().zip(self.flags.iter_mut()).take(self.n) {
+        for (p, f) in self.points.as_flattened().iter().zip(self.flags.as_flattened_mut().iter_mut()).take(self.n) {
             let new = if set(p, *f) { *f | flag } else { *f & !flag };
             changed |= new != *f;
             *f = new;
@@ -222,30 +225,30 @@ struct EdgePoint {
 
 /// Sobel `(gx, gy)` at an interior pixel of the `w x h` window held in `wide` (no
 /// border handling: `1 <= x <= w-2`, `1 <= y <= h-2`); `None` otherwise.
-fn grad(wide: &[[i16; MAX_DIM]; MAX_DIM], w: usize, h: usize, x: usize, y: usize) -> Option<(i32, i32)> {
+fn grad<const N: usize>(wide: &[[i16; N]], w: usize, h: usize, x: usize, y: usize) -> Option<(i32, i32)> {
     if x == 0 || y == 0 || x + 1 >= w || y + 1 >= h {
         return None;
     }
-    let three = |r: &[i16; MAX_DIM]| -> Option<[i32; 3]> { Some(<&[i16; 3]>::try_from(r.get(x - 1..x + 2)?).ok()?.map(i32::from)) };
+    let three = |r: &[i16; N]| -> Option<[i32; 3]> { Some(<&[i16; 3]>::try_from(r.get(x - 1..x + 2)?).ok()?.map(i32::from)) };
     let [up, mid, down] = wide.get(y - 1..y + 2)? else { return None };
     let ([a, b, c], [d, _, f], [g, k, l]) = (three(up)?, three(mid)?, three(down)?);
     Some(((c - a) + 2 * (f - d) + (l - g), (g + 2 * k + l) - (a + 2 * b + c)))
 }
 
 /// Squared gradient magnitude `gx² + gy²` at an interior pixel, `None` outside the interior.
-fn mag2(wide: &[[i16; MAX_DIM]; MAX_DIM], w: usize, h: usize, x: usize, y: usize) -> Option<i32> {
+fn mag2<const N: usize>(wide: &[[i16; N]], w: usize, h: usize, x: usize, y: usize) -> Option<i32> {
     let (gx, gy) = grad(wide, w, h, x, y)?;
     Some(gx * gx + gy * gy)
 }
 
 /// Collects the sub-pixel edge points (step 1) of the clean edge pixels `rows` (bit `x`
 /// of row `y` = pixel `(x, y)`) of the `w x h` window in `wide`.
-pub(super) fn collect_points(
-    wide: &[[i16; MAX_DIM]; MAX_DIM],
+pub(super) fn collect_points<const N: usize>(
+    wide: &[[i16; N]],
     rows: &[u64],
     w: usize,
     h: usize,
-    pts: &mut EdgePoints,
+    pts: &mut EdgePoints<N>,
 ) {
     pts.n = 0;
     for (y, &row) in rows.iter().enumerate().take(h) {
@@ -321,7 +324,7 @@ fn half_angle(x: f32, y: f32) -> (f32, f32) {
 /// noisy over a short side and the gradients are independent evidence: the mean
 /// lowers the worst errors (1.85 to 1.14 px over 6000 random wedges). `None` with
 /// fewer than [`MIN_SIDE_POINTS`] points.
-fn fit_side(pts: &EdgePoints, side: u8) -> Option<Line> {
+fn fit_side<const N: usize>(pts: &EdgePoints<N>, side: u8) -> Option<Line> {
     let (mut sw, mut sx, mut sy, mut sc, mut ss, mut n) = (0.0f32, 0.0f32, 0.0f32, 0.0f32, 0.0f32, 0usize);
     for p in pts.with(side) {
         sw += p.m;
@@ -366,7 +369,7 @@ fn intersect(a: &Line, b: &Line) -> Option<(f32, f32)> {
 
 /// Unit direction of `line` pointing from `apex` towards the weighted mass of the
 /// points flagged `side` (where the side's edge lies).
-fn ray(line: &Line, apex: (f32, f32), pts: &EdgePoints, side: u8) -> (f32, f32) {
+fn ray<const N: usize>(line: &Line, apex: (f32, f32), pts: &EdgePoints<N>, side: u8) -> (f32, f32) {
     let (tx, ty) = (line.ny, -line.nx);
     let s: f32 = pts.with(side).map(|p| p.m * ((p.x - apex.0) * tx + (p.y - apex.1) * ty)).sum();
     if s >= 0.0 {
@@ -398,7 +401,7 @@ fn peak(hist: &[f32; BINS], ok: impl Fn(usize) -> bool) -> Option<usize> {
 /// histogram of doubled angles in [`BINS`] bins smoothed by `[1 2 1]`. (Seeding from
 /// single points fails when a strong pixel where the bands merge has an orientation
 /// between the sides.)
-fn two_sides(pts: &mut EdgePoints) -> Option<[(f32, f32); 2]> {
+fn two_sides<const N: usize>(pts: &mut EdgePoints<N>) -> Option<[(f32, f32); 2]> {
     let mut hist = [0.0f32; BINS];
     let width = 2.0 * core::f32::consts::PI / BINS as f32;
     for (p, _) in pts.iter() {
@@ -449,7 +452,7 @@ fn two_sides(pts: &mut EdgePoints) -> Option<[(f32, f32); 2]> {
 /// [`NoCorner::TooFewPoints`] when a side keeps fewer once the points near the apex
 /// are left out, and [`NoCorner::OutsideWindow`] when the apex is not within
 /// `[0, w-1] x [0, h-1]`.
-pub(super) fn apex_from_points(pts: &mut EdgePoints, w: usize, h: usize) -> Result<((f32, f32), Rays), NoCorner> {
+pub(super) fn apex_from_points<const N: usize>(pts: &mut EdgePoints<N>, w: usize, h: usize) -> Result<((f32, f32), Rays), NoCorner> {
     let c = two_sides(pts).ok_or(NoCorner::TooFewPoints)?;
     // Doubled angles: sides θ apart have centres 2θ apart.
     if c[0].0 * c[1].0 + c[0].1 * c[1].1 > COS_2_MIN_ANGLE {
@@ -465,7 +468,7 @@ pub(super) fn apex_from_points(pts: &mut EdgePoints, w: usize, h: usize) -> Resu
         fit_side(pts, IN_FIT[1]).ok_or(NoCorner::StraightLine)?,
     ];
     let mut apex = intersect(&lines[0], &lines[1]).ok_or(NoCorner::StraightLine)?;
-    let rays_of = |pts: &EdgePoints, lines: &[Line; 2], apex| {
+    let rays_of = |pts: &EdgePoints<N>, lines: &[Line; 2], apex| {
         [ray(&lines[0], apex, pts, ON_SIDE[0]), ray(&lines[1], apex, pts, ON_SIDE[1])]
     };
     let mut rays = rays_of(pts, &lines, apex);

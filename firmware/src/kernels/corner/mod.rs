@@ -26,8 +26,10 @@
 //!      orientation (several pixels at some); the fit is sub-pixel at any orientation
 //!      and either polarity.
 //!
-//! Windows up to [`MAX_DIM`] x [`MAX_DIM`] are handled with fixed buffers held by a
-//! [`CornerDetector`] (about 69 KiB, so it can live in a `static` on a microcontroller).
+//! Windows up to `N x N` are handled with fixed buffers held by a [`CornerDetector<N>`]
+//! (`N` a multiple of 8, at most [`MAX_DIM`]; 28 bytes a pixel: 16 KiB for the 24x24
+//! Foveal window, 44 KiB for 40x40, 113 KiB for [`MAX_DIM`] = 64), so a processor holds the
+//! detector its largest window needs.
 
 mod bounds;
 mod labelling;
@@ -49,11 +51,9 @@ use morphology::open_cross_bits;
 use crate::kernels::view::WindowView;
 use sobel::{sobel_rows, BYTES};
 
-/// Largest window side handled by [`CornerDetector`] (the Foveal windows are 20x20 and
-/// 24x24).
+/// Largest window side a [`CornerDetector`] can be built for (a bit row is a `u64`); the
+/// default detector's.
 pub const MAX_DIM: usize = 64;
-
-const CAP: usize = MAX_DIM * MAX_DIM;
 
 /// Parameters of the corner detector.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -90,7 +90,7 @@ impl CornerParams {
 pub enum NoCorner {
     /// The window has no pixel.
     Empty,
-    /// The window is larger than [`MAX_DIM`] x [`MAX_DIM`].
+    /// The window is larger than the detector's `N x N`.
     TooLarge,
     /// No pixel exceeds the edge threshold.
     NoEdges,
@@ -155,16 +155,17 @@ pub struct Corner {
 }
 
 /// The corner detector with its fixed working buffers (window, edge maps, labelling
-/// runs, sub-pixel edge points).
-pub struct CornerDetector {
+/// runs, sub-pixel edge points) for windows up to `N x N` (`N` a multiple of 8, at most
+/// [`MAX_DIM`]: [`CornerDetector::sized`] refuses others at compile time).
+pub struct CornerDetector<const N: usize = MAX_DIM> {
     /// The clean edge map a byte per pixel (row-major, `w x h`), for the thesis's rules.
-    edges: [u8; CAP],
+    edges: [[u8; N]; N],
     /// Bit-packed edge rows (bit `x` of row `y` = pixel `(x, y)`).
-    bits: [u64; MAX_DIM],
-    /// The window widened to `i16`, one `MAX_DIM` row per window row (Sobel input).
-    wide: [[i16; MAX_DIM]; MAX_DIM],
-    runs: Runs,
-    points: EdgePoints,
+    bits: [u64; N],
+    /// The window widened to `i16`, one `N` row per window row (Sobel input).
+    wide: [[i16; N]; N],
+    runs: Runs<N>,
+    points: EdgePoints<N>,
     w: usize,
     h: usize,
     edge_pixels: u32,
@@ -177,12 +178,23 @@ impl Default for CornerDetector {
 }
 
 impl CornerDetector {
-    /// A detector with zeroed buffers (`const`, so it can be a `static`).
+    /// A detector for windows up to [`MAX_DIM`] x [`MAX_DIM`] (`const`, so it can be a
+    /// `static`); [`CornerDetector::sized`] builds a smaller one.
     pub const fn new() -> Self {
+        Self::sized()
+    }
+}
+
+impl<const N: usize> CornerDetector<N> {
+    /// A detector for windows up to `N x N`, with zeroed buffers (`const`, so it can be a
+    /// `static`).
+    pub const fn sized() -> Self {
+        // Whole 8-pixel chunks per row (Sobel) and 64-bit rows (the bit maps).
+        const { assert!(N > 0 && N % 8 == 0 && N <= MAX_DIM, "the detector's side is a multiple of 8 up to 64") };
         Self {
-            edges: [0; CAP],
-            bits: [0; MAX_DIM],
-            wide: [[0; MAX_DIM]; MAX_DIM],
+            edges: [[0; N]; N],
+            bits: [0; N],
+            wide: [[0; N]; N],
             runs: Runs::new(),
             points: EdgePoints::new(),
             w: 0,
@@ -207,7 +219,7 @@ impl CornerDetector {
     /// returns the number of edge pixels.
     fn threshold_edges(&mut self, view: &WindowView<'_>, th: u16) -> u32 {
         let (w, h) = (view.width(), view.height());
-        if w == 0 || h == 0 || w > MAX_DIM || h > MAX_DIM {
+        if w == 0 || h == 0 || w > N || h > N {
             return 0;
         }
         for (y, r) in self.wide.iter_mut().take(h).enumerate() {
@@ -227,10 +239,11 @@ impl CornerDetector {
         // |g| <= 4·255 per axis, so gx² + gy² <= 2.1e6 < i32::MAX: clamping TH² to
         // i32::MAX does not change any comparison.
         let th2 = i32::try_from(u32::from(th) * u32::from(th)).unwrap_or(i32::MAX);
-        if w <= 32 {
-            sobel_rows::<32, 34>(&self.wide, &mut self.bits, w, h, th2)
+        // Rows of 32 when they do (shorter fixed loops), of `N` otherwise.
+        if w <= 32 && N >= 32 {
+            sobel_rows::<N, 32>(&self.wide, &mut self.bits, w, h, th2)
         } else {
-            sobel_rows::<64, 66>(&self.wide, &mut self.bits, w, h, th2)
+            sobel_rows::<N, N>(&self.wide, &mut self.bits, w, h, th2)
         }
     }
 
@@ -248,7 +261,7 @@ impl CornerDetector {
             return Err(NoCorner::Empty);
         }
         let (w, h) = (view.width(), view.height());
-        if w > MAX_DIM || h > MAX_DIM {
+        if w > N || h > N {
             return Err(NoCorner::TooLarge);
         }
         self.w = w;
@@ -259,7 +272,7 @@ impl CornerDetector {
         }
         let rows = self.bits.get_mut(..h).ok_or(NoCorner::TooLarge)?;
         largest_component_bits(rows, &mut self.runs);
-        let mut tmp = [0u64; MAX_DIM];
+        let mut tmp = [0u64; N];
         let clean = open_cross_bits(rows, w, &mut tmp);
         if clean == 0 {
             return Err(NoCorner::FilteredOut);
@@ -270,7 +283,7 @@ impl CornerDetector {
             (x, y, CornerCase::Lines, Some(rays))
         } else {
             // The rules read the map a byte per pixel.
-            for (dst, &r) in self.edges.chunks_exact_mut(w).zip(rows.iter()) {
+            for (dst, &r) in self.edges.as_flattened_mut().chunks_exact_mut(w).zip(rows.iter()) {
                 for (k, d) in dst.chunks_mut(8).enumerate() {
                     let bytes = BYTES[((r >> (8 * k)) & 0xff) as usize].to_le_bytes();
                     // Whole chunks as one store (a copy of under 8 bytes is a library call).
@@ -281,7 +294,7 @@ impl CornerDetector {
                 }
             }
             let b = bounding_points_bits(rows).ok_or(NoCorner::FilteredOut)?;
-            let (x, y, case) = corner_from_bounds(&self.edges, w, h, &b, params)?;
+            let (x, y, case) = corner_from_bounds(self.edges.as_flattened(), w, h, &b, params)?;
             (x, y, case, None)
         };
         let (ox, oy) = view.origin();

@@ -36,14 +36,15 @@ pub fn sobel_at(view: &WindowView<'_>, x: usize, y: usize) -> Option<(i32, i32)>
     Some((gx, gy))
 }
 
-/// Sobel + threshold of the `w x h` window in `wide` into bit rows `bits`, with rows of `N`
-/// pixels at most (`w <= N`; `M = N + 2`), each computed over `w` rounded up to a multiple
-/// of 8 so every loop is whole SIMD vectors (the Cortex-M4 has none: there the rounding up
-/// costs little, a row of `N` would). Pixels beyond `w` are computed from whatever the rows
-/// and the buffers hold there and masked off. Returns the number of edge pixels.
-pub(super) fn sobel_rows<const N: usize, const M: usize>(
-    wide: &[[i16; MAX_DIM]; MAX_DIM],
-    bits: &mut [u64; MAX_DIM],
+/// Sobel + threshold of the `w x h` window in `wide` (rows of `D` pixels) into bit rows
+/// `bits`, reading the first `N` pixels of a row at most (`w <= N <= D`, `N` a multiple of
+/// 8), each row computed over `w` rounded up to a multiple of 8 so every loop is whole SIMD
+/// vectors (the Cortex-M4 has none: there the rounding up costs little, a row of `N` would).
+/// Pixels beyond `w` are computed from whatever the rows and the buffers hold there and
+/// masked off. Returns the number of edge pixels.
+pub(super) fn sobel_rows<const D: usize, const N: usize>(
+    wide: &[[i16; D]],
+    bits: &mut [u64],
     w: usize,
     h: usize,
     th2: i32,
@@ -56,7 +57,8 @@ pub(super) fn sobel_rows<const N: usize, const M: usize>(
     let (l, r) = (reflect(-1, w), reflect(w as isize, w));
     let len = w.next_multiple_of(8).min(N);
     let mut count = 0;
-    let (mut smooth, mut diff) = ([0i16; M], [0i16; M]);
+    // Column sums at index x + 1 with the margins at 0 and w + 1.
+    let (mut smooth, mut diff) = ([0i16; MAX_DIM + 2], [0i16; MAX_DIM + 2]);
     for (y, out) in bits.iter_mut().enumerate().take(h) {
         let (up, mid, dn) = (
             fixed(reflect(y as isize - 1, h)),

@@ -60,7 +60,7 @@ fn xorshift(mut seed: u64) -> impl FnMut() -> u64 {
 #[test]
 fn bit_pipeline_matches_byte_functions() {
     let mut rnd = xorshift(0x1234_5678_9abc_def0);
-    let mut runs = Runs::new();
+    let mut runs = Runs::<MAX_DIM>::new();
     for case in 0..3000 {
         let w = 1 + (rnd() % 64) as usize;
         let h = 1 + (rnd() % 64) as usize;
@@ -280,10 +280,53 @@ fn lines_are_typed() {
 }
 
 #[test]
-fn detector_fits_a_static() {
-    // The module documentation's "about 69 KiB".
-    let size = core::mem::size_of::<CornerDetector>();
-    assert!((68 * 1024..70 * 1024).contains(&size), "{size}");
+fn detector_is_sized_by_its_window() {
+    // The module documentation's figures: 28 bytes a pixel of the N x N window (edges 1,
+    // widened window 2, runs 4, edge points 20 and their flags 1) and a 64-bit row each.
+    for (size, n) in [
+        (core::mem::size_of::<CornerDetector<24>>(), 24),
+        (core::mem::size_of::<CornerDetector<40>>(), 40),
+        (core::mem::size_of::<CornerDetector>(), 64),
+    ] {
+        assert!((28 * n * n + 8 * n..28 * n * n + 8 * n + 64).contains(&size), "{n}: {size}");
+    }
+}
+
+/// Detectors of sides 24 and 40 find exactly what the 64 detector finds on every window they
+/// hold (the same code on smaller buffers, whose capacities no window reaches), and refuse a
+/// larger one: random wedges of either polarity with noise, both modes.
+#[test]
+fn smaller_detectors_agree_with_the_largest() {
+    let mut rnd = xorshift(0x5eed_c0de_1234_5678);
+    let (mut d24, mut d40, mut d64) = (CornerDetector::<24>::sized(), CornerDetector::<40>::sized(), CornerDetector::new());
+    let mut found = 0;
+    for case in 0..400 {
+        let (w, h) = (4 + (rnd() % 37) as usize, 4 + (rnd() % 37) as usize);
+        let (ax, ay) = ((rnd() % w as u64) as f32, (rnd() % h as u64) as f32);
+        let (a, b) = ((rnd() % 628) as f32 / 100.0, 0.6 + (rnd() % 200) as f32 / 100.0);
+        let (lo, hi) = if case % 2 == 0 { (40, 200) } else { (200, 40) };
+        let d: std::vec::Vec<u8> = (0..w * h)
+            .map(|i| {
+                let (x, y) = ((i % w) as f32 - ax, (i / w) as f32 - ay);
+                let t = libm::atan2f(y, x) - a;
+                let t = t - libm::floorf(t / core::f32::consts::TAU) * core::f32::consts::TAU;
+                (if t < b { hi } else { lo }) as u8 ^ (rnd() % 8) as u8
+            })
+            .collect();
+        let v = WindowView::packed(&d, w, h).unwrap();
+        let params = if case % 3 == 0 { CornerParams::new(50) } else { CornerParams::literal(50) };
+        let want = d64.detect(&v, &params);
+        found += u32::from(want.is_ok());
+        for (got, rows, n) in [(d24.detect(&v, &params), d24.clean_rows(), 24), (d40.detect(&v, &params), d40.clean_rows(), 40)] {
+            if w <= n && h <= n {
+                assert_eq!(got, want, "case {case}: {w}x{h} on {n}");
+                assert_eq!(rows, d64.clean_rows(), "case {case}");
+            } else {
+                assert_eq!(got, Err(NoCorner::TooLarge), "case {case}: {w}x{h} on {n}");
+            }
+        }
+    }
+    assert!(found > 100, "{found}");
 }
 
 #[test]

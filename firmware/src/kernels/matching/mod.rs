@@ -41,9 +41,14 @@ pub const MAX_SEARCH_WIDTH: usize = 256;
 /// view before matching: a 128x128 Peripheral window at 25 % is 64x64 = 4096 pixels.
 pub const MAX_PACKED_PIXELS: usize = 4096;
 
-/// Placements whose scores [`best_match`] keeps for the sub-pixel fit (a 40x40 window
-/// with a 16x16 template has 625).
+/// Placements whose dot products are computed ahead in one pass (a 40x40 window with a 16x16
+/// template has 625).
 const SCORE_CACHE: usize = 1024;
+
+/// Placements whose sums [`best_match`] keeps for the sub-pixel fit: the Foveal window's 25
+/// (20x20 in 24x24) and any map up to 64. A larger map (the Peripheral's 625) recomputes the
+/// best placement's four neighbours instead, the same exact sums: 1.5 KiB of stack, not 24.
+const SUMS_CACHE: usize = 64;
 
 /// A matching measure of thesis 2.4 (or ZNCC beyond it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -146,6 +151,17 @@ fn with_packed<R>(
     if win.step() == 1 && tpl.step() == 1 {
         return f(win, tpl);
     }
+    packed(win, tpl, f)
+}
+
+/// [`with_packed`]'s strided case, in a frame of its own: its 8 KiB of buffers are on the
+/// stack only while a strided view is matched.
+#[inline(never)]
+fn packed<R>(
+    win: &WindowView<'_>,
+    tpl: &WindowView<'_>,
+    f: impl FnOnce(&WindowView<'_>, &WindowView<'_>) -> Result<R, MatchError>,
+) -> Result<R, MatchError> {
     let mut wbuf = [0u8; MAX_PACKED_PIXELS];
     let mut tbuf = [0u8; MAX_PACKED_PIXELS];
     let pw = win.pack_into(&mut wbuf).ok_or(MatchError::TooLarge)?;
@@ -175,7 +191,7 @@ pub fn best_match(
         // and its neighbours get a score. The sums are kept for the sub-pixel fit; maps
         // larger than the cache recompute the four neighbours instead.
         let mut best: Option<(usize, usize, Sums)> = None;
-        let mut cache: Vec<Sums, SCORE_CACHE> = Vec::new();
+        let mut cache: Vec<Sums, SUMS_CACHE> = Vec::new();
         let mut cached = true;
         for_each_score(&scorer, win, tpl, |px, py, x| {
             if cached {
