@@ -17,8 +17,10 @@
 //! `P`-bit pixels.
 //!
 //! `hdl/src/rtl/window_unit.v` is the same logic written out as readable, parametric Verilog,
-//! register for register under the same names; the tests replay runs of this block in Icarus
-//! Verilog and Verilator and compare every clock.
+//! register for register under the same names, and the source of the behaviour: this block
+//! follows it (docs/window-logic.md says why). `hdl/tests/equivalence.rs` proves rust-hdl's
+//! netlist of this block equivalent to it with Yosys, and the tests replay runs of this block
+//! in Icarus Verilog and Verilator and compare every clock.
 use crate::coord_port::CoordPort;
 use crate::reg::Reg;
 use rust_hdl::prelude::*;
@@ -225,12 +227,12 @@ impl<const C: usize, const P: usize> Logic for WindowUnit<C, P> {
         self.lvhl.next = !self.lvc.q.val() & self.lvd.q.val() & self.fvc.q.val();
         self.pv.next = self.fvc.q.val() & self.lvc.q.val() & self.pvc.q.val();
 
-        // Position counters: X advances past each pixel of the line, Y at each line end; both
-        // stop at their top.
+        // Position counters: X advances past each valid pixel of an `lval` pulse (with or
+        // without `fval`: a blanking line counts too, and is never delivered), Y at each line
+        // end; both stop at their top. The enables are the Verilog's, term for term.
         if !self.lvc.q.val() {
             self.xcount.d.next = 0.into();
-        }
-        if self.pv.val() & (self.xcount.q.val() != self.count_max.val()) {
+        } else if self.pvc.q.val() & (self.xcount.q.val() != self.count_max.val()) {
             self.xcount.d.next = self.xcount.q.val() + 1;
         }
         if self.lvhl.val() & (self.ycount.q.val() != self.count_max.val()) {
@@ -249,8 +251,7 @@ impl<const C: usize, const P: usize> Logic for WindowUnit<C, P> {
                 & (self.ycount.q.val().get_bit(0) == self.yn.q.val().get_bit(0)));
         if !self.lvc.q.val() {
             self.xrun.d.next = false;
-        }
-        if self.pv.val() {
+        } else if self.pvc.q.val() {
             self.xrun.d.next = (self.xrun.q.val() | self.xmin.val()) & !self.xmax.val();
         }
         if self.lvhl.val() {
