@@ -74,7 +74,7 @@ impl Geometry {
 }
 
 /// The unit's ports as (name, direction, width), in declaration order.
-pub fn unit_ports(g: &Geometry) -> [(&'static str, &'static str, usize); 13] {
+pub fn unit_ports(g: &Geometry) -> [(&'static str, &'static str, usize); 16] {
     [
         ("clock", "input", 1),
         ("fval", "input", 1),
@@ -89,6 +89,9 @@ pub fn unit_ports(g: &Geometry) -> [(&'static str, &'static str, usize); 13] {
         ("coord_error", "output", 1),
         ("pixel_valid", "input", 1),
         ("reset", "input", 1),
+        ("armed", "output", 1),
+        ("window_done", "output", 1),
+        ("set_accepted", "output", 1),
     ]
 }
 
