@@ -181,17 +181,21 @@ throttle() { while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do wait -n || true; do
 
 window="P_inside P_data P_complete P_bounds P_noset P_invalid P_invalid_error"
 handshake="P_hs_rise P_hs_fall P_hs_answer_up P_hs_answer_down"
+status="P_armed P_window_done P_set_accepted"
 start=$(date +%s)
 echo "formal.sh: $rtl"
 if [ $run_proofs = 1 ]; then
   # The long PDR runs first, so the short ones fill the other slot.
   throttle; check_pdr 01 "window: P_inside P_data P_complete P_bounds P_noset P_invalid P_invalid_error" 16 16 "" "$window" &
+  throttle; check_pdr 08 "status: P_armed P_window_done P_set_accepted" 16 16 "" "$status" &
   throttle; check_kind 02 "count: P_count (full frames; assumes P_inside P_complete)" 16 16 "-DREGULAR" "P_count L_*" 8 "P_inside P_complete" &
   throttle; check_kind 03 "handshake: P_hs_rise P_hs_fall P_hs_answer_up P_hs_answer_down" 16 16 "" "$handshake" 8 &
   throttle; check_kind 04 "handshake" 256 256 "" "$handshake" 8 &
   throttle; check_kind 05 "handshake (8-byte sets)" 640 480 "" "$handshake" 8 &
   throttle; check_bmc 06 "window" 256 256 "" "$window" 32 &
   throttle; check_bmc 07 "window (8-byte sets)" 640 480 "" "$window" 44 &
+  throttle; check_bmc 09 "status" 256 256 "" "$status" 32 &
+  throttle; check_bmc 10 "status (8-byte sets)" 640 480 "" "$status" 44 &
   for c in C_left C_right C_top C_bottom C_decimated; do
     throttle; check_cover "1$c" "$c" 16 16 "$c" 100 &
   done

@@ -308,7 +308,8 @@ TRELLIS_COMB is nextpnr's count of the combinational sites used after packing (L
   three bytes instead of one (with 4-byte sets Yosys removes the unused \`sh5\` and \`sh6\`), and
   the comparisons made as each coordinate arrives are 16 bits wide, as carry chains; that step,
   not CBITS, is most of the LUT and carry growth from 256x256 to 640x480. Flip-flops:
-  41 + 14 CBITS + 2 PIXEL_BITS with 4-byte sets, 57 + 14 CBITS + 2 PIXEL_BITS with 8-byte sets.
+  44 + 14 CBITS + 2 PIXEL_BITS with 4-byte sets, 60 + 14 CBITS + 2 PIXEL_BITS with 8-byte sets
+  (3 of them the status outputs' \`accepted\`, \`wlast\` and \`wdone\`).
 - **Pixel bits.** Two PIXEL_BITS-wide registers carry the pixel (\`pxc\`, the first data delay,
   and \`data\`, the delivered pixel): 2 flip-flops per extra bit and no logic (the LUT counts
   move by a few, as ABC's mapping does for any change to the netlist).

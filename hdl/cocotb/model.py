@@ -21,6 +21,12 @@ The rules:
   with (x - xmin) and (y - ymin) both even.
 - reset (synchronous, active high) returns to the power-on state: nothing pending or armed,
   coord_error low, and the unit has not seen fval high.
+- Status outputs, as read after edge n: set_accepted is high after edge s+1 for a valid set
+  completed on edge s; window_done after edge c+2, where c is the edge on which the window's
+  corner pixel (xmax, ymax) came (delivered or, decimated, not); armed while a valid set is
+  pending (after edge s+1 on) or the armed frame's window is open: up to and including the
+  edge on which its last line (row ymax) is first seen ended, or fval first seen low. A reset
+  clears all three.
 """
 
 from __future__ import annotations
@@ -82,6 +88,14 @@ class WindowModel:
         self._lval = False
         self.row = -1
         self._col = 0
+        self.accepted_at: set[int] = set()   # edges after which set_accepted is high
+        self.done_at: set[int] = set()       # edges after which window_done is high
+        self.live = False                    # the armed frame's window is open...
+        self.live_until: int | None = None   # ...up to this edge, once its end is seen
+
+    def armed(self, n: int) -> bool:
+        """What armed must be after edge n (before the sets completed on edge n are told)."""
+        return bool(self.pending) or (self.live and (self.live_until is None or n <= self.live_until))
 
     def set_completed(self, edge: int, window: Window) -> bool:
         """A set's last byte was taken on `edge`. Returns whether the set is valid."""
@@ -90,6 +104,7 @@ class WindowModel:
             return False
         self.error = False
         self.pending.append((edge, window))
+        self.accepted_at.add(edge + 1)
         return True
 
     def edge(self, n: int, reset: bool, fval: bool, lval: bool, pixel_valid: bool, pixel: int):
@@ -108,15 +123,21 @@ class WindowModel:
             self.frame = Frame(len(self.frames), n, w, t, superseded=max(0, len(early) - 1))
             self.frames.append(self.frame)
             self.row, self._col = -1, 0
+            self.live, self.live_until = w is not None, None
         elif not fval and self._fval and self.frame is not None:
             self.frame.end = n
             self.frame = None
+            if self.live_until is None:
+                self.live_until = n
         f = self.frame
         if f is not None:
             if lval and not self._lval:  # a line starts
                 self.row += 1
                 self._col = 0
                 f.lines += 1
+            elif not lval and self._lval and f.window is not None and self.row == f.window.ymax \
+                    and self.live_until is None:
+                self.live_until = n      # the window's last line ended
             # fval is high here (f is None from the edge fval is first seen low), so a pixel
             # is fval & lval & pixel_valid: lval outlasting fval carries none.
             if fval and lval and pixel_valid and self.row >= 0:
@@ -126,6 +147,8 @@ class WindowModel:
                 if f.window is not None and f.window.contains(x, y):
                     out = (x, y, pixel)
                     f.pixels.append((n, x, y, pixel))
+                if f.window is not None and (x, y) == (f.window.xmax, f.window.ymax):
+                    self.done_at.add(n + 2)
         self._fval, self._lval = fval, lval
         return out
 

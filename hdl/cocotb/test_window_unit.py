@@ -94,6 +94,11 @@ def margin_bin(d: int) -> str:
 
 SET_CONTEXT = ["during blanking", "during a frame", "during a window", "with a set pending",
                "while coord_error high"]
+# The status outputs (armed, window_done, set_accepted), seen as the model predicts them.
+STATUS = ["set_accepted", "set_accepted while armed", "window_done",
+          "window_done, corner not delivered (decimated)", "armed falls: window over",
+          "armed falls: frame ended first", "armed held: a set pending at the window's end",
+          "armed cleared by reset"]
 RESETS = ["during a window", "in a frame, outside the window", "during blanking", "mid-write",
           "between last byte and check", "with a set pending", "with coord_error high",
           "held several clocks"]
@@ -211,8 +216,13 @@ class Coverage:
         def reset(tags):
             pass
 
+        @CoverPoint("top.status.seen", xf=lambda tag: tag, bins=STATUS)
+        def status(tag):
+            pass
+
         self.window, self.outcome, self.camera = window, outcome, camera
         self.coord_set, self.margin, self.reset = coord_set, margin, reset
+        self.status = status
 
 
 _coverage: Coverage | None = None
@@ -535,6 +545,8 @@ class Bench:
         self.cache = {k: None for k in self.h_in}
         self.h_strobe, self.h_pixel = dut.pixel_strobe, dut.pixel_out
         self.h_ready, self.h_error = dut.coord_ready, dut.coord_error
+        self.h_armed, self.h_done, self.h_acc = dut.armed, dut.window_done, dut.set_accepted
+        self.was_armed = 0
         self.fe = FallingEdge(dut.clock)
         self.t0 = time.time()
         self._junk = 0
@@ -622,12 +634,18 @@ class Bench:
         strobe = int(self.h_strobe.value)
         ready = int(self.h_ready.value)
         err = int(self.h_error.value)
+        armed, done, acc = int(self.h_armed.value), int(self.h_done.value), int(self.h_acc.value)
         if self.in_reset:
             self.sb.reset(m)
-            if strobe or ready or err:
+            if strobe or ready or err or armed or done or acc:
                 self.error(m, f"not in the power-on state after reset: pixel_strobe={strobe} "
-                              f"coord_ready={ready} coord_error={err}")
+                              f"coord_ready={ready} coord_error={err} armed={armed} "
+                              f"window_done={done} set_accepted={acc}")
+            if self.was_armed:
+                self.cov.status(STATUS[7])
+            self.was_armed = 0
             return
+        self._status(m, armed, done, acc)
         if strobe:
             self.sb.strobe(m, int(self.h_pixel.value))
         self.sb.deadline(m)
@@ -636,6 +654,34 @@ class Bench:
             self.error(m, f"coord_error is {err}, the model says {int(self.model.error)}")
         while self.closing and self.closing[0][0] <= m:
             self._close(self.closing.popleft()[1])
+
+    def _status(self, m: int, armed: int, done: int, acc: int):
+        """The status outputs after edge m against the model (before edge m's sets are told)."""
+        md = self.model
+        want = int(md.armed(m)), int(m in md.done_at), int(m in md.accepted_at)
+        md.done_at.discard(m)
+        md.accepted_at.discard(m)
+        if (armed, done, acc) != want:
+            self.error(m, f"armed, window_done, set_accepted = {armed}, {done}, {acc}; "
+                          f"the model says {want[0]}, {want[1]}, {want[2]}")
+        if acc:
+            self.cov.status(STATUS[0])
+            if self.was_armed:
+                self.cov.status(STATUS[1])
+        if done:
+            self.cov.status(STATUS[2])
+            f = md.frames[-1] if md.frames else None
+            w = f.window if f is not None else None
+            if w is not None and w.decimate and not w.contains(w.xmax, w.ymax):
+                self.cov.status(STATUS[3])
+        if md.live_until == m - 1:
+            # The window closed on the last edge: armed falls now, or a pending set holds it.
+            over = md.frame is not None and md.frame.end is None
+            if armed:
+                self.cov.status(STATUS[6])
+            else:
+                self.cov.status(STATUS[4] if over else STATUS[5])
+        self.was_armed = armed
 
     def _drive(self, n: int):
         if self.reset_left == 0 and self.reset_trigger is not None:

@@ -16,6 +16,11 @@
 //   P_invalid_error  coord_error is high exactly from a refused set to the next valid one
 //   P_hs_*       the handshake: coord_ready rises only for an offered byte, falls only once
 //                the strobe is low, and answers each strobe edge within 4 clocks
+//   P_armed      armed is high exactly while a valid set waits for a frame or the armed
+//                frame's window is open (until its last line, or the frame, ends)
+//   P_window_done  window_done is high for one clock, the clock after the strobe of the
+//                window's corner pixel (xmax, ymax) (where it would be, when decimated)
+//   P_set_accepted set_accepted is high for one clock, the clock after a valid set completed
 //   P_count      (REGULAR only) an armed frame strobes exactly (x1-x0+1)(y1-y0+1) pixels,
 //                decimated ((x1-x0)/2+1)((y1-y0)/2+1); an unarmed frame none
 // Covers C_*: a window touching each frame edge has its far corner strobed.
@@ -54,14 +59,15 @@ module window_unit_props #(
     localparam [2:0] LASTB = NBYTES - 1;
     localparam integer NB = 2 * SB;                 // pixel counts: up to 2^SB * 2^SB
 
-    wire coord_ready, pixel_strobe, coord_error;
+    wire coord_ready, pixel_strobe, coord_error, armed, window_done, set_accepted;
     wire [PIXEL_BITS-1:0] pixel_out;
 
     window_unit #(.WIDTH(WIDTH), .HEIGHT(HEIGHT), .PIXEL_BITS(PIXEL_BITS)) dut (
         .clock(clock), .fval(fval), .lval(lval), .pixel(pixel),
         .coord_strobe(coord_strobe), .coord_data(coord_data), .coord_ready(coord_ready),
         .decimate(decimate), .pixel_strobe(pixel_strobe), .pixel_out(pixel_out),
-        .coord_error(coord_error), .pixel_valid(pixel_valid), .reset(reset));
+        .coord_error(coord_error), .pixel_valid(pixel_valid), .reset(reset),
+        .armed(armed), .window_done(window_done), .set_accepted(set_accepted));
 
     // -----------------------------------------------------------------------------------
     // Input history. The camera and the processor have no reset: these never clear.
@@ -197,6 +203,22 @@ module window_unit_props #(
     end
 
     // -----------------------------------------------------------------------------------
+    // Shadow of the status outputs: whether the armed frame's window is still open (its last
+    // line, row a_y1, has not ended), its corner pixel (a_x1, a_y1) and the valid sets.
+    // -----------------------------------------------------------------------------------
+    reg wov = 1'b0;                         // the armed frame's last window line has ended
+    wire live = sarm && !wov;               // the armed frame's window is open
+    wire corner_now = sarm && pres && sx == a_x1 && sy == a_y1;
+    reg live1 = 1'b0, acc1 = 1'b0, cn1 = 1'b0, cn2 = 1'b0, cn3 = 1'b0;
+    always @(posedge clock) begin
+        if (reset || frise) wov <= 1'b0;
+        else if (sarm && fval && fv1 && lv1 && !lval && sy == a_y1) wov <= 1'b1;
+        live1 <= !reset && live;
+        acc1 <= !reset && done && n_ok;
+        cn1 <= !reset && corner_now; cn2 <= !reset && cn1; cn3 <= !reset && cn2;
+    end
+
+    // -----------------------------------------------------------------------------------
     // Properties at the ports.
     // -----------------------------------------------------------------------------------
     reg [2:0] upw = 3'd0, dnw = 3'd0;       // clocks the current strobe edge has waited
@@ -217,6 +239,12 @@ module window_unit_props #(
         P_hs_fall: assert (!fall || !cs1);
         P_hs_answer_up: assert (!(coord_strobe && !coord_ready) || upw < 3'd4);
         P_hs_answer_down: assert (!(!coord_strobe && coord_ready) || dnw < 3'd4);
+        // Status: armed from the clock after a valid set completes until the clock after its
+        // window closes (STRBEN's two-clock lag behind the camera: live1), window_done on the
+        // clock after the corner pixel's strobe, set_accepted on the clock after a valid set.
+        P_armed: assert (armed == (pend || live || live1));
+        P_window_done: assert (window_done == cn3);
+        P_set_accepted: assert (set_accepted == acc1);
     end
 
     // -----------------------------------------------------------------------------------

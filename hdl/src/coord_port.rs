@@ -36,6 +36,8 @@ pub struct CoordPort<const C: usize> {
     pub coord_error: Signal<Out, Bit>,
     /// A valid set is latched on this clock edge (the thesis's AC pulse that sets START).
     pub loaded: Signal<Out, Bit>,
+    /// A valid set was latched on the last clock edge (`loaded` registered): one clock per set.
+    pub set_accepted: Signal<Out, Bit>,
     /// Pending window, thesis XN (minimum column).
     pub xn: Signal<Out, Bits<C>>,
     /// Pending window, thesis XX (maximum column).
@@ -96,6 +98,8 @@ pub struct CoordPort<const C: usize> {
     set_yx: Reg<Bits<C>>,
     set_dec: Reg<Bit>,
     error: Reg<Bit>,
+    /// `loaded` one clock later, for `set_accepted`.
+    accepted: Reg<Bit>,
 }
 
 impl<const C: usize> CoordPort<C> {
@@ -111,6 +115,7 @@ impl<const C: usize> CoordPort<C> {
             decimate: Default::default(),
             coord_error: Default::default(),
             loaded: Default::default(),
+            set_accepted: Default::default(),
             xn: Default::default(),
             xx: Default::default(),
             yn: Default::default(),
@@ -147,6 +152,7 @@ impl<const C: usize> CoordPort<C> {
             set_yx: Default::default(),
             set_dec: Default::default(),
             error: Default::default(),
+            accepted: Default::default(),
         }
     }
 }
@@ -161,7 +167,7 @@ impl<const C: usize> Logic for CoordPort<C> {
         dff_setup!(
             self, clock, strobe_r, data_r, decimate_r, ready, index, sh5, sh6, sh7, x_ok, y_ok,
             in_xn, in_xx, in_yn, in_yx, in_dec, check, set_xn, set_xx, set_yn, set_yx, set_dec,
-            error
+            error, accepted
         );
         self.coord_ready.next = self.ready.q.val();
         self.coord_error.next = self.error.q.val();
@@ -170,6 +176,7 @@ impl<const C: usize> Logic for CoordPort<C> {
         self.yn.next = self.set_yn.q.val();
         self.yx.next = self.set_yx.q.val();
         self.dec.next = self.set_dec.q.val();
+        self.set_accepted.next = self.accepted.q.val();
 
         // Four-phase handshake: take an offered byte, release CRDY1 once CSTRB1 falls.
         self.strobe_r.d.next = self.coord_strobe.val();
@@ -221,6 +228,7 @@ impl<const C: usize> Logic for CoordPort<C> {
         if self.check.q.val() {
             self.error.d.next = !self.loaded.val();
         }
+        self.accepted.d.next = self.loaded.val();
 
         if self.reset.val() {
             self.strobe_r.d.next = false;
@@ -245,6 +253,7 @@ impl<const C: usize> Logic for CoordPort<C> {
             self.set_yx.d.next = 0.into();
             self.set_dec.d.next = false;
             self.error.d.next = false;
+            self.accepted.d.next = false;
         }
     }
 }

@@ -17,8 +17,10 @@
 //! `P`-bit pixels.
 //!
 //! `hdl/src/rtl/window_unit.v` is the same logic written out as readable, parametric Verilog,
-//! register for register under the same names; the tests replay runs of this block in Icarus
-//! Verilog and Verilator and compare every clock.
+//! register for register under the same names, and the source of the behaviour: this block
+//! follows it (docs/window-logic.md says why). `hdl/tests/equivalence.rs` proves rust-hdl's
+//! netlist of this block equivalent to it with Yosys, and the tests replay runs of this block
+//! in Icarus Verilog and Verilator and compare every clock.
 use crate::coord_port::CoordPort;
 use crate::reg::Reg;
 use rust_hdl::prelude::*;
@@ -61,6 +63,14 @@ pub struct WindowUnit<const C: usize, const P: usize> {
     pub pixel_valid: Signal<In, Bit>,
     /// Synchronous reset, active high: back to the power-on state, nothing armed.
     pub reset: Signal<In, Bit>,
+    /// A valid set waits for a frame, or owns the current one until its window is over
+    /// (START or STRBEN).
+    pub armed: Signal<Out, Bit>,
+    /// High for one clock, the clock after the strobe of the window's last pixel (its corner
+    /// (xmax, ymax), whether or not decimation delivers it).
+    pub window_done: Signal<Out, Bit>,
+    /// High for one clock, the clock after a valid set was latched (with `coord_error` low).
+    pub set_accepted: Signal<Out, Bit>,
     port: CoordPort<C>,
     /// The counters' top, where they stop.
     count_max: Constant<Bits<C>>,
@@ -130,6 +140,10 @@ pub struct WindowUnit<const C: usize, const P: usize> {
     /// Second data delay stage and CSTRB4.
     strobe: Reg<Bit>,
     data: Reg<Bits<P>>,
+    /// The window's corner pixel (xmax, ymax) is in `data`.
+    wlast: Reg<Bit>,
+    /// `wlast` one clock later: the window is done.
+    wdone: Reg<Bit>,
 }
 
 impl<const C: usize, const P: usize> Default for WindowUnit<C, P> {
@@ -156,6 +170,9 @@ impl<const C: usize, const P: usize> WindowUnit<C, P> {
             coord_error: Default::default(),
             pixel_valid: Default::default(),
             reset: Default::default(),
+            armed: Default::default(),
+            window_done: Default::default(),
+            set_accepted: Default::default(),
             port: CoordPort::new(width, height),
             count_max: Constant::new(((1u64 << C) - 1).into()),
             fvc: Default::default(),
@@ -191,6 +208,8 @@ impl<const C: usize, const P: usize> WindowUnit<C, P> {
             decok: Default::default(),
             strobe: Default::default(),
             data: Default::default(),
+            wlast: Default::default(),
+            wdone: Default::default(),
         }
     }
 }
@@ -200,7 +219,7 @@ impl<const C: usize, const P: usize> Logic for WindowUnit<C, P> {
     fn update(&mut self) {
         dff_setup!(
             self, clock, fvc, lvc, pvc, pxc, fvd, lvd, xcount, ycount, start, strben, xn, xx, yn,
-            yx, dec, ymin, ymax, xrun, yrun, strobe, data
+            yx, dec, ymin, ymax, xrun, yrun, strobe, data, wlast, wdone
         );
         self.port.clock.next = self.clock.val();
         self.port.reset.next = self.reset.val();
@@ -211,6 +230,9 @@ impl<const C: usize, const P: usize> Logic for WindowUnit<C, P> {
         self.coord_error.next = self.port.coord_error.val();
         self.pixel_strobe.next = self.strobe.q.val();
         self.pixel_out.next = self.data.q.val();
+        self.armed.next = self.start.q.val() | self.strben.q.val();
+        self.window_done.next = self.wdone.q.val();
+        self.set_accepted.next = self.port.set_accepted.val();
 
         // Synchronise the camera (FVC, LVC, data delay) and find its transitions one clock on,
         // as the thesis's transition flags are (B1.2 step 9).
@@ -225,12 +247,12 @@ impl<const C: usize, const P: usize> Logic for WindowUnit<C, P> {
         self.lvhl.next = !self.lvc.q.val() & self.lvd.q.val() & self.fvc.q.val();
         self.pv.next = self.fvc.q.val() & self.lvc.q.val() & self.pvc.q.val();
 
-        // Position counters: X advances past each pixel of the line, Y at each line end; both
-        // stop at their top.
+        // Position counters: X advances past each valid pixel of an `lval` pulse (with or
+        // without `fval`: a blanking line counts too, and is never delivered), Y at each line
+        // end; both stop at their top. The enables are the Verilog's, term for term.
         if !self.lvc.q.val() {
             self.xcount.d.next = 0.into();
-        }
-        if self.pv.val() & (self.xcount.q.val() != self.count_max.val()) {
+        } else if self.pvc.q.val() & (self.xcount.q.val() != self.count_max.val()) {
             self.xcount.d.next = self.xcount.q.val() + 1;
         }
         if self.lvhl.val() & (self.ycount.q.val() != self.count_max.val()) {
@@ -249,8 +271,7 @@ impl<const C: usize, const P: usize> Logic for WindowUnit<C, P> {
                 & (self.ycount.q.val().get_bit(0) == self.yn.q.val().get_bit(0)));
         if !self.lvc.q.val() {
             self.xrun.d.next = false;
-        }
-        if self.pv.val() {
+        } else if self.pvc.q.val() {
             self.xrun.d.next = (self.xrun.q.val() | self.xmin.val()) & !self.xmax.val();
         }
         if self.lvhl.val() {
@@ -258,6 +279,9 @@ impl<const C: usize, const P: usize> Logic for WindowUnit<C, P> {
         }
         self.strobe.d.next = self.xyval.val() & self.decok.val();
         self.data.d.next = self.pxc.q.val();
+        // The corner pixel, whether or not decimation delivers it: after it, none is due.
+        self.wlast.d.next = self.xyval.val() & self.xmax.val() & self.ymax.q.val();
+        self.wdone.d.next = self.wlast.q.val();
 
         // START -> WLEN -> STRBEN -> WLRST (Appendix B), the active set swapped in at FVLH.
         self.wlen.next = self.start.q.val() & !self.fvc.q.val();
@@ -299,6 +323,8 @@ impl<const C: usize, const P: usize> Logic for WindowUnit<C, P> {
             self.yrun.d.next = false;
             self.strobe.d.next = false;
             self.data.d.next = 0.into();
+            self.wlast.d.next = false;
+            self.wdone.d.next = false;
         }
     }
 }

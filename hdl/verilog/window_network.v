@@ -6,7 +6,7 @@ module window_network #(
     parameter integer WIDTH = 256,      // pixels per line (16..4096)
     parameter integer HEIGHT = 256,     // lines per frame (16..4096)
     parameter integer PIXEL_BITS = 8    // bits per pixel (8..16)
-) (clock, fval, lval, pixel, pixel_valid, reset, coord_strobe_0, coord_data_0, coord_ready_0, decimate_0, pixel_strobe_0, pixel_out_0, coord_error_0, coord_strobe_1, coord_data_1, coord_ready_1, decimate_1, pixel_strobe_1, pixel_out_1, coord_error_1, coord_strobe_2, coord_data_2, coord_ready_2, decimate_2, pixel_strobe_2, pixel_out_2, coord_error_2, coord_strobe_3, coord_data_3, coord_ready_3, decimate_3, pixel_strobe_3, pixel_out_3, coord_error_3);
+) (clock, fval, lval, pixel, pixel_valid, reset, coord_strobe_0, coord_data_0, coord_ready_0, decimate_0, pixel_strobe_0, pixel_out_0, coord_error_0, armed_0, window_done_0, set_accepted_0, coord_strobe_1, coord_data_1, coord_ready_1, decimate_1, pixel_strobe_1, pixel_out_1, coord_error_1, armed_1, window_done_1, set_accepted_1, coord_strobe_2, coord_data_2, coord_ready_2, decimate_2, pixel_strobe_2, pixel_out_2, coord_error_2, armed_2, window_done_2, set_accepted_2, coord_strobe_3, coord_data_3, coord_ready_3, decimate_3, pixel_strobe_3, pixel_out_3, coord_error_3, armed_3, window_done_3, set_accepted_3);
     input wire clock;
     input wire fval;
     input wire lval;
@@ -41,10 +41,22 @@ module window_network #(
     output wire coord_error_3;
     input wire pixel_valid;
     input wire reset;
-    window_unit #(.WIDTH(WIDTH), .HEIGHT(HEIGHT), .PIXEL_BITS(PIXEL_BITS)) unit_0(.clock(clock), .fval(fval), .lval(lval), .pixel(pixel), .coord_strobe(coord_strobe_0), .coord_data(coord_data_0), .coord_ready(coord_ready_0), .decimate(decimate_0), .pixel_strobe(pixel_strobe_0), .pixel_out(pixel_out_0), .coord_error(coord_error_0), .pixel_valid(pixel_valid), .reset(reset));
-    window_unit #(.WIDTH(WIDTH), .HEIGHT(HEIGHT), .PIXEL_BITS(PIXEL_BITS)) unit_1(.clock(clock), .fval(fval), .lval(lval), .pixel(pixel), .coord_strobe(coord_strobe_1), .coord_data(coord_data_1), .coord_ready(coord_ready_1), .decimate(decimate_1), .pixel_strobe(pixel_strobe_1), .pixel_out(pixel_out_1), .coord_error(coord_error_1), .pixel_valid(pixel_valid), .reset(reset));
-    window_unit #(.WIDTH(WIDTH), .HEIGHT(HEIGHT), .PIXEL_BITS(PIXEL_BITS)) unit_2(.clock(clock), .fval(fval), .lval(lval), .pixel(pixel), .coord_strobe(coord_strobe_2), .coord_data(coord_data_2), .coord_ready(coord_ready_2), .decimate(decimate_2), .pixel_strobe(pixel_strobe_2), .pixel_out(pixel_out_2), .coord_error(coord_error_2), .pixel_valid(pixel_valid), .reset(reset));
-    window_unit #(.WIDTH(WIDTH), .HEIGHT(HEIGHT), .PIXEL_BITS(PIXEL_BITS)) unit_3(.clock(clock), .fval(fval), .lval(lval), .pixel(pixel), .coord_strobe(coord_strobe_3), .coord_data(coord_data_3), .coord_ready(coord_ready_3), .decimate(decimate_3), .pixel_strobe(pixel_strobe_3), .pixel_out(pixel_out_3), .coord_error(coord_error_3), .pixel_valid(pixel_valid), .reset(reset));
+    output wire armed_0;
+    output wire armed_1;
+    output wire armed_2;
+    output wire armed_3;
+    output wire window_done_0;
+    output wire window_done_1;
+    output wire window_done_2;
+    output wire window_done_3;
+    output wire set_accepted_0;
+    output wire set_accepted_1;
+    output wire set_accepted_2;
+    output wire set_accepted_3;
+    window_unit #(.WIDTH(WIDTH), .HEIGHT(HEIGHT), .PIXEL_BITS(PIXEL_BITS)) unit_0(.clock(clock), .fval(fval), .lval(lval), .pixel(pixel), .coord_strobe(coord_strobe_0), .coord_data(coord_data_0), .coord_ready(coord_ready_0), .decimate(decimate_0), .pixel_strobe(pixel_strobe_0), .pixel_out(pixel_out_0), .coord_error(coord_error_0), .pixel_valid(pixel_valid), .reset(reset), .armed(armed_0), .window_done(window_done_0), .set_accepted(set_accepted_0));
+    window_unit #(.WIDTH(WIDTH), .HEIGHT(HEIGHT), .PIXEL_BITS(PIXEL_BITS)) unit_1(.clock(clock), .fval(fval), .lval(lval), .pixel(pixel), .coord_strobe(coord_strobe_1), .coord_data(coord_data_1), .coord_ready(coord_ready_1), .decimate(decimate_1), .pixel_strobe(pixel_strobe_1), .pixel_out(pixel_out_1), .coord_error(coord_error_1), .pixel_valid(pixel_valid), .reset(reset), .armed(armed_1), .window_done(window_done_1), .set_accepted(set_accepted_1));
+    window_unit #(.WIDTH(WIDTH), .HEIGHT(HEIGHT), .PIXEL_BITS(PIXEL_BITS)) unit_2(.clock(clock), .fval(fval), .lval(lval), .pixel(pixel), .coord_strobe(coord_strobe_2), .coord_data(coord_data_2), .coord_ready(coord_ready_2), .decimate(decimate_2), .pixel_strobe(pixel_strobe_2), .pixel_out(pixel_out_2), .coord_error(coord_error_2), .pixel_valid(pixel_valid), .reset(reset), .armed(armed_2), .window_done(window_done_2), .set_accepted(set_accepted_2));
+    window_unit #(.WIDTH(WIDTH), .HEIGHT(HEIGHT), .PIXEL_BITS(PIXEL_BITS)) unit_3(.clock(clock), .fval(fval), .lval(lval), .pixel(pixel), .coord_strobe(coord_strobe_3), .coord_data(coord_data_3), .coord_ready(coord_ready_3), .decimate(decimate_3), .pixel_strobe(pixel_strobe_3), .pixel_out(pixel_out_3), .coord_error(coord_error_3), .pixel_valid(pixel_valid), .reset(reset), .armed(armed_3), .window_done(window_done_3), .set_accepted(set_accepted_3));
 endmodule
 
 `default_nettype wire

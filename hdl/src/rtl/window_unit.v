@@ -4,8 +4,13 @@
 // exactly the window's pixels out, one window per coordinate set, at frame rate.
 //
 // The same logic as the rust-hdl blocks WindowUnit and CoordPort (hdl/src/window_unit.rs,
-// hdl/src/coord_port.rs), register for register and under the same names; coopwin's tests
-// replay rust-hdl runs in Icarus Verilog and Verilator and compare every clock.
+// hdl/src/coord_port.rs), register for register and under the same names: Yosys proves
+// rust-hdl's netlist of them equivalent to this module (hdl/tests/equivalence.rs).
+//
+// Status: armed is high while a valid set waits for a frame or its window is open;
+// window_done is high for one clock, the clock after the strobe of the window's corner pixel
+// (xmax, ymax) (where it would be, when decimation skips it); set_accepted is high for one
+// clock, the clock after a valid set's last byte was taken, as coord_error shows the verdict.
 // Contract and timing: docs/window-logic.md.
 //
 // Coordinates: with WIDTH and HEIGHT <= 256 a set is 4 bytes (xmin, xmax, ymin, ymax);
@@ -38,7 +43,10 @@ module window_unit #(
     output wire [PIXEL_BITS-1:0] pixel_out,    // the delivered pixel, valid with pixel_strobe (port 4)
     output wire                  coord_error,  // the last complete set was invalid and was refused
     input  wire                  pixel_valid,  // a pixel is on `pixel` this clock (with fval & lval)
-    input  wire                  reset         // synchronous, active high: back to the power-on state
+    input  wire                  reset,        // synchronous, active high: back to the power-on state
+    output wire                  armed,        // a valid set waits for a frame, or its window is open
+    output wire                  window_done,  // high one clock: the clock after the window's last pixel
+    output wire                  set_accepted  // high one clock: a valid set was latched (coord_error low)
 );
     // Counter and coordinate width: enough for the larger of WIDTH and HEIGHT.
     localparam integer LARGEST = WIDTH > HEIGHT ? WIDTH : HEIGHT;
@@ -78,6 +86,7 @@ module window_unit #(
     reg     [CBITS-1:0] set_yx = {CBITS{1'b0}};  // pending window: maximum row (thesis YX)
     reg                 set_dec = 1'b0;     // pending window is decimated
     reg                 error = 1'b0;       // the last complete set was refused
+    reg                 accepted = 1'b0;    // a valid set was latched on the last edge
 
     wire take = strobe_r & ~ready;          // a byte offered and not yet taken
     // The coordinate the byte taken now completes, and the one before it.
@@ -97,7 +106,7 @@ module window_unit #(
             in_yn <= {CBITS{1'b0}}; in_yx <= {CBITS{1'b0}};
             set_xn <= {CBITS{1'b0}}; set_xx <= {CBITS{1'b0}};
             set_yn <= {CBITS{1'b0}}; set_yx <= {CBITS{1'b0}};
-            set_dec <= 1'b0; error <= 1'b0;
+            set_dec <= 1'b0; error <= 1'b0; accepted <= 1'b0;
         end else begin
             strobe_r <= coord_strobe;
             data_r <= coord_data;
@@ -125,6 +134,7 @@ module window_unit #(
                 set_dec <= in_dec;
             end
             if (check) error <= ~loaded;
+            accepted <= loaded;
         end
     end
 
@@ -154,6 +164,8 @@ module window_unit #(
     reg                  yrun = 1'b0;       // rows after ymin reached, ymax not yet passed
     reg                  strobe = 1'b0;     // thesis CSTRB4
     reg [PIXEL_BITS-1:0] data = {PIXEL_BITS{1'b0}};  // second data delay: the delivered pixel
+    reg                  wlast = 1'b0;      // the window's corner pixel (xmax, ymax) is in `data`
+    reg                  wdone = 1'b0;      // wlast one clock later: the window is done
 
     wire fvlh = fvc & ~fvd;                 // thesis FVLH: a frame starts
     wire fvhl = ~fvc & fvd;                 // thesis FVHL: a frame ends
@@ -178,7 +190,7 @@ module window_unit #(
             xn <= {CBITS{1'b0}}; xx <= {CBITS{1'b0}};
             yn <= {CBITS{1'b0}}; yx <= {CBITS{1'b0}}; dec <= 1'b0;
             ymin <= 1'b0; ymax <= 1'b0; xrun <= 1'b0; yrun <= 1'b0;
-            strobe <= 1'b0; data <= {PIXEL_BITS{1'b0}};
+            strobe <= 1'b0; data <= {PIXEL_BITS{1'b0}}; wlast <= 1'b0; wdone <= 1'b0;
         end else begin
             fvc <= fval;
             lvc <= lval;
@@ -202,6 +214,9 @@ module window_unit #(
             else if (lvhl) yrun <= yval & ~ymax;
             strobe <= xyval & decok;
             data <= pxc;
+            // The corner pixel, whether or not decimation delivers it: after it, none is due.
+            wlast <= xyval & xmax & ymax;
+            wdone <= wlast;
 
             // START -> STRBEN -> WLRST (Appendix B); the pending set armed at FVAL rising.
             start <= loaded | (start & ~arm);
@@ -216,6 +231,9 @@ module window_unit #(
     assign coord_error = error;
     assign pixel_strobe = strobe;
     assign pixel_out = data;
+    assign armed = start | strben;
+    assign window_done = wdone;
+    assign set_accepted = accepted;
 endmodule
 
 `default_nettype wire

@@ -1,6 +1,6 @@
 //! `coopwin verilog`: the window logic's Verilog export (thesis Appendix A) for a sensor's size.
 use super::{output::OutFile, CliError};
-use coopwin_hdl::verilog::Geometry;
+use coopwin_hdl::verilog::{Geometry, Netlist};
 use std::path::{Path, PathBuf};
 
 /// Examples shown after `coopwin verilog --help`.
@@ -10,8 +10,30 @@ Examples:
       the thesis's 256x256 8-bit camera, 4 units (the committed copy)
   coopwin verilog --width 640 --height 480 --pixel-bits 10 --units 2 --out rtl/
       a VGA sensor with 10-bit pixels: coordinates are then two bytes each, high first
-The parameters WIDTH, HEIGHT and PIXEL_BITS stay overridable in the Verilog; these options
-set their defaults. Check a size with scripts/icarus-check.sh --size WxH --bits P.";
+  coopwin verilog --netlist rust-hdl --width 640 --height 480 --out rtl/
+      rust-hdl's own netlist of the blocks for that size, proven equivalent to the readable
+      module (hdl/tests/equivalence.rs); fixed widths, no parameters
+The parameters WIDTH, HEIGHT and PIXEL_BITS of the readable module stay overridable in the
+Verilog; these options set their defaults. Check a size with
+scripts/icarus-check.sh --size WxH --bits P.";
+
+/// `--netlist`.
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum NetlistArg {
+    /// The readable, parametric module (hdl/src/rtl/window_unit.v)
+    Readable,
+    /// rust-hdl's generated netlist of the blocks, fixed to the size
+    RustHdl,
+}
+
+impl From<NetlistArg> for Netlist {
+    fn from(n: NetlistArg) -> Netlist {
+        match n {
+            NetlistArg::Readable => Netlist::Readable,
+            NetlistArg::RustHdl => Netlist::RustHdl,
+        }
+    }
+}
 
 /// `coopwin verilog`'s options.
 #[derive(clap::Args)]
@@ -31,12 +53,15 @@ pub struct VerilogArgs {
     /// Bits per pixel (8..16)
     #[arg(long, default_value_t = Geometry::CA_D1.pixel_bits)]
     pub pixel_bits: usize,
+    /// Which window_unit to write
+    #[arg(long, value_enum, default_value_t = NetlistArg::Readable)]
+    pub netlist: NetlistArg,
 }
 
 /// Writes `window_unit.v` and `window_network.v` and says so.
 pub fn export(args: VerilogArgs) -> Result<(), CliError> {
     let g = Geometry::new(args.width, args.height, args.pixel_bits).map_err(|e| CliError::arg(e.to_string()))?;
-    for p in write_verilog(&args.out, args.units, &g)? {
+    for p in write_verilog(&args.out, args.units, &g, args.netlist.into())? {
         println!("wrote {}", p.display());
     }
     println!(
@@ -50,14 +75,16 @@ pub fn export(args: VerilogArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// Writes `window_unit.v` and `window_network.v` (with `units` units) for `g` into `out`.
-pub fn write_verilog(out: &Path, units: usize, g: &Geometry) -> Result<Vec<PathBuf>, CliError> {
+/// Writes `window_unit.v` (`netlist`'s) and `window_network.v` (with `units` units) for `g`
+/// into `out`.
+pub fn write_verilog(out: &Path, units: usize, g: &Geometry, netlist: Netlist) -> Result<Vec<PathBuf>, CliError> {
     if units == 0 || units > 64 {
         return Err(CliError::arg(format!("--units must be 1..64, got {units}")));
     }
+    let files = coopwin_hdl::verilog::exported_netlist(netlist, units, g).map_err(|e| CliError::arg(e.to_string()))?;
     super::output::create_folder(out, "--out")?;
     let mut written = Vec::new();
-    for (name, text) in coopwin_hdl::verilog::exported(units, g) {
+    for (name, text) in files {
         let path = out.join(name);
         OutFile::check(&path, "--out")?.write(text.as_bytes())?;
         written.push(path);
