@@ -63,6 +63,11 @@ WHAT = {
 }
 
 
+# The sections an image keeps in flash, and those it takes RAM for.
+FLASH_SECS = [".vector_table", ".text", ".rodata", ".data"]
+RAM_SECS = [".data", ".bss", ".uninit"]
+
+
 def memory(run, size):
     """(flash, static RAM, painted stack, sections) of an image from its run and `size -A`."""
     stack = None
@@ -75,8 +80,8 @@ def memory(run, size):
         m = re.match(r"(\.\S+)\s+(\d+)\s+(\d+)", line)
         if m:
             sections[m[1]] = (int(m[2]), int(m[3]))
-    flash = sum(sections.get(s, (0, 0))[0] for s in [".vector_table", ".text", ".rodata", ".data"])
-    ram = sum(sections.get(s, (0, 0))[0] for s in [".data", ".bss", ".uninit"])
+    flash = sum(sections.get(s, (0, 0))[0] for s in FLASH_SECS)
+    ram = sum(sections.get(s, (0, 0))[0] for s in RAM_SECS)
     return flash, ram, stack, sections
 
 
@@ -120,7 +125,7 @@ def main():
         sys.exit(f"board_figures.py: stack bound: {e}")
     counts = defaultdict(list)
     reps = {}
-    per_tick = stack = None
+    per_tick = None
     for line in run.splitlines():
         m = re.match(r"# icount (\S+) (\d+) reps=(\d+)", line)
         if m:
@@ -129,18 +134,7 @@ def main():
         m = re.match(r"# calibration instructions_per_tick=(\d+)", line)
         if m:
             per_tick = int(m[1])
-        m = re.match(r"# stack used=(\d+)", line)
-        if m:
-            stack = int(m[1])
-    sections = {}
-    for line in size.splitlines():
-        m = re.match(r"(\.\S+)\s+(\d+)\s+(\d+)", line)
-        if m:
-            sections[m[1]] = (int(m[2]), int(m[3]))
-    flash_secs = [".vector_table", ".text", ".rodata", ".data"]
-    ram_secs = [".data", ".bss", ".uninit"]
-    flash = sum(sections.get(s, (0, 0))[0] for s in flash_secs)
-    ram = sum(sections.get(s, (0, 0))[0] for s in ram_secs)
+    flash, ram, stack, sections = memory(run, size)
     inputs = sum(os.path.getsize(os.path.join(ROOT, "fixtures", d, f))
                  for d in ("bench", "board") for f in os.listdir(os.path.join(ROOT, "fixtures", d))
                  if f.endswith((".pgm", ".bin")))
@@ -185,9 +179,9 @@ def main():
     p()
     p("| section | bytes | in |")
     p("|---|---:|---|")
-    for s in flash_secs + [".bss", ".uninit"]:
+    for s in FLASH_SECS + [".bss", ".uninit"]:
         if s in sections:
-            where = "flash" if s in flash_secs and s != ".data" else "RAM" if s != ".data" else "flash + RAM"
+            where = "flash" if s in FLASH_SECS and s != ".data" else "RAM" if s != ".data" else "flash + RAM"
             p(f"| `{s}` | {sections[s][0]:,} | {where} |")
     p(f"| **flash** | **{flash:,}** | of which {inputs:,} bytes are embedded test inputs (`fixtures/bench/*.pgm`, `fixtures/board/windows.bin`) |")
     p(f"| **RAM, static** | **{ram:,}** | |")

@@ -5,6 +5,7 @@
 //! Asserted on every condition: COOP's RMS is within 10% of the better of its own sources and
 //! below every OpenCV tracker's; its loss is within 1 point of its better source and at most
 //! every OpenCV tracker's.
+use coopwin_testbench::experiments::appearance;
 use coopwin_testbench::experiments::real_images::{self, conditions, opencv_score, run_ours, Score, OPENCV, OURS};
 use coopwin_testbench::frames::prerendered::Prerendered;
 
@@ -21,11 +22,9 @@ fn rms(s: &Score) -> f64 {
 fn opencv_fixtures_are_from_the_current_sequences() {
     // The fingerprint stored beside the OpenCV results must be the one of the frames the
     // renderer makes now; otherwise the fixtures are stale (regenerate: docs/results.md).
-    for c in conditions() {
-        let stored = std::fs::read_to_string(real_images::fixtures_dir().join(format!("{}.fingerprint", c.name)))
-            .unwrap_or_else(|e| panic!("{}: no stored fingerprint ({e})", c.name));
-        assert_eq!(stored.trim(), c.render().fingerprint(), "{}: OpenCV fixtures are stale", c.name);
-    }
+    let all: Vec<_> = conditions().into_iter().chain(appearance::conditions()).collect();
+    let stale = real_images::stale_fixtures(&all);
+    assert!(stale.is_empty(), "stale OpenCV fixtures: {stale:?}");
 }
 
 #[test]

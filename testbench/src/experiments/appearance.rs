@@ -4,12 +4,11 @@
 //! frames/s as real clips are, and scored as the real-image evaluation scores
 //! ([`super::real_images::score`]) against the renderer's exact ground truth and OpenCV's
 //! trackers (`scripts/opencv_real.py` on the same sequences).
-use super::real_images::{opencv_score, run_configured, Condition, Score, Tracked, OPENCV};
+use super::real_images::{chart_of, run_configured, score_table, write_scores, Condition, Score, Tracked, OPENCV};
 use super::ExperimentError;
 use crate::frames::scene::{Appearance, PathKind, SceneConfig};
-use crate::report::plot::{self, Chart, Series};
+use crate::report::plot;
 use crate::system::{CoopPolicy, Strategy};
-use std::fmt::Write as _;
 use std::path::Path;
 
 /// The conditions: one per appearance change, then all of them milder together. Each tracks
@@ -50,20 +49,7 @@ pub fn run(c: &Condition, frames: &mut crate::frames::prerendered::Prerendered, 
 pub fn evaluate(dir: &Path, progress: &mut dyn FnMut(&str)) -> Result<String, ExperimentError> {
     let conds = conditions();
     let labels: Vec<&str> = OURS.iter().map(|o| o.0).chain(OPENCV.iter().map(|o| o.0)).collect();
-    let mut table: Vec<Vec<Option<Score>>> = Vec::new();
-    for c in &conds {
-        progress(&c.name);
-        let mut frames = c.render();
-        let mut row = Vec::new();
-        for (_, adapt) in OURS {
-            row.push(Some(run(c, &mut frames, adapt)?));
-        }
-        for (_, file) in OPENCV {
-            row.push(opencv_score(c, &frames.truth, file)?);
-        }
-        table.push(row);
-    }
-    let mut csv = String::from("condition,tracker,rms_px,loss_pct\n");
+    let table = score_table(&conds, progress, &mut |c, frames| OURS.iter().map(|&(_, adapt)| run(c, frames, adapt)).collect())?;
     let mut md = String::from(
         "## appearance (native profile)\n\nThe object turns (+-30 degrees), scales (0.8-1.25x), tilts out of plane (+-15 degrees), \
          passes under a sweeping shadow (gain 0.6-1.3), blurs with its motion (up to 6 px a frame), is covered for 40 frames and \
@@ -71,35 +57,8 @@ pub fn evaluate(dir: &Path, progress: &mut dyn FnMut(&str)) -> Result<String, Ex
          frame 0. RMS error px / loss % (frames with no position or an error over 5 px), over the frames where the centre is \
          visible.\n\n",
     );
-    let _ = writeln!(md, "| condition | {} |", labels.join(" | "));
-    let _ = writeln!(md, "|---|{}", "---|".repeat(labels.len()));
-    for (c, row) in conds.iter().zip(&table) {
-        let cells: Vec<String> = row
-            .iter()
-            .map(|s| s.map_or("-".into(), |s| format!("{} / {:.0}", s.rms.map_or("-".into(), |r| format!("{r:.2}")), s.loss)))
-            .collect();
-        let _ = writeln!(md, "| {} | {} |", c.name, cells.join(" | "));
-        for (label, s) in labels.iter().zip(row).filter_map(|(l, s)| s.map(|s| (l, s))) {
-            let rms = s.rms.map_or(String::new(), |r| format!("{r:.3}"));
-            let _ = writeln!(csv, "{},{label},{rms},{:.1}", c.name, s.loss);
-        }
-    }
-    let path = dir.join("appearance.csv");
-    std::fs::write(&path, csv).map_err(|source| ExperimentError::Io { action: "write", path, source })?;
-    let chart = Chart {
-        title: "Appearance changes: loss per condition (%)".into(),
-        x_label: format!("condition (1-{}: {})", conds.len(), conds.iter().map(|c| c.name.as_str()).collect::<Vec<_>>().join(", ")),
-        y_label: "frames lost (%)".into(),
-        series: labels
-            .iter()
-            .enumerate()
-            .map(|(j, l)| Series {
-                label: (*l).to_string(),
-                points: table.iter().enumerate().map(|(i, row)| (i as f64 + 1.0, row[j].map(|s| s.loss))).collect(),
-            })
-            .collect(),
-        y_range: Some((0.0, 100.0)),
-    };
+    md.push_str(&write_scores(dir, "appearance", &conds, &labels, &table)?);
+    let chart = chart_of("Appearance changes: loss per condition (%)", "frames lost (%)", &conds, &labels, &table, &|s: &Score| Some(s.loss), Some((0.0, 100.0)));
     plot::write(&chart, dir, "appearance")?;
     md.push_str("\nFiles: `appearance.csv`, `appearance.svg`, `appearance.png`. OpenCV columns come from `fixtures/opencv/real/` (`scripts/opencv_real.py`).\n");
     Ok(md)

@@ -100,6 +100,23 @@ pub fn fixtures_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/opencv/real")
 }
 
+/// The conditions whose stored OpenCV fixtures were made from other frames than the renderer
+/// makes now (their `.fingerprint` differs or is missing): stale fixtures, to regenerate with
+/// `scripts/opencv_real.py`. Each entry names the condition and what was found.
+pub fn stale_fixtures(conds: &[Condition]) -> Vec<String> {
+    conds
+        .iter()
+        .filter_map(|c| {
+            let path = fixtures_dir().join(format!("{}.fingerprint", c.name));
+            match std::fs::read_to_string(&path) {
+                Ok(stored) if stored.trim() == c.render().fingerprint() => None,
+                Ok(_) => Some(format!("{}: fingerprint differs", c.name)),
+                Err(e) => Some(format!("{}: no stored fingerprint ({e})", c.name)),
+            }
+        })
+        .collect()
+}
+
 /// A tracker's score on one condition.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Score {
@@ -180,60 +197,89 @@ pub fn opencv_score(c: &Condition, truth: &[Truth], tracker: &str) -> Result<Opt
     Ok(Some(score(&positions, truth, c.tracked)))
 }
 
-/// The evaluation: every tracker on every condition; writes `real-images.csv`, `.md` and a chart
-/// into `dir` and returns the markdown.
-pub fn evaluate(dir: &Path, progress: &mut dyn FnMut(&str)) -> Result<String, ExperimentError> {
-    let conds = conditions();
-    let labels: Vec<&str> = OURS.iter().map(|o| o.0).chain(OPENCV.iter().map(|o| o.0)).collect();
-    let mut table: Vec<Vec<Option<Score>>> = Vec::new();
-    for c in &conds {
+/// Every condition's scores (`table[condition][tracker]`): `ours` runs coopwin's trackers on
+/// the condition's frames, then each OpenCV fixture is read (`None` where it is missing).
+pub fn score_table(
+    conds: &[Condition],
+    progress: &mut dyn FnMut(&str),
+    ours: &mut dyn FnMut(&Condition, &mut Prerendered) -> Result<Vec<Score>, SimError>,
+) -> Result<Vec<Vec<Option<Score>>>, ExperimentError> {
+    let mut table = Vec::new();
+    for c in conds {
         progress(&c.name);
         let mut frames = c.render();
-        let mut row = Vec::new();
-        for (_, strategy, policy) in OURS {
-            row.push(Some(run_ours(c, &mut frames, strategy, policy)?));
-        }
+        let mut row: Vec<Option<Score>> = ours(c, &mut frames)?.into_iter().map(Some).collect();
         for (_, file) in OPENCV {
             row.push(opencv_score(c, &frames.truth, file)?);
         }
         table.push(row);
     }
+    Ok(table)
+}
+
+/// Writes `dir/NAME.csv` (`condition,tracker,rms_px,loss_pct`) of every tracker's scores on
+/// every condition (`table[condition][tracker]`, `None` where a tracker has no result), and
+/// returns the same as a markdown table, RMS px / loss % a cell.
+pub fn write_scores(dir: &Path, name: &str, conds: &[Condition], labels: &[&str], table: &[Vec<Option<Score>>]) -> Result<String, ExperimentError> {
     let mut csv = String::from("condition,tracker,rms_px,loss_pct\n");
-    let mut md = String::from(
-        "## real-images (native profile)\n\nSemi-synthetic sequences from real photographs (`fixtures/real/`): RMS error px / loss % \
-         (frames with no position or an error over 5 px), target given at the true point of frame 0.\n\n",
-    );
+    let mut md = String::new();
     let _ = writeln!(md, "| condition | {} |", labels.join(" | "));
     let _ = writeln!(md, "|---|{}", "---|".repeat(labels.len()));
-    for (c, row) in conds.iter().zip(&table) {
+    for (c, row) in conds.iter().zip(table) {
         let cells: Vec<String> = row
             .iter()
             .map(|s| s.map_or("-".into(), |s| format!("{} / {:.0}", s.rms.map_or("-".into(), |r| format!("{r:.2}")), s.loss)))
             .collect();
         let _ = writeln!(md, "| {} | {} |", c.name, cells.join(" | "));
-        for (label, s) in labels.iter().zip(row) {
-            if let Some(s) = s {
-                let rms = s.rms.map_or(String::new(), |r| format!("{r:.3}"));
-                let _ = writeln!(csv, "{},{label},{rms},{:.1}", c.name, s.loss);
-            }
+        for (label, s) in labels.iter().zip(row).filter_map(|(l, s)| s.map(|s| (l, s))) {
+            let rms = s.rms.map_or(String::new(), |r| format!("{r:.3}"));
+            let _ = writeln!(csv, "{},{label},{rms},{:.1}", c.name, s.loss);
         }
     }
-    let path = dir.join("real-images.csv");
+    let path = dir.join(format!("{name}.csv"));
     std::fs::write(&path, csv).map_err(|source| ExperimentError::Io { action: "write", path, source })?;
-    let chart = Chart {
-        title: "Real-image sequences: RMS error per condition (log10 px)".into(),
+    Ok(md)
+}
+
+/// A chart of `measure` per condition (1, 2, ... along x), one series per tracker.
+pub fn chart_of(
+    title: &str,
+    y_label: &str,
+    conds: &[Condition],
+    labels: &[&str],
+    table: &[Vec<Option<Score>>],
+    measure: &dyn Fn(&Score) -> Option<f64>,
+    y_range: Option<(f64, f64)>,
+) -> Chart {
+    Chart {
+        title: title.into(),
         x_label: format!("condition (1-{}: {})", conds.len(), conds.iter().map(|c| c.name.as_str()).collect::<Vec<_>>().join(", ")),
-        y_label: "log10 RMS error (px)".into(),
+        y_label: y_label.into(),
         series: labels
             .iter()
             .enumerate()
             .map(|(j, l)| Series {
                 label: (*l).to_string(),
-                points: table.iter().enumerate().map(|(i, row)| (i as f64 + 1.0, row[j].and_then(|s| s.rms).map(|r| r.max(1e-3).log10()))).collect(),
+                points: table.iter().enumerate().map(|(i, row)| (i as f64 + 1.0, row.get(j).copied().flatten().as_ref().and_then(measure))).collect(),
             })
             .collect(),
-        y_range: None,
-    };
+        y_range,
+    }
+}
+
+/// The evaluation: every tracker on every condition; writes `real-images.csv`, `.md` and a chart
+/// into `dir` and returns the markdown.
+pub fn evaluate(dir: &Path, progress: &mut dyn FnMut(&str)) -> Result<String, ExperimentError> {
+    let conds = conditions();
+    let labels: Vec<&str> = OURS.iter().map(|o| o.0).chain(OPENCV.iter().map(|o| o.0)).collect();
+    let table = score_table(&conds, progress, &mut |c, frames| OURS.iter().map(|&(_, strategy, policy)| run_ours(c, frames, strategy, policy)).collect())?;
+    let mut md = String::from(
+        "## real-images (native profile)\n\nSemi-synthetic sequences from real photographs (`fixtures/real/`): RMS error px / loss % \
+         (frames with no position or an error over 5 px), target given at the true point of frame 0.\n\n",
+    );
+    md.push_str(&write_scores(dir, "real-images", &conds, &labels, &table)?);
+    let log_rms = |s: &Score| s.rms.map(|r| r.max(1e-3).log10());
+    let chart = chart_of("Real-image sequences: RMS error per condition (log10 px)", "log10 RMS error (px)", &conds, &labels, &table, &log_rms, None);
     plot::write(&chart, dir, "real-images")?;
     md.push_str("\nFiles: `real-images.csv`, `real-images.svg`, `real-images.png`. OpenCV columns come from `fixtures/opencv/real/` (`scripts/opencv_real.py`).\n");
     Ok(md)

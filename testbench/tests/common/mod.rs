@@ -39,16 +39,7 @@ pub fn have_verilator() -> bool {
     found
 }
 
-/// A check that needs `what`, which is missing (`why` says what to install). Missing tools
-/// fail the test, so a suite never reports `ok` for a check that did not run; with
-/// COOPWIN_ALLOW_MISSING_EDA=1 the caller skips instead, and the skip is written straight to
-/// the process's stderr (not through `eprintln!`, which the test harness captures and hides
-/// for passing tests), so it shows in `cargo test`'s output beside the test's `ok`.
-pub fn missing_tool(what: &str, why: &str) {
-    if std::env::var("COOPWIN_ALLOW_MISSING_EDA").as_deref() == Ok("1") {
-        use std::io::Write;
-        let _ = writeln!(std::io::stderr(), "SKIPPED, CHECKED NOTHING (COOPWIN_ALLOW_MISSING_EDA=1): {what} not found ({why})");
-    } else {
-        panic!("{what} not found ({why}); install it, or set COOPWIN_ALLOW_MISSING_EDA=1 to skip the checks that need it");
-    }
-}
+/// The one rule for a missing EDA tool, shared with the hdl crate's tests.
+#[path = "../../../hdl/tests/common/mod.rs"]
+mod eda;
+pub use eda::missing_tool;
