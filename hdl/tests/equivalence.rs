@@ -14,7 +14,7 @@
 //! Two mutants, one a side, each a one-line change, must be found different: the proof must
 //! leave pairs unproven, and a bounded check from power-on (a `miter` of the outputs, `sat
 //! -seq`) must reach an output that differs, so the difference is real and not an artefact of
-//! the induction. Without Yosys these tests skip with a message, unless COOPWIN_REQUIRE_EDA=1.
+//! the induction. Without Yosys these tests fail, unless COOPWIN_ALLOW_MISSING_EDA=1 skips them.
 mod common;
 use common::{have_tool, scratch};
 use coopwin_hdl::verilog::{rust_hdl_unit, Geometry};
