@@ -201,7 +201,10 @@ impl<const N: usize> Foveal<N> {
     fn start(&mut self, p: Point, exact: bool, step: &mut Step) {
         self.tracking = Some(p);
         self.coop.begin(p, exact);
-        step.ask(Some(self.params.foveal_window(p)));
+        // An adapting track resumed from the Peripheral's approximate location (25 %: +-2 px)
+        // looks as widely as when its motion is unknown.
+        let side = self.params.foveal + if self.adapt.is_some() && !exact { 2 * GROW_MARGIN } else { 0 };
+        step.ask(Some(self.params.window(p, side, Decimation::Full)));
         if self.kind == FovealKind::CoopMaster {
             step.send(Dest::FovealCd, Msg::Follow(p));
         }
@@ -418,6 +421,19 @@ mod tests {
         assert_eq!((s.report, s.request, s.lost), (None, None, Some(p)));
         assert_eq!(&s.sends[..], &[(Dest::Peripheral, Msg::Lost(p))][..]);
         assert_eq!(f.mode(), Mode::Watch);
+    }
+
+    #[test]
+    fn an_adapting_track_resumed_from_an_approximate_location_looks_wider() {
+        // The Peripheral's location is good to its 25 % grid: the thesis's window is the
+        // template plus 4 px (16 px, columns round(31.5 - 7.5) = 24..); an adapting track adds
+        // GROW_MARGIN a side: 28 px from round(31.5 - 13.5) = 18, rows from round(21.5 - 13.5) = 8.
+        let thesis = Foveal::new(FovealKind::Ncc, params(), Some(template())).on_message(&Msg::Approx(TARGET), 0.0);
+        assert_eq!(thesis.request, Some(square(24, 14, 16, Decimation::Full)));
+        let mut adapting = Foveal::new(FovealKind::Ncc, params().adaptive(), Some(template()));
+        assert!(adapting.adapt.is_some(), "a whole template (no corner support) adapts");
+        let s = adapting.on_message(&Msg::Approx(TARGET), 0.0);
+        assert_eq!(s.request, Some(square(18, 8, 16 + 2 * GROW_MARGIN, Decimation::Full)));
     }
 
     #[test]
