@@ -165,7 +165,10 @@ module coopwin_ice40_top #(
         .pixel_out(pixel_out),
         .coord_error(coord_error),
         .pixel_valid(pv1),
-        .reset(p_rst)
+        .reset(p_rst),
+        .armed(),
+        .window_done(),
+        .set_accepted()
     );
 
     // Capture FSM. The unit has no "window armed" or "window done" output, so this mirrors

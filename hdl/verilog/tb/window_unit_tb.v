@@ -74,7 +74,8 @@ module window_unit_tb #(
         .clock(clock), .fval(fval), .lval(lval), .pixel(pixel),
         .coord_strobe(coord_strobe), .coord_data(coord_data), .coord_ready(coord_ready),
         .decimate(decimate), .pixel_strobe(pixel_strobe), .pixel_out(pixel_out),
-        .coord_error(coord_error), .pixel_valid(pixel_valid), .reset(reset));
+        .coord_error(coord_error), .pixel_valid(pixel_valid), .reset(reset),
+        .armed(), .window_done(), .set_accepted());
 
     // ---------------------------------------------------------------------------------------
     // Helpers
