@@ -222,7 +222,7 @@ fn a_window_the_port_cannot_carry_is_refused_and_nothing_is_written() {
         assert!(why.contains("window"), "{why}");
         assert!(backend.next_window(clocks.frame_start(3), &mut SceneFrames::new(scene.clone())).unwrap().is_none());
     }
-    assert!(hdl.request(0, wide, 0).unwrap_err().to_string().contains("reaches past column or row 255"));
+    assert!(hdl.request(0, wide, 0).unwrap_err().to_string().contains("reaches past the sensor's last column or row"));
     assert!(hdl.next_window(clocks.frame_start(3), &mut SceneFrames::new(scene)).unwrap().is_none());
     assert_eq!(hdl.finish().unwrap().clocks, clocks.frame_start(3) + 1, "the units ran the run through");
 }
