@@ -25,6 +25,7 @@
 //!
 //! The proposal is taken only if the track then follows NCC's own measurement
 //! ([`Adaptive::take`]); a frame in which the COOP decision followed something else discards it.
+use super::coop::guard::dist;
 use super::template::Template;
 use crate::kernels::matching::{best_match, Method};
 use crate::kernels::refine::LkTemplate;
@@ -59,11 +60,6 @@ impl Adaptive {
             first_lk.prepare(&v, None);
         }
         Adaptive { first: first.clone(), first_lk, pending: None, on_first: true }
-    }
-
-    /// The first template.
-    pub fn first(&self) -> &Template {
-        &self.first
     }
 
     /// The current template measured `at` with `score` in `win`: proposes the next template
@@ -112,10 +108,6 @@ impl Adaptive {
     pub fn discard(&mut self) {
         self.pending = None;
     }
-}
-
-fn dist(a: Point, b: Point) -> f32 {
-    super::coop::guard::dist(a, b)
 }
 
 #[cfg(test)]
