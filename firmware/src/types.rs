@@ -12,6 +12,16 @@ pub struct Point {
     pub y: f32,
 }
 
+/// How the tracked object looks against its first view (issue 21): turned and scaled, as an
+/// adapting track measures by aligning its first template ([`crate::kernels::warp`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shape {
+    /// The object's size over its size at lock-on.
+    pub scale: f32,
+    /// Its turn since lock-on, degrees, clockwise on the screen (rows grow down).
+    pub angle_deg: f32,
+}
+
 /// Resolution of a requested window (thesis 2.3).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Decimation {

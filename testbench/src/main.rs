@@ -45,10 +45,11 @@ const TRACK_EXAMPLES: &str = "Examples:
       the thesis's C40 processor timing, as the experiments use it
   coopwin track --frames damaged.mp4 --allow-damaged --out t.csv
       a video FFmpeg reports decoding errors in: track what decodes, flag the damaged frames
-CSV columns: frame,x,y,mode,source,measured_frame,file,box_x,box_y,box_w,box_h,confidence,ok,time_s,damaged,state
+CSV columns: frame,x,y,mode,source,measured_frame,file,box_x,box_y,box_w,box_h,confidence,ok,time_s,damaged,state,scale,angle_deg
   (x, y: pixel centres at integers; confidence: NCC's score from 0 at its acceptance level
   to 1; ok: a position measured at most 2 frames before; time_s: the video's own timestamp,
-  or frame/fps; damaged: 1 for a frame FFmpeg reported damaged)
+  or frame/fps; damaged: 1 for a frame FFmpeg reported damaged; scale, angle_deg: the
+  object's size and turn against lock-on, where the adapting template measured them)
 Exit codes: 0 done, 1 error (a damaged video too), 2 bad argument (an output that is an
   input too), 130 Ctrl-C (nothing replaced)";
 

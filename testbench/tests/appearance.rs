@@ -3,22 +3,27 @@
 //! same sequences (`fixtures/opencv/real/centre-{rotate,...}.*.csv`, checked fresh by
 //! `real_images.rs`).
 //!
-//! The bounds are the figures measured when the adapting template was introduced
-//! (`coopwin experiment appearance`, docs/results.md), with at most 2x margin on RMS and one
-//! point plus 2x on loss: a change that loses the object more often, or drifts further, fails.
+//! The bounds are the figures measured with the first template aligned under a similarity
+//! warp (`coopwin experiment appearance`, docs/results.md), with at most 2x margin on RMS and
+//! one point plus 2x on loss, and never above issue 21's targets (0.3 px, 2 %): a change that
+//! loses the object more often, or drifts further, fails.
 use coopwin_testbench::experiments::appearance::{conditions, run};
-use coopwin_testbench::experiments::real_images::{opencv_score, OPENCV};
+use coopwin_testbench::experiments::real_images::{opencv_score, simulate_configured, OPENCV};
+use coopwin_testbench::system::{CoopPolicy, Strategy};
 
 /// (condition, measured RMS px, measured loss %) of COOP with the adapting template.
 const MEASURED: [(&str, f64, f64); 7] = [
-    ("centre-rotate", 0.775, 0.0),
-    ("centre-scale", 0.526, 0.0),
+    ("centre-rotate", 0.060, 0.0),
+    ("centre-scale", 0.034, 0.0),
     ("centre-tilt", 0.066, 0.0),
-    ("centre-shadow", 0.261, 0.0),
-    ("centre-blur", 0.210, 0.0),
-    ("centre-cover", 0.066, 0.8),
-    ("centre-combined", 1.084, 0.0),
+    ("centre-shadow", 0.156, 0.0),
+    ("centre-blur", 0.216, 0.0),
+    ("centre-cover", 0.067, 0.8),
+    ("centre-combined", 0.284, 0.0),
 ];
+
+/// Issue 21's targets on every appearance set: RMS px and loss %.
+const TARGET: (f64, f64) = (0.3, 2.0);
 
 #[test]
 fn the_adapting_template_holds_the_object_where_the_fixed_one_loses_it() {
@@ -28,8 +33,8 @@ fn the_adapting_template_holds_the_object_where_the_fixed_one_loses_it() {
         let adapting = run(&c, &mut frames, true).expect("runs");
         let fixed = run(&c, &mut frames, false).expect("runs");
         let r = adapting.rms.unwrap_or(f64::INFINITY);
-        assert!(r <= 2.0 * rms, "{}: RMS {r:.3} px, measured {rms}", c.name);
-        assert!(adapting.loss <= 2.0 * loss + 1.0, "{}: loss {:.1}%, measured {loss}", c.name, adapting.loss);
+        assert!(r <= (2.0 * rms).min(TARGET.0), "{}: RMS {r:.3} px, measured {rms}", c.name);
+        assert!(adapting.loss <= (2.0 * loss + 1.0).min(TARGET.1), "{}: loss {:.1}%, measured {loss}", c.name, adapting.loss);
         // The thesis's fixed template loses over half of every one of these sets.
         assert!(fixed.loss > 50.0 && adapting.loss < fixed.loss, "{}: {adapting:?} against fixed {fixed:?}", c.name);
     }
@@ -45,5 +50,31 @@ fn where_the_object_turns_scales_or_is_covered_no_opencv_tracker_keeps_it_as_oft
             let theirs = opencv_score(&c, &frames.truth, file).expect("readable").expect("fixture present");
             assert!(ours.loss <= theirs.loss, "{name}: COOP loss {:.1}% vs {label} {:.1}%", ours.loss, theirs.loss);
         }
+    }
+}
+
+#[test]
+fn the_adapting_track_reports_the_objects_turn_and_scale() {
+    // Independent reference: the renderer's pose of the object in the frame each report
+    // measured, against its pose at lock-on (frame 0).
+    for (name, angle_max, scale_max) in [("centre-rotate", 1.0, 0.01), ("centre-scale", 1.0, 0.01)] {
+        let c = conditions().into_iter().find(|c| c.name == name).expect("condition");
+        let mut frames = c.render();
+        let log = simulate_configured(&c, &mut frames, Strategy::Coop, CoopPolicy::Guarded, true).expect("runs");
+        let look = &c.scene.appearance;
+        let at = |k: usize| look.pose(k as f64 / c.scene.frames as f64).angle_scale();
+        let (angle0, scale0) = at(0);
+        let (mut shaped, mut worst_angle, mut worst_scale) = (0, 0.0f64, 0.0f64);
+        for r in &log.frames {
+            if let (Some(s), Some(m)) = (r.shape, r.measured_frame) {
+                let (angle, scale) = at(m);
+                worst_angle = worst_angle.max((f64::from(s.angle_deg) - (angle - angle0)).abs());
+                worst_scale = worst_scale.max((f64::from(s.scale) - scale / scale0).abs());
+                shaped += 1;
+            }
+        }
+        eprintln!("{name}: {shaped} frames with a shape, worst angle error {worst_angle:.3} deg, worst scale error {worst_scale:.4}");
+        assert!(shaped >= 270, "{name}: {shaped} of 300 frames report a shape");
+        assert!(worst_angle <= angle_max && worst_scale <= scale_max, "{name}: angle {worst_angle:.3} deg, scale {worst_scale:.4}");
     }
 }

@@ -66,7 +66,7 @@ fn scene_then_track_writes_the_csv_with_the_documented_columns() {
     assert!(out.contains("| tpdf |"), "summary printed: {out}");
     let text = std::fs::read_to_string(&csv).unwrap();
     let mut lines = text.lines();
-    assert_eq!(lines.next().unwrap(), "frame,x,y,mode,source,measured_frame,file,box_x,box_y,box_w,box_h,confidence,ok,time_s,damaged,state");
+    assert_eq!(lines.next().unwrap(), "frame,x,y,mode,source,measured_frame,file,box_x,box_y,box_w,box_h,confidence,ok,time_s,damaged,state,scale,angle_deg");
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     assert_eq!(rows.len(), 40);
     assert!(rows.iter().any(|r| r[3] == "track" && r[4] == "ncc" && !r[1].is_empty()));

@@ -160,7 +160,7 @@ fn frame_count(clip: &Path) -> usize {
 /// The track CSV's rows as fields, checking its header.
 fn csv_rows(text: &str) -> Vec<Vec<String>> {
     let mut lines = text.lines();
-    assert_eq!(lines.next(), Some("frame,x,y,mode,source,measured_frame,file,box_x,box_y,box_w,box_h,confidence,ok,time_s,damaged,state"));
+    assert_eq!(lines.next(), Some("frame,x,y,mode,source,measured_frame,file,box_x,box_y,box_w,box_h,confidence,ok,time_s,damaged,state,scale,angle_deg"));
     lines.map(|l| l.split(',').map(String::from).collect()).collect()
 }
 

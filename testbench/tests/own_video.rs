@@ -59,7 +59,7 @@ struct Row {
 fn rows(csv: &Path) -> Vec<Row> {
     let text = std::fs::read_to_string(csv).unwrap();
     let mut lines = text.lines();
-    assert_eq!(lines.next(), Some("frame,x,y,mode,source,measured_frame,file,box_x,box_y,box_w,box_h,confidence,ok,time_s,damaged,state"));
+    assert_eq!(lines.next(), Some("frame,x,y,mode,source,measured_frame,file,box_x,box_y,box_w,box_h,confidence,ok,time_s,damaged,state,scale,angle_deg"));
     lines
         .map(|l| {
             let f: Vec<&str> = l.split(',').collect();

@@ -5,6 +5,7 @@
 //! * [`motion`]: image differencing for the Watch window (2.4);
 //! * [`matching`]: SSD / SAD / NCC (2.4) and zero-mean NCC, with sub-pixel refinement;
 //! * [`refine`]: Lucas-Kanade refinement of a match, beyond the parabola's accuracy;
+//! * [`warp`]: Lucas-Kanade alignment under a similarity warp (turn and scale);
 //! * [`support`]: the object's part of a corner template, and NCC over it alone;
 //! * [`corner`]: the window-based corner detector (ch. 3);
 //! * [`info`]: information content measures (3.4.1);
@@ -23,3 +24,4 @@ pub mod motion;
 pub mod refine;
 pub mod support;
 pub mod view;
+pub mod warp;

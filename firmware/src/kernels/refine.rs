@@ -163,6 +163,12 @@ impl LkTemplate {
         Some(())
     }
 
+    /// The prepared template's interior: its width, the used bits of each row, the used
+    /// pixels' `[T, gx, gy]` row by row and the mean `T`; `None` when nothing is prepared.
+    pub(crate) fn interior(&self) -> Option<(usize, &[u32], &[[f32; 3]], f32)> {
+        self.ready.then(|| (self.iw, self.used.get(..self.ih).unwrap_or(&[]), &self.tg[..], self.t_mean))
+    }
+
     /// The refined top-left placement of the prepared template in `win` from `(x, y)`, as
     /// [`refine_translation`] finds it; `None` also when nothing is prepared.
     ///

@@ -30,6 +30,7 @@ use super::template::Template;
 use crate::kernels::matching::{best_match, Method};
 use crate::kernels::refine::LkTemplate;
 use crate::kernels::view::WindowView;
+use crate::kernels::warp::Pose;
 use crate::types::Point;
 
 /// Score against the current template under which a new template is proposed.
@@ -39,6 +40,11 @@ pub const CONFIRM: f32 = 0.9;
 /// Largest distance in pixels between the current template's point and the first template's
 /// for the first to confirm it.
 pub const DRIFT: f32 = 1.0;
+/// Score of the first template aligned under a similarity warp from which its point is the
+/// track's ([`Adaptive::align`]): lower than [`CONFIRM`], as the warp has taken out the turn and
+/// scale that a translated template's score suffers from, and what is left (blur, tilt, light)
+/// does not bias the aligned point as much as it lowers the score.
+pub const ALIGN: f32 = 0.5;
 /// Score from which the first template's point is taken at any distance: the object looks
 /// as it did at lock-on again, and whatever the updates accumulated is dropped.
 pub const RECLAIM: f32 = 0.95;
@@ -50,6 +56,9 @@ pub struct Adaptive {
     pending: Option<Template>,
     /// The template proposed last is the first one.
     on_first: bool,
+    /// The first template's turn and scale in the last window it aligned in (`(a, b)` of
+    /// its [`Pose`]): the next alignment starts from them.
+    shape: (f32, f32),
 }
 
 impl Adaptive {
@@ -59,7 +68,30 @@ impl Adaptive {
         if let Some(v) = first.view() {
             first_lk.prepare(&v, None);
         }
-        Adaptive { first: first.clone(), first_lk, pending: None, on_first: true }
+        Adaptive { first: first.clone(), first_lk, pending: None, on_first: true, shape: (1.0, 0.0) }
+    }
+
+    /// The point the current template measured `at` in `win`, refined by aligning the first
+    /// template there under a similarity warp ([`crate::kernels::warp`]), and the first
+    /// template's pose (frame coordinates); `None` when it does not align with a score of
+    /// at least [`ALIGN`] (the object no longer looks like a turned and scaled first view).
+    ///
+    /// The first template carries no accumulated error, and the warp follows a turn or a
+    /// scale that biases a translated template's match: where it aligns, its point is the
+    /// drift-free one.
+    pub fn align(&mut self, win: &WindowView<'_>, at: Point) -> Option<(Point, Pose)> {
+        let n = self.first.side() as f32;
+        let c = (n - 1.0) / 2.0;
+        let (ox, oy) = (win.origin().0 as f32, win.origin().1 as f32);
+        // The tracked point's offset from the template's centre, and the centre it puts at `at`.
+        let (du, dv) = (self.first.anchor().x - c, self.first.anchor().y - c);
+        let (a, b) = self.shape;
+        let start = Pose { x: at.x - ox - (a * du - b * dv), y: at.y - oy - (b * du + a * dv), a, b };
+        let found = self.first_lk.align_similarity(win, start).filter(|f| f.score >= ALIGN)?;
+        self.shape = (found.pose.a, found.pose.b);
+        let (x, y) = found.pose.map(du, dv);
+        let pose = Pose { x: found.pose.x + ox, y: found.pose.y + oy, ..found.pose };
+        Some((Point { x: x + ox, y: y + oy }, pose))
     }
 
     /// The current template measured `at` with `score` in `win`: proposes the next template

@@ -13,7 +13,7 @@ use crate::kernels::matching::best_match;
 use crate::kernels::refine::LkTemplate;
 use crate::kernels::support::{best_match_on, Support};
 use crate::kernels::view::WindowView;
-use crate::types::{Decimation, Point, Source, WindowRequest};
+use crate::types::{Decimation, Point, Shape, Source, WindowRequest};
 
 /// Lucas-Kanade's side of the template ([`LkTemplate`]), prepared once per template and
 /// kept while it is; `over` says for which pixels (`Some(true)`: its support, `Some(false)`:
@@ -122,6 +122,8 @@ pub struct Foveal<const N: usize = MAX_DIM> {
     pinned: bool,
     /// Where a coasting track expects the point (its window's centre), while it coasts.
     predicted: Option<Point>,
+    /// The object's shape as the last window's alignment measured it (adapting tracks).
+    shape: Option<Shape>,
 }
 
 impl Foveal {
@@ -149,6 +151,7 @@ impl<const N: usize> Foveal<N> {
             adapt: None,
             pinned: false,
             predicted: None,
+            shape: None,
         };
         if let Some(t) = template {
             f.set_template(t);
@@ -279,6 +282,11 @@ impl<const N: usize> Foveal<N> {
                     None => (None, Work::None),
                 };
                 step.clear(work);
+                // An adapting track's point is the first template's, aligned under a
+                // similarity warp where it aligns.
+                let aligned = self.adapt.as_mut().zip(found).and_then(|(a, f)| a.align(win, f.point));
+                self.shape = aligned.map(|(_, pose)| Shape { scale: pose.scale(), angle_deg: pose.angle().to_degrees() });
+                let found = found.map(|f| aligned.map_or(f, |(point, _)| NccFound { point, ..f }));
                 self.pinned = found.is_some_and(|f| f.pinned);
                 if let (Some(a), Some(f), Some(tpl)) = (self.adapt.as_mut(), found, self.template.as_ref()) {
                     a.propose(win, f.point, f.score, tpl.side());
@@ -352,6 +360,7 @@ impl<const N: usize> Foveal<N> {
                 step.ask(Some(self.next_window(p, t))).send(Dest::Peripheral, Msg::Tracked(p));
                 step.report = Some((p, source));
                 step.score = score;
+                step.shape = score.and(self.shape);
             }
             (None, Some(last)) => {
                 self.tracking = None;

@@ -3,7 +3,7 @@
 //! the messages sent and the position reported.
 use super::messages::{Dest, Msg};
 use crate::kernels::view::WindowView;
-use crate::types::{Point, Source, WindowRequest};
+use crate::types::{Point, Shape, Source, WindowRequest};
 use crate::kernels::matching::Method;
 
 /// The mode a strategy is in (thesis 2.3.1).
@@ -59,6 +59,8 @@ pub struct Step {
     /// The NCC score of the window behind `report` when NCC measured the reported point (a
     /// confidence; `None` when the corner detector alone did).
     pub score: Option<f32>,
+    /// The object's turn and scale behind `report`, when an adapting track measured them.
+    pub shape: Option<Shape>,
     /// Tracking was lost on this step; the last position tracked.
     pub lost: Option<Point>,
 }
@@ -69,12 +71,12 @@ impl Step {
     /// An answer with `work` and nothing else: no request, message or report.
     #[inline]
     pub fn new(work: Work) -> Self {
-        Step { work, request: None, sends: heapless::Vec::new(), report: None, score: None, lost: None }
+        Step { work, request: None, sends: heapless::Vec::new(), report: None, score: None, shape: None, lost: None }
     }
     /// Empties it for a new answer with `work` (as [`Step::new`], in place).
     #[inline]
     pub fn clear(&mut self, work: Work) {
-        (self.work, self.request, self.report, self.score, self.lost) = (work, None, None, None, None);
+        (self.work, self.request, self.report, self.score, self.shape, self.lost) = (work, None, None, None, None, None);
         self.sends.clear();
     }
     #[inline(always)]

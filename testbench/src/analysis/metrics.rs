@@ -37,16 +37,16 @@ pub struct Summary {
     pub recovery: Option<f64>,
 }
 
-/// Compares a run with the truth. The tracked point is a fixed point of the rigid part: when
-/// the template's point was known before the run, its offset from the corner is known;
+/// Compares a run with the truth. The tracked point is a fixed point of the part ([`Anchor`]):
+/// when the template's point was known before the run, its place on the part is known;
 /// otherwise it is taken from the first report (the figures then measure jitter and drift,
 /// not absolute position).
 pub fn summarise(log: &RunLog, truth: &[Truth]) -> Summary {
     let period = log.frame_period;
-    let offset = initial_offset(log, truth);
+    let anchor = Anchor::of_run(log, truth);
     let err = |frame: usize, x: f64, y: f64| -> Option<(f64, f64)> {
-        let t = truth.get(frame)?;
-        Some((x - t.corner.0 - offset.0, y - t.corner.1 - offset.1))
+        let p = anchor.point(truth.get(frame)?);
+        Some((x - p.0, y - p.1))
     };
     let errs: Vec<(f64, f64)> = log
         .reports
@@ -100,20 +100,81 @@ pub fn summarise(log: &RunLog, truth: &[Truth]) -> Summary {
     }
 }
 
-/// Where the tracked point truly is in each frame: the part's corner plus the tracked
-/// point's offset from it (see [`summarise`]).
+/// Where the tracked point truly is in each frame (see [`summarise`]).
 pub fn true_points(log: &RunLog, truth: &[Truth]) -> Vec<(f64, f64)> {
-    let o = initial_offset(log, truth);
-    truth.iter().map(|t| (t.corner.0 + o.0, t.corner.1 + o.1)).collect()
+    let anchor = Anchor::of_run(log, truth);
+    truth.iter().map(|t| anchor.point(t)).collect()
 }
 
-/// The tracked point's offset from the part's corner (see [`summarise`]).
-fn initial_offset(log: &RunLog, truth: &[Truth]) -> (f64, f64) {
-    let known = log.reference.and_then(|(k, (x, y))| truth.get(k).map(|t| (x - t.corner.0, y - t.corner.1)));
-    let first = || {
-        let r = log.reports.first()?;
-        let t = truth.get(r.frame)?;
-        Some((f64::from(r.point.x) - t.corner.0, f64::from(r.point.y) - t.corner.1))
-    };
-    known.or_else(first).unwrap_or_default()
+/// The tracked point's place on the part: its offset from the part's corner or from its
+/// centre, whichever the point is nearer. On a rigid part every point keeps its offset; on a
+/// part that turns or scales (`coopwin scene --set centre-rotate`), only these two points
+/// are the truth's, so a point near one of them is taken as it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Anchor {
+    centre: bool,
+    offset: (f64, f64),
+}
+
+impl Anchor {
+    /// The point `(x, y)` in frame `k`: the run's reference point when known before the
+    /// run, otherwise its first report.
+    fn of_run(log: &RunLog, truth: &[Truth]) -> Anchor {
+        let at = |k: usize, (x, y): (f64, f64)| {
+            let t = truth.get(k)?;
+            let centre = (x - t.centre.0).hypot(y - t.centre.1) < (x - t.corner.0).hypot(y - t.corner.1);
+            let p = if centre { t.centre } else { t.corner };
+            Some(Anchor { centre, offset: (x - p.0, y - p.1) })
+        };
+        let first = || log.reports.first().and_then(|r| at(r.frame, (f64::from(r.point.x), f64::from(r.point.y))));
+        log.reference.and_then(|(k, p)| at(k, p)).or_else(first).unwrap_or(Anchor { centre: false, offset: (0.0, 0.0) })
+    }
+
+    /// Where it truly is in `t`'s frame.
+    fn point(&self, t: &Truth) -> (f64, f64) {
+        let p = if self.centre { t.centre } else { t.corner };
+        (p.0 + self.offset.0, p.1 + self.offset.1)
+    }
+}
+
+/// The area under the ROC curve of `confidence` as a detector of good frames: the chance
+/// that a frame drawn from the good ones (`bad == false`) has a higher confidence than one
+/// drawn from the bad ones, ties counting half (the Mann-Whitney statistic). 1 separates
+/// them perfectly, 0.5 is a coin. `None` without a frame of each kind.
+pub fn auroc(frames: &[(f64, bool)]) -> Option<f64> {
+    let mut sorted: Vec<(f64, bool)> = frames.to_vec();
+    sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let bad = sorted.iter().filter(|f| f.1).count();
+    let good = sorted.len() - bad;
+    if bad == 0 || good == 0 {
+        return None;
+    }
+    // Walk the confidences upward, one group of equal values at a time: each good frame beats
+    // the bad frames below its group and ties with half of those in it.
+    let (mut below_bad, mut wins, mut i) = (0usize, 0.0, 0);
+    while i < sorted.len() {
+        let j = i + sorted[i..].iter().take_while(|f| f.0 == sorted[i].0).count();
+        let group_bad = sorted[i..j].iter().filter(|f| f.1).count();
+        let group_good = (j - i) - group_bad;
+        wins += group_good as f64 * (below_bad as f64 + group_bad as f64 / 2.0);
+        below_bad += group_bad;
+        i = j;
+    }
+    Some(wins / (good as f64 * bad as f64))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::auroc;
+
+    #[test]
+    fn auroc_counts_the_pairs_a_confidence_orders_right() {
+        // By hand: good 0.9, 0.8, 0.5 against bad 0.6, 0.1: of the 6 pairs the good frame is
+        // above in all but (0.5, 0.6): 5/6.
+        let frames = [(0.9, false), (0.6, true), (0.8, false), (0.1, true), (0.5, false)];
+        assert!((auroc(&frames).unwrap() - 5.0 / 6.0).abs() < 1e-12);
+        // A tie counts half: good 0.6 and 0.2 against bad 0.6: (0.5 + 0) / 2.
+        assert_eq!(auroc(&[(0.6, false), (0.6, true), (0.2, false)]), Some(0.25));
+        assert_eq!(auroc(&[(0.6, false), (0.2, false)]), None);
+    }
 }

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 #[derive(clap::Args)]
 pub struct ExperimentArgs {
     /// table-2.3, fig-2.9, fig-2.10, fig-3.5, fig-3.7, fig-3.10, table-4.1, real-images,
-    /// appearance, or all
+    /// appearance, real-footage, or all
     pub name: String,
     /// Output folder
     #[arg(long)]
@@ -22,6 +22,9 @@ pub struct ExperimentArgs {
     /// Window units: the behavioural model, the rust-hdl blocks, or the Verilog in Verilator
     #[arg(long, value_enum, default_value_t = HdlArg::Model)]
     pub hdl: HdlArg,
+    /// Where the real clips are (real-footage: Megamind.avi, Megamind_bugy.avi, tree.avi)
+    #[arg(long, value_name = "DIR", default_value = crate::experiments::real_footage::DEFAULT_CLIPS)]
+    pub clips: PathBuf,
     /// Also write the real-image and appearance sequences (PNG frames + groundtruth.csv)
     /// under DIR, the input of scripts/opencv_real.py
     #[arg(long, value_name = "DIR")]
@@ -41,6 +44,7 @@ pub fn write_results(args: ExperimentArgs) -> Result<(), CliError> {
     let results = OutFile::check(&args.out.join("results.md"), "--out")?;
     let mut progress = |s: &str| eprintln!("  {s}");
     let mut ctx = Context::new(&args.out, args.profile.into(), args.hdl.into(), &mut progress);
+    ctx.clips = args.clips.clone();
     let mut all = String::from("# Experiments\n\n");
     for e in chosen {
         eprintln!("experiment {}", e.name());

@@ -3,6 +3,7 @@
 use super::args;
 use super::output::{check_folder, create_folder, OutFile};
 use super::{io_error, CliError};
+use crate::experiments::{appearance, real_images};
 use crate::frames::groundtruth;
 use crate::frames::scene::{PathKind, Scene, SceneConfig};
 use std::path::{Path, PathBuf};
@@ -63,6 +64,10 @@ pub struct SceneArgs {
     /// background cool
     #[arg(long)]
     pub colour: bool,
+    /// Write one of the evaluations' sequences instead (`coopwin experiment appearance` and
+    /// `real-images`, e.g. centre-rotate, centre-combined, corner-lamp), with its ground truth
+    #[arg(long, value_name = "NAME", conflicts_with_all = ["path", "speed", "frames", "lighting", "clutter", "occlusion", "noise", "seed", "photo", "size"])]
+    pub set: Option<String>,
     /// Output folder
     #[arg(long)]
     pub out: PathBuf,
@@ -73,6 +78,16 @@ pub struct SceneArgs {
 
 /// Writes the scene the options describe and says so.
 pub fn write_scene_files(args: SceneArgs) -> Result<(), CliError> {
+    if let Some(name) = &args.set {
+        let sets: Vec<_> = appearance::conditions().into_iter().chain(real_images::conditions()).collect();
+        let Some(c) = sets.iter().find(|c| &c.name == name) else {
+            let names: Vec<&str> = sets.iter().map(|c| c.name.as_str()).collect();
+            return Err(CliError::arg(format!("--set {name}: no such sequence; the sequences are {}", names.join(", "))));
+        };
+        let n = write_scene(c.scene.clone(), &args.out, args.force, args.colour)?;
+        println!("wrote {n} frames of {name} ({} frames/s) and groundtruth.csv to {}", c.scene.fps, args.out.display());
+        return Ok(());
+    }
     let cfg = SceneConfig {
         path: match args.path {
             PathArg::Pendulum => PathKind::Pendulum,

@@ -4,8 +4,11 @@
 //! frames/s as real clips are, and scored as the real-image evaluation scores
 //! ([`super::real_images::score`]) against the renderer's exact ground truth and OpenCV's
 //! trackers (`scripts/opencv_real.py` on the same sequences).
-use super::real_images::{chart_of, run_configured, score_table, write_scores, Condition, Score, Tracked, OPENCV};
+use super::real_images::{chart_of, confidence_frames, run_configured, score_log, score_table, simulate_configured, write_scores, Condition, Score, Tracked, OPENCV};
 use super::ExperimentError;
+use crate::analysis::metrics::auroc;
+use coopwin_firmware::processors::Params;
+use std::fmt::Write as _;
 use crate::frames::scene::{Appearance, PathKind, SceneConfig};
 use crate::report::plot;
 use crate::system::{CoopPolicy, Strategy};
@@ -45,11 +48,51 @@ pub fn run(c: &Condition, frames: &mut crate::frames::prerendered::Prerendered, 
     run_configured(c, frames, Strategy::Coop, CoopPolicy::Guarded, adapt)
 }
 
-/// The evaluation: writes `appearance.csv`, a chart, and returns the markdown.
+/// A frame whose row is over this many pixels from the truth is one the confidence should flag.
+pub const BAD_PX: f64 = 2.0;
+
+/// Writes `appearance-confidence.csv` (`condition,frames,bad_frames,auroc`, and `all` for the
+/// frames of every condition together) and returns it as markdown: how well `track`'s
+/// `confidence` column (with `ok` 0 as the lowest) tells the frames over [`BAD_PX`] from the rest.
+fn confidence_table(dir: &Path, conds: &[Condition], judged: &[Vec<(f64, bool)>]) -> Result<String, ExperimentError> {
+    let all: Vec<(f64, bool)> = judged.iter().flatten().copied().collect();
+    let rows = conds.iter().map(|c| c.name.as_str()).zip(judged.iter().map(Vec::as_slice)).chain([("all", all.as_slice())]);
+    let mut csv = String::from("condition,frames,bad_frames,auroc\n");
+    let mut md = format!(
+        "\nConfidence: the area under the ROC curve of `track`'s `confidence` (rows with `ok` 0 lowest) for telling the frames \
+         whose row is over {BAD_PX} px from the truth (or has no position) from the rest; `-` where no frame is over.\n\n\
+         | condition | frames | over {BAD_PX} px | AUROC |\n|---|---|---|---|\n"
+    );
+    for (name, frames) in rows {
+        let bad = frames.iter().filter(|f| f.1).count();
+        let area = auroc(frames);
+        let _ = writeln!(csv, "{name},{},{bad},{}", frames.len(), area.map_or(String::new(), |a| format!("{a:.3}")));
+        let _ = writeln!(md, "| {name} | {} | {bad} | {} |", frames.len(), area.map_or("-".into(), |a| format!("{a:.3}")));
+    }
+    let path = dir.join("appearance-confidence.csv");
+    std::fs::write(&path, csv).map_err(|source| ExperimentError::Io { action: "write", path, source })?;
+    Ok(md)
+}
+
+/// The evaluation: writes `appearance.csv`, `appearance-confidence.csv`, a chart, and
+/// returns the markdown.
 pub fn evaluate(dir: &Path, progress: &mut dyn FnMut(&str)) -> Result<String, ExperimentError> {
     let conds = conditions();
     let labels: Vec<&str> = OURS.iter().map(|o| o.0).chain(OPENCV.iter().map(|o| o.0)).collect();
-    let table = score_table(&conds, progress, &mut |c, frames| OURS.iter().map(|&(_, adapt)| run(c, frames, adapt)).collect())?;
+    // The adapting run's frames as (confidence, over BAD_PX), per condition.
+    let mut judged: Vec<Vec<(f64, bool)>> = Vec::new();
+    let acceptance = Params::default().correlation(true).1;
+    let table = score_table(&conds, progress, &mut |c, frames| {
+        OURS.iter()
+            .map(|&(_, adapt)| {
+                let log = simulate_configured(c, frames, Strategy::Coop, CoopPolicy::Guarded, adapt)?;
+                if adapt {
+                    judged.push(confidence_frames(c, &log, &frames.truth, acceptance, BAD_PX));
+                }
+                Ok(score_log(c, &log, &frames.truth))
+            })
+            .collect()
+    })?;
     let mut md = String::from(
         "## appearance (native profile)\n\nThe object turns (+-30 degrees), scales (0.8-1.25x), tilts out of plane (+-15 degrees), \
          passes under a sweeping shadow (gain 0.6-1.3), blurs with its motion (up to 6 px a frame), is covered for 40 frames and \
@@ -60,6 +103,7 @@ pub fn evaluate(dir: &Path, progress: &mut dyn FnMut(&str)) -> Result<String, Ex
     md.push_str(&write_scores(dir, "appearance", &conds, &labels, &table)?);
     let chart = chart_of("Appearance changes: loss per condition (%)", "frames lost (%)", &conds, &labels, &table, &|s: &Score| Some(s.loss), Some((0.0, 100.0)));
     plot::write(&chart, dir, "appearance")?;
+    md.push_str(&confidence_table(dir, &conds, &judged)?);
     md.push_str("\nFiles: `appearance.csv`, `appearance.svg`, `appearance.png`. OpenCV columns come from `fixtures/opencv/real/` (`scripts/opencv_real.py`).\n");
     Ok(md)
 }

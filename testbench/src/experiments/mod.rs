@@ -11,6 +11,7 @@ pub mod fig_2_9;
 pub mod fig_3_10;
 pub mod fig_3_5;
 pub mod fig_3_7;
+pub mod real_footage;
 pub mod real_images;
 pub mod setup;
 pub mod speed_sweep;
@@ -57,6 +58,10 @@ pub enum Experiment {
     /// trackers (native profile).
     #[value(name = "appearance")]
     Appearance,
+    /// Objects in real clips (Debian's opencv-doc), against OpenCV's trackers, without ground
+    /// truth: positions, forward-backward error, agreement with CSRT.
+    #[value(name = "real-footage")]
+    RealFootage,
 }
 
 impl Experiment {
@@ -91,6 +96,7 @@ impl Experiment {
             Experiment::Table4_1 => table_4_1::reproduce,
             Experiment::RealImages => return real_images::evaluate(ctx.dir, ctx.progress),
             Experiment::Appearance => return appearance::evaluate(ctx.dir, ctx.progress),
+            Experiment::RealFootage => return real_footage::evaluate(ctx.dir, &ctx.clips, ctx.progress),
         };
         ctx.thesis_section(self.name(), body)
     }
@@ -107,6 +113,8 @@ pub struct Context<'a> {
     pub backend: UnitBackend,
     /// Progress lines (one per run).
     pub progress: &'a mut dyn FnMut(&str),
+    /// Where the real clips are (`real-footage`).
+    pub clips: PathBuf,
     /// The experiment running, naming its files.
     name: String,
 }
@@ -114,7 +122,7 @@ pub struct Context<'a> {
 impl<'a> Context<'a> {
     /// A context writing into `dir`.
     pub fn new(dir: &'a Path, profile: CostModel, backend: UnitBackend, progress: &'a mut dyn FnMut(&str)) -> Self {
-        Context { dir, profile, backend, progress, name: String::new() }
+        Context { dir, profile, backend, progress, clips: real_footage::DEFAULT_CLIPS.into(), name: String::new() }
     }
 
     /// `cfg` on this context's window units.
@@ -186,6 +194,13 @@ pub enum ExperimentError {
         /// The reason.
         source: std::io::Error,
     },
+    /// A real clip could not be decoded.
+    Clip {
+        /// The clip.
+        path: PathBuf,
+        /// Why.
+        why: String,
+    },
     /// An OpenCV fixture has a bad line.
     Fixture {
         /// The fixture.
@@ -201,7 +216,8 @@ impl std::fmt::Display for ExperimentError {
             ExperimentError::Run(e) => write!(f, "{e}"),
             ExperimentError::Plot(e) => write!(f, "{e}"),
             ExperimentError::Io { action, path, source } => write!(f, "cannot {action} {}: {source}", path.display()),
-            ExperimentError::Fixture { path, line } => write!(f, "{}: line {line}: expected frame,x,y", path.display()),
+            ExperimentError::Clip { path, why } => write!(f, "{}: {why}", path.display()),
+            ExperimentError::Fixture { path, line } => write!(f, "{}: line {line}: not a line of this fixture's columns", path.display()),
         }
     }
 }

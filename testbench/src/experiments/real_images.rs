@@ -12,9 +12,10 @@ use super::ExperimentError;
 use crate::frames::groundtruth::Truth;
 use crate::frames::prerendered::Prerendered;
 use crate::frames::scene::{PathKind, SceneConfig};
+use crate::report::csv;
 use crate::report::plot::{self, Chart, Series};
 use crate::system::cost::CostModel;
-use crate::system::{self, CoopPolicy, SimError, Strategy, SystemConfig};
+use crate::system::{self, CoopPolicy, RunLog, SimError, Strategy, SystemConfig};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -163,15 +164,48 @@ pub fn run_ours(c: &Condition, frames: &mut Prerendered, strategy: Strategy, pol
 /// [`run_ours`], with the Foveal template adapting to the object's appearance when `adapt`
 /// ([`coopwin_firmware::processors::Params::adapt`]).
 pub fn run_configured(c: &Condition, frames: &mut Prerendered, strategy: Strategy, policy: CoopPolicy, adapt: bool) -> Result<Score, SimError> {
+    let log = simulate_configured(c, frames, strategy, policy, adapt)?;
+    Ok(score_log(c, &log, &frames.truth))
+}
+
+/// The run of [`run_configured`], as its log.
+pub fn simulate_configured(c: &Condition, frames: &mut Prerendered, strategy: Strategy, policy: CoopPolicy, adapt: bool) -> Result<RunLog, SimError> {
     let target = frames.truth.first().map(|t| c.tracked.of(t));
     let mut cfg = SystemConfig { policy, ..SystemConfig::thesis(strategy, CostModel::NATIVE, target) };
     if adapt {
         cfg.params = cfg.params.adaptive();
     }
-    let log = system::simulate(&cfg, frames, &mut |_| {})?;
-    let positions: Vec<_> =
-        log.frames.iter().map(|r| r.point.zip(r.measured_frame).map(|(p, m)| (m, p))).collect();
-    Ok(score(&positions, &frames.truth, c.tracked))
+    system::simulate(&cfg, frames, &mut |_| {})
+}
+
+/// A run's [`Score`] on condition `c`.
+pub fn score_log(c: &Condition, log: &RunLog, truth: &[Truth]) -> Score {
+    let positions: Vec<_> = log.frames.iter().map(|r| r.point.zip(r.measured_frame).map(|(p, m)| (m, p))).collect();
+    score(&positions, truth, c.tracked)
+}
+
+/// Each visible frame of a run as `(confidence, bad)` for [`crate::analysis::metrics::auroc`]:
+/// the confidence is the CSV's (`track`'s `confidence` column, [`csv::confidence`] of NCC's
+/// score with acceptance level `acceptance`, or [`csv::CD_CONFIDENCE`]) for a row with `ok`
+/// 1, and -1 for every other row (predicted, searching, lost: not trusted); the frame is bad
+/// when the row's position (the measurement, or else the prediction or last position it
+/// carries) is over `bad_px` from the truth, or it has none.
+pub fn confidence_frames(c: &Condition, log: &RunLog, truth: &[Truth], acceptance: f32, bad_px: f64) -> Vec<(f64, bool)> {
+    let err = |p: (f64, f64), k: usize| truth.get(k).map(|t| (p.0 - c.tracked.of(t).0).hypot(p.1 - c.tracked.of(t).1));
+    log.frames
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| truth.get(*k).is_some_and(|t| t.visible))
+        .map(|(k, r)| {
+            let fresh = r.point.zip(r.measured_frame).filter(|(_, m)| *m <= k && k - m <= MAX_AGE);
+            let (e, confidence) = match (fresh, r.score) {
+                (Some((p, m)), Some(s)) => (err(p, m), csv::confidence(s, acceptance)),
+                (Some((p, m)), None) => (err(p, m), csv::CD_CONFIDENCE),
+                (None, _) => (r.point.or(r.estimate).and_then(|p| err(p, k)), -1.0),
+            };
+            (confidence, e.is_none_or(|e| e > bad_px))
+        })
+        .collect()
 }
 
 /// Reads an OpenCV fixture (`frame,x,y`, empty x,y for no position) and scores it, or `None`

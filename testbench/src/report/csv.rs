@@ -20,7 +20,7 @@ pub struct CsvBox {
 pub const CD_CONFIDENCE: f64 = 0.5;
 
 /// The header of [`write_track_csv`].
-pub const TRACK_HEADER: &str = "frame,x,y,mode,source,measured_frame,file,box_x,box_y,box_w,box_h,confidence,ok,time_s,damaged,state";
+pub const TRACK_HEADER: &str = "frame,x,y,mode,source,measured_frame,file,box_x,box_y,box_w,box_h,confidence,ok,time_s,damaged,state,scale,angle_deg";
 
 /// What the CSV says of each frame beyond the run's record: its file name, its time and
 /// whether the decoder damaged it.
@@ -54,7 +54,9 @@ pub fn write_track_csv(out: &mut dyn std::io::Write, frames: &[FrameRecord], inf
 /// match, 1; [`CD_CONFIDENCE`] for the corner detector alone), `ok`: 1 when the frame has a
 /// position measured at most [`MAX_AGE`] frames before, else 0; the frame's time in seconds
 /// (empty when the video gives the frame no timestamp) and `damaged` (1 for a frame the
-/// decoder reported damaged); and the `state` (`tracking`, `predicted`, `searching`, `lost`).
+/// decoder reported damaged); the `state` (`tracking`, `predicted`, `searching`, `lost`);
+/// and where an adapting track measured it, the object's `scale` against lock-on and its
+/// turn `angle_deg` (clockwise on the screen), the box then scaled with it.
 /// Without a measured position the row gives the estimate (a coasting track's prediction, or
 /// the last position while the target is searched for or lost) with `ok` 0; fields with
 /// neither are empty.
@@ -63,9 +65,17 @@ pub fn track_row(r: &FrameRecord, info: FrameInfo, shape: CsvBox) -> String {
     let shown = r.point.or(r.estimate);
     let (x, y) = shown.map(|(x, y)| (format!("{x:.3}"), format!("{y:.3}"))).unwrap_or_default();
     let file = info.files.and_then(|f| f.get(r.frame)).map(|n| csv_field(n)).unwrap_or_default();
+    let measured = r.point.and(r.shape);
     let boxed = shown
-        .map(|(x, y)| format!("{:.3},{:.3},{bw},{bh}", x - (bw as f64 - 1.0) / 2.0, y - (bh as f64 - 1.0) / 2.0))
+        .map(|(x, y)| match measured {
+            Some(s) => {
+                let (w, h) = (bw as f64 * f64::from(s.scale), bh as f64 * f64::from(s.scale));
+                format!("{:.3},{:.3},{w:.3},{h:.3}", x - (w - 1.0) / 2.0, y - (h - 1.0) / 2.0)
+            }
+            None => format!("{:.3},{:.3},{bw},{bh}", x - (bw as f64 - 1.0) / 2.0, y - (bh as f64 - 1.0) / 2.0),
+        })
         .unwrap_or_else(|| ",,,".into());
+    let shaped = measured.map_or(",".into(), |s| format!("{:.4},{:.2}", s.scale, s.angle_deg));
     let confidence = match (r.point, r.score) {
         (None, _) => String::new(),
         (Some(_), Some(v)) => format!("{:.3}", confidence(v, shape.acceptance)),
@@ -79,7 +89,7 @@ pub fn track_row(r: &FrameRecord, info: FrameInfo, shape: CsvBox) -> String {
     let time = if time.is_finite() { format!("{time:.6}") } else { String::new() };
     let damaged = info.damaged.and_then(|d| d.get(r.frame)).copied().unwrap_or(false);
     format!(
-        "{},{x},{y},{},{},{},{file},{boxed},{confidence},{},{time},{},{}",
+        "{},{x},{y},{},{},{},{file},{boxed},{confidence},{},{time},{},{},{shaped}",
         r.frame,
         mode_name(r.mode),
         r.source.map(algo_name).unwrap_or("none"),

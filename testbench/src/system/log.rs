@@ -4,7 +4,7 @@ use super::roster::Roster;
 use super::SimError;
 use crate::units::RequestRefused;
 use coopwin_firmware::ports::position::{FramedPositionSink, PositionSink, PositionUpdate};
-use coopwin_firmware::types::{Point, Source, WindowRequest};
+use coopwin_firmware::types::{Point, Shape, Source, WindowRequest};
 use coopwin_firmware::processors::{Mode, Msg, Step};
 use std::collections::VecDeque;
 
@@ -23,6 +23,8 @@ pub struct FrameRecord {
     pub source: Option<Source>,
     /// The NCC score behind `point`, when NCC measured it.
     pub score: Option<f32>,
+    /// The object's turn and scale behind `point`, when an adapting track measured them.
+    pub shape: Option<Shape>,
     /// What the track is doing at the end of the frame period.
     pub state: TrackState,
     /// Without a current `point`: where the target is expected (a coasting track's prediction)
@@ -69,6 +71,8 @@ pub struct Report {
     pub algo: Source,
     /// The NCC score behind the point, when NCC measured it.
     pub score: Option<f32>,
+    /// The object's turn and scale, when an adapting track measured them.
+    pub shape: Option<Shape>,
 }
 
 /// What a processor of the run does (thesis 2.3), for drawing its windows.
@@ -159,7 +163,7 @@ impl Recorder {
             }
         }
         if let Some((point, algo)) = step.report {
-            let r = Report { t, frame, point, algo, score: step.score };
+            let r = Report { t, frame, point, algo, score: step.score, shape: step.shape };
             self.emit(&r)?;
             self.log.reports.push(r);
             self.last = Some(r);
@@ -199,6 +203,7 @@ impl Recorder {
             mode,
             source: tracked.map(|r| r.algo),
             score: tracked.and_then(|r| r.score),
+            shape: tracked.and_then(|r| r.shape),
             state,
             estimate: estimate.map(xy),
         });

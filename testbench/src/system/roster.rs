@@ -188,7 +188,7 @@ impl<'b> Roster<'b> {
             (Processor::Spmf(s), t) => s.start(t),
             (Processor::Peripheral(pp), Some(t)) => pp.start_at(t),
             (Processor::Foveal(f), Some(t)) if Some(p) == foveal => f.start_at(t),
-            _ => Step { work: Work::None, request: None, sends: Default::default(), report: None, score: None, lost: None },
+            _ => Step::new(Work::None),
         }
     }
 

@@ -1,0 +1,342 @@
+//! Lucas-Kanade alignment of a template under a similarity warp (beyond the thesis, issue
+//! 21): where the object turns or scales, the point found by translation alone is biased
+//! (a turned patch's best shifted match is not where its centre is), and the template's
+//! angle and scale are what a user wants reported.
+//!
+//! The warp maps a template pixel `(u, v)`, taken from the template's centre, to the window
+//! position `W(u, v) = (x + a u - b v, y + b u + a v)`: a turn by `atan2(b, a)` and a scale
+//! by `sqrt(a² + b²)` about the centre, which lands on `(x, y)`. The alignment is the
+//! inverse compositional algorithm (Baker & Matthews, 2004), with the template's side
+//! prepared once ([`LkTemplate`]: its interior pixels and their gradients `g`):
+//!
+//! - the steepest-descent images `s = (gx u + gy v, gy u - gx v, gx, gy)` (the gradient
+//!   times the warp's Jacobian at the identity);
+//! - each iteration samples the window bilinearly at `W(u, v)` for every interior pixel
+//!   whose sample falls inside it, normalises the samples to the template's mean and
+//!   deviation over those pixels (`Ŵ = (W - mean W) σ_T / σ_W + mean T`, as NCC is blind to
+//!   gain and offset), solves `H Δ = Σ s (Ŵ - T)` with `H = Σ s sᵀ` over the same pixels,
+//!   and composes the warp with the inverse of `Δ`'s: with `z = a + i b` and `t = x + i y`,
+//!   `z ← z / (1 + Δ₀ + i Δ₁)` and `t ← t - z (Δ₂ + i Δ₃)`;
+//! - it stops when the step moves no template pixel by more than [`CONVERGED`] px.
+//!
+//! Pixels that fall outside the window are left out of every sum (so the window need not
+//! hold the turned or grown template whole), and at least [`MIN_INSIDE`] of them must be
+//! in. Arithmetic is `f32`; no allocation, no panic.
+use crate::kernels::fmath::sqrtf;
+use crate::kernels::refine::LkTemplate;
+use crate::kernels::view::WindowView;
+
+/// Iterations at most.
+const ITERATIONS: usize = 10;
+/// A step that moves no template pixel by more than this many pixels ends the iteration.
+pub const CONVERGED: f32 = 0.01;
+/// Fraction of the template's interior pixels that must sample inside the window.
+pub const MIN_INSIDE: f32 = 0.7;
+/// Farthest the template's centre may walk from the start before the alignment is refused
+/// (the start is a match of the translated template: a longer walk is a divergence).
+pub const MAX_WALK: f32 = 3.0;
+/// Scales outside `1/MAX_SCALE ..= MAX_SCALE` are refused as divergence.
+pub const MAX_SCALE: f32 = 2.0;
+
+/// A similarity pose of a template in a window: its centre at `(x, y)` (window pixels) and
+/// `(a, b) = scale (cos angle, sin angle)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pose {
+    /// Window column of the template's centre.
+    pub x: f32,
+    /// Window row of the template's centre.
+    pub y: f32,
+    /// `scale cos(angle)`.
+    pub a: f32,
+    /// `scale sin(angle)`.
+    pub b: f32,
+}
+
+impl Pose {
+    /// The template's centre at `(x, y)`, turned by `angle` radians and scaled by `scale`.
+    pub fn new(x: f32, y: f32, scale: f32, angle: f32) -> Pose {
+        Pose { x, y, a: scale * libm::cosf(angle), b: scale * libm::sinf(angle) }
+    }
+
+    /// The scale: a side of the template spans `scale` times its pixels in the window.
+    pub fn scale(&self) -> f32 {
+        sqrtf(self.a * self.a + self.b * self.b)
+    }
+
+    /// The angle, radians, counter-clockwise on the screen being clockwise (rows grow down).
+    pub fn angle(&self) -> f32 {
+        libm::atan2f(self.b, self.a)
+    }
+
+    /// Where template offset `(u, v)` from the centre lands.
+    pub fn map(&self, u: f32, v: f32) -> (f32, f32) {
+        (self.x + self.a * u - self.b * v, self.y + self.b * u + self.a * v)
+    }
+}
+
+/// What an alignment found: the pose, and the zero-mean NCC of the template with the window
+/// sampled at it (over the pixels inside the window).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aligned {
+    /// The pose.
+    pub pose: Pose,
+    /// Zero-mean NCC at the pose before its last (sub-[`CONVERGED`]) step.
+    pub score: f32,
+}
+
+/// The sums of one iteration over the interior pixels sampled inside the window, offsets
+/// subtracted (window samples and template values less the template's mean: small sums).
+#[derive(Default)]
+struct Sums {
+    m: f32,
+    w: f32,
+    ww: f32,
+    t: f32,
+    tt: f32,
+    wt: f32,
+    /// `Σ s W`, `Σ s`, `Σ s T` for each steepest-descent image.
+    sw: [f32; 4],
+    s: [f32; 4],
+    st: [f32; 4],
+    /// `H`, upper triangle row by row.
+    h: [f32; 10],
+}
+
+impl Sums {
+    fn add(&mut self, w: f32, t: f32, s: [f32; 4]) {
+        self.m += 1.0;
+        self.w += w;
+        self.ww += w * w;
+        self.t += t;
+        self.tt += t * t;
+        self.wt += w * t;
+        let mut k = 0;
+        for i in 0..4 {
+            self.sw[i] += s[i] * w;
+            self.s[i] += s[i];
+            self.st[i] += s[i] * t;
+            for j in i..4 {
+                self.h[k] += s[i] * s[j];
+                k += 1;
+            }
+        }
+    }
+}
+
+/// `v` sampled bilinearly at `(x, y)` of `win` (`data` from its top-left, row pitch
+/// `stride`), or `None` outside `[0, w - 1] x [0, h - 1]`.
+fn bilinear(data: &[u8], stride: usize, w: usize, h: usize, x: f32, y: f32) -> Option<f32> {
+    if !(x >= 0.0 && y >= 0.0 && x <= (w - 1) as f32 && y <= (h - 1) as f32) {
+        return None;
+    }
+    let (fx, fy) = (libm::floorf(x), libm::floorf(y));
+    let (ax, ay) = (x - fx, y - fy);
+    let (x0, y0) = (fx as usize, fy as usize);
+    // On the last column or row the weight of the next is zero: read the same one.
+    let (x1, y1) = ((x0 + 1).min(w - 1), (y0 + 1).min(h - 1));
+    let p = |x: usize, y: usize| data.get(y * stride + x).map(|&v| f32::from(v));
+    let top = p(x0, y0)? + ax * (p(x1, y0)? - p(x0, y0)?);
+    let bottom = p(x0, y1)? + ax * (p(x1, y1)? - p(x0, y1)?);
+    Some(top + ay * (bottom - top))
+}
+
+/// The solution of `H d = b` for the symmetric positive definite `H` (upper triangle row by
+/// row), by Cholesky; `None` when `H` is not (the template lacks texture for some motion).
+fn solve4(h: &[f32; 10], b: [f32; 4]) -> Option<[f32; 4]> {
+    let mut full = [[0.0f32; 4]; 4];
+    let mut k = 0;
+    for i in 0..4 {
+        for j in i..4 {
+            full[i][j] = h[k];
+            full[j][i] = h[k];
+            k += 1;
+        }
+    }
+    let mut l = [[0.0f32; 4]; 4];
+    for i in 0..4 {
+        for j in 0..=i {
+            let sum = full[i][j] - (0..j).map(|k| l[i][k] * l[j][k]).sum::<f32>();
+            if i == j {
+                // Relative to the diagonal, as the images' scales differ by the template's size.
+                if !(sum > 1e-6 * full[i][i]) {
+                    return None;
+                }
+                l[i][i] = sqrtf(sum);
+            } else {
+                l[i][j] = sum / l[j][j];
+            }
+        }
+    }
+    let mut y = [0.0f32; 4];
+    for i in 0..4 {
+        y[i] = (b[i] - (0..i).map(|k| l[i][k] * y[k]).sum::<f32>()) / l[i][i];
+    }
+    let mut d = [0.0f32; 4];
+    for i in (0..4).rev() {
+        d[i] = (y[i] - (i + 1..4).map(|k| l[k][i] * d[k]).sum::<f32>()) / l[i][i];
+    }
+    d.iter().all(|v| v.is_finite()).then_some(d)
+}
+
+impl LkTemplate {
+    /// The similarity pose of the prepared template in `win` (a full-resolution view),
+    /// starting from `start`; `None` when nothing is prepared, the window is not full
+    /// resolution, fewer than [`MIN_INSIDE`] of the pixels sample inside it, the window is
+    /// flat there, `H` is singular, or the iteration walks over [`MAX_WALK`] px or out of
+    /// the scales [`MAX_SCALE`] allows.
+    pub fn align_similarity(&self, win: &WindowView<'_>, start: Pose) -> Option<Aligned> {
+        let (data, stride) = win.raw()?;
+        let (w, h) = (win.width(), win.height());
+        let (iw, used, tg, t_mean) = self.interior()?;
+        if w == 0 || h == 0 || ![start.x, start.y, start.a, start.b].iter().all(|v| v.is_finite()) {
+            return None;
+        }
+        // The template's centre, in interior pixels: the template is `iw + 2` a side.
+        let c = (iw as f32 - 1.0) / 2.0;
+        let reach = sqrtf(2.0) * (c + 1.0);
+        let need = MIN_INSIDE * tg.len() as f32;
+        let mut pose = start;
+        let mut score = 0.0;
+        for _ in 0..ITERATIONS {
+            let mut sums = Sums::default();
+            let mut k = 0;
+            for (j, &bits) in used.iter().enumerate() {
+                let v = j as f32 - c;
+                for i in 0..iw {
+                    if bits >> i & 1 == 0 {
+                        continue;
+                    }
+                    let [t, gx, gy] = *tg.get(k)?;
+                    k += 1;
+                    let u = i as f32 - c;
+                    let (x, y) = pose.map(u, v);
+                    if let Some(s) = bilinear(data, stride, w, h, x, y) {
+                        sums.add(s - t_mean, t - t_mean, [gx * u + gy * v, gy * u - gx * v, gx, gy]);
+                    }
+                }
+            }
+            if sums.m < need {
+                return None;
+            }
+            let (w_mean, t_mean_in) = (sums.w / sums.m, sums.t / sums.m);
+            let (var_w, var_t) = (sums.ww - sums.w * w_mean, sums.tt - sums.t * t_mean_in);
+            if !(var_w > 1e-5 * sums.ww && var_t > 0.0) {
+                return None;
+            }
+            score = (sums.wt - sums.w * t_mean_in) / sqrtf(var_w * var_t);
+            let gain = sqrtf(var_t / var_w);
+            let b = core::array::from_fn(|i| gain * (sums.sw[i] - w_mean * sums.s[i]) + t_mean_in * sums.s[i] - sums.st[i]);
+            let d = solve4(&sums.h, b)?;
+            // Compose with the inverse of the step's warp (complex arithmetic).
+            let (ra, rb) = (1.0 + d[0], d[1]);
+            let norm = ra * ra + rb * rb;
+            let (a, bb) = ((pose.a * ra + pose.b * rb) / norm, (pose.b * ra - pose.a * rb) / norm);
+            let next = Pose { x: pose.x - (a * d[2] - bb * d[3]), y: pose.y - (bb * d[2] + a * d[3]), a, b: bb };
+            // The step moves a template pixel by at most its centre's move plus the reach
+            // times the change of (a, b).
+            let moved = sqrtf((next.x - pose.x) * (next.x - pose.x) + (next.y - pose.y) * (next.y - pose.y))
+                + reach * sqrtf((a - pose.a) * (a - pose.a) + (bb - pose.b) * (bb - pose.b));
+            pose = next;
+            let walk = sqrtf((pose.x - start.x) * (pose.x - start.x) + (pose.y - start.y) * (pose.y - start.y));
+            let scale = pose.scale();
+            if !(walk <= MAX_WALK && scale <= MAX_SCALE && scale >= 1.0 / MAX_SCALE) {
+                return None;
+            }
+            if moved < CONVERGED {
+                break;
+            }
+        }
+        Some(Aligned { pose, score })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::vec::Vec;
+
+    /// A smooth texture with detail in both directions, sampled at any real point.
+    fn texture(x: f32, y: f32) -> f32 {
+        let (x, y) = (f64::from(x), f64::from(y));
+        (120.0 + 40.0 * (0.45 * x).sin() * (0.3 * y).cos() + 30.0 * (0.21 * x + 0.37 * y).sin()) as f32
+    }
+
+    /// A `w x h` window showing the texture turned by `angle` and scaled by `scale` about
+    /// texture point (0, 0), which lands at `(cx, cy)`: window pixel `p` shows the texture at
+    /// `R(-angle) (p - c) / scale`.
+    fn render(w: usize, h: usize, cx: f32, cy: f32, scale: f32, angle: f32) -> Vec<u8> {
+        let (cs, sn) = (libm::cosf(angle), libm::sinf(angle));
+        (0..w * h)
+            .map(|k| {
+                let (dx, dy) = ((k % w) as f32 - cx, (k / w) as f32 - cy);
+                let (u, v) = ((cs * dx + sn * dy) / scale, (-sn * dx + cs * dy) / scale);
+                libm::roundf(texture(u, v)) as u8
+            })
+            .collect()
+    }
+
+    fn prepared(tpl: &[u8], n: usize) -> LkTemplate {
+        let mut lk = LkTemplate::new();
+        assert!(lk.prepare(&WindowView::packed(tpl, n, n).unwrap(), None));
+        lk
+    }
+
+    #[test]
+    fn recovers_a_known_turn_scale_and_shift() {
+        // Independent reference: the pose the window was rendered with. The 20x20 template
+        // is the texture with its centre (9.5, 9.5) on texture point (0, 0); the window shows
+        // it turned by 25 degrees, scaled by 1.2, centred at (17.3, 16.6).
+        let tpl = render(20, 20, 9.5, 9.5, 1.0, 0.0);
+        let lk = prepared(&tpl, 20);
+        let (angle, scale) = (25f32.to_radians(), 1.2);
+        let px = render(36, 36, 17.3, 16.6, scale, angle);
+        let win = WindowView::packed(&px, 36, 36).unwrap();
+        // Started as a translation-only tracker leaves it: 1 px off, no turn, no scale.
+        let found = lk.align_similarity(&win, Pose::new(16.5, 17.2, 1.0, 0.0)).expect("converges");
+        let p = found.pose;
+        assert!((p.x - 17.3).abs() < 0.03 && (p.y - 16.6).abs() < 0.03, "{p:?}");
+        assert!((p.angle() - angle).abs() < 0.3f32.to_radians(), "{}", p.angle().to_degrees());
+        assert!((p.scale() - scale).abs() < 0.005, "{}", p.scale());
+        assert!(found.score > 0.99, "{}", found.score);
+    }
+
+    #[test]
+    fn a_template_partly_outside_the_window_still_aligns_on_what_is_inside() {
+        // The turned 20x20 template spans 27 px; the window is 24: its corners fall outside.
+        let tpl = render(20, 20, 9.5, 9.5, 1.0, 0.0);
+        let lk = prepared(&tpl, 20);
+        let angle = -20f32.to_radians();
+        let px = render(24, 24, 11.8, 11.2, 1.0, angle);
+        let win = WindowView::packed(&px, 24, 24).unwrap();
+        let p = lk.align_similarity(&win, Pose::new(11.5, 11.5, 1.0, 0.0)).expect("converges").pose;
+        assert!((p.x - 11.8).abs() < 0.03 && (p.y - 11.2).abs() < 0.03, "{p:?}");
+        assert!((p.angle() - angle).abs() < 0.3f32.to_radians(), "{}", p.angle().to_degrees());
+    }
+
+    #[test]
+    fn refuses_a_flat_window_a_template_mostly_outside_and_a_bad_start() {
+        let tpl = render(20, 20, 9.5, 9.5, 1.0, 0.0);
+        let lk = prepared(&tpl, 20);
+        let flat = [90u8; 36 * 36];
+        let win = WindowView::packed(&flat, 36, 36).unwrap();
+        assert_eq!(lk.align_similarity(&win, Pose::new(17.0, 17.0, 1.0, 0.0)), None);
+        let px = render(36, 36, 17.0, 17.0, 1.0, 0.0);
+        let win = WindowView::packed(&px, 36, 36).unwrap();
+        // Centred on the window's corner: a quarter of the pixels inside.
+        assert_eq!(lk.align_similarity(&win, Pose::new(0.0, 0.0, 1.0, 0.0)), None);
+        assert_eq!(lk.align_similarity(&win, Pose::new(f32::NAN, 17.0, 1.0, 0.0)), None);
+        assert_eq!(LkTemplate::new().align_similarity(&win, Pose::new(17.0, 17.0, 1.0, 0.0)), None);
+    }
+
+    #[test]
+    fn solves_a_hand_made_system() {
+        // H = diag(4, 9, 1, 16) + 1 in (0, 1): by hand, d = (1, 2, 3, 0.25) gives
+        // b = (4 + 2, 1 + 18, 3, 4).
+        let h = [4.0, 1.0, 0.0, 0.0, 9.0, 0.0, 0.0, 1.0, 0.0, 16.0];
+        let d = solve4(&h, [6.0, 19.0, 3.0, 4.0]).unwrap();
+        for (got, want) in d.iter().zip([1.0, 2.0, 3.0, 0.25]) {
+            assert!((got - want).abs() < 1e-5, "{d:?}");
+        }
+        assert_eq!(solve4(&[1.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 1.0], [1.0; 4]), None);
+    }
+}
