@@ -31,7 +31,7 @@ centre. No forward position at `last`: no backward run.
 
 Output (in --out): <clip>-<object>.<tracker>.csv (frame,x,y,back_x,back_y:
 forward and backward centres, 3 decimals, empty when none), summary.csv and
-README.md. Scores per object and tracker (no ground truth): positions = frames
+README.md; damage.csv compares Megamind_bugy's frames with Megamind's. Scores per object and tracker (no ground truth): positions = frames
 with a forward position; fb_first_px = distance between the start centre and
 the backward run's centre at `first`; fb_mean_px = mean distance between the
 forward and backward centres over frames where both exist; agreement with CSRT
@@ -162,6 +162,19 @@ def motion(frames: list[np.ndarray], centres: list[Point | None], w: int, h: int
     return best
 
 
+def damage(clean: list[np.ndarray], bugy: list[np.ndarray]) -> list[tuple]:
+    """Per frame of Megamind_bugy: mean |difference| from Megamind's same frame (gray levels),
+    % of pixels differing by more than 30, and which of Megamind's frames i-1, i, i+1 is
+    nearest (so a repeated or shifted frame shows)."""
+    rows = []
+    for i, b in enumerate(bugy):
+        near = [(float(np.abs(b.astype(np.int16) - clean[j].astype(np.int16)).mean()), j)
+                for j in (i - 1, i, i + 1) if 0 <= j < len(clean)]
+        d = np.abs(b.astype(np.int16) - clean[i].astype(np.int16))
+        rows.append((i, float(d.mean()), 100.0 * float((d > 30).mean()), min(near)[1]))
+    return rows
+
+
 def dist(p: Point, q: Point) -> float:
     return math.hypot(p[0] - q[0], p[1] - q[1])
 
@@ -202,6 +215,11 @@ Python {py_version}; `cv2.setNumThreads(1)`.
   decimals, empty where the run reports none. A box's centre is
   `(x + (w-1)/2, y + (h-1)/2)`; pixel centres are at integer coordinates, (0,0) is the
   centre of the top-left pixel.
+* `damage.csv` (when both Megamind clips are tracked): `frame,mean_abs_diff,changed_pct,nearest_clean_frame`,
+  every frame of `Megamind_bugy.avi` against `Megamind.avi`'s same frame (gray): mean
+  absolute difference, % of pixels differing by more than 30 levels, and which of
+  `Megamind.avi`'s frames i-1, i, i+1 is nearest. Undamaged frames differ by about 1.2
+  levels (re-encoding); damaged ones stand out (`fixtures/footage/README.md`).
 * `summary.csv`: `clip,object,tracker,frames,positions,back_positions,fb_first_px,fb_mean_px,csrt_frames,csrt_mean_px,csrt_within5_pct`.
 
 ## Method
@@ -313,6 +331,12 @@ def main() -> int:
             summary.append(row)
             line.append(f"{tr} {row[4]}/{row[3]} fb {fmt(row[6])}")
         print(f"{clip}-{name} ({a}..{b}): " + "; ".join(line), flush=True)
+
+    if "Megamind" in clips and "Megamind_bugy" in clips and len(clips["Megamind"]) == len(clips["Megamind_bugy"]):
+        with open(out / "damage.csv", "w", newline="") as f:
+            f.write("frame,mean_abs_diff,changed_pct,nearest_clean_frame\n")
+            for i, m, c, j in damage(clips["Megamind"], clips["Megamind_bugy"]):
+                f.write(f"{i},{m:.2f},{c:.2f},{j}\n")
 
     def cells(r):
         return [str(r[0]), r[1], r[2], str(r[3]), str(r[4]), str(r[5]), fmt(r[6]), fmt(r[7]),
