@@ -22,7 +22,7 @@ centre. No forward position at `last`: no backward run.
   match  cv2.matchTemplate(TM_CCOEFF_NORMED) of the start frame's w x h
          template over a window of +-SEARCH[clip] px around the last box
          (clipped to the image), peak refined by a 1-D parabola in x and in y
-         (opencv_real.parabola); best score < 0.5: no position that frame and
+         (opencv_real.track_template); best score < 0.5: no position that frame and
          the next search stays around the last known box.
   csrt   cv2.TrackerCSRT_create(), default parameters.
   kcf    cv2.TrackerKCF_create(), default parameters.
@@ -53,7 +53,7 @@ import cv2
 import numpy as np
 
 # Shared with the rendered real-image baselines (same folder as this script).
-from opencv_real import MIN_SCORE, LOSS_PX, factory, parabola, round_half_up
+from opencv_real import LOSS_PX, MIN_SCORE, factory, round_half_up, track_cv, track_template
 
 REPO = Path(__file__).resolve().parent.parent
 DATA = Path("/usr/share/doc/opencv-doc/examples/data")
@@ -67,13 +67,6 @@ MOTION_REACH = 48
 MOTION_SCORE = 0.8
 
 Point = tuple[float, float]
-
-
-def create(name: str):
-    """The OpenCV tracker factory and its name; MOSSE only exists in cv2.legacy."""
-    if name == "mosse":
-        return cv2.legacy.TrackerMOSSE_create, "cv2.legacy.TrackerMOSSE_create"
-    return factory(name)
 
 
 def read_clip(path: Path) -> list[np.ndarray]:
@@ -90,44 +83,6 @@ def read_clip(path: Path) -> list[np.ndarray]:
     return frames
 
 
-def run_match(frames: list[np.ndarray], box: tuple[int, int, int, int], search: int) -> list[Point | None]:
-    """Top-left of the fixed template's best placement in every frame (frames[0] is the start)."""
-    x, y, w, h = box
-    tpl = frames[0][y:y + h, x:x + w].astype(np.float32)
-    out: list[Point | None] = [(float(x), float(y))]
-    last = (float(x), float(y))
-    for img in frames[1:]:
-        H, W = img.shape
-        lx, ly = round_half_up(last[0]), round_half_up(last[1])
-        x0, y0 = max(0, lx - search), max(0, ly - search)
-        x1, y1 = min(W, lx + w + search), min(H, ly + h + search)
-        if x1 - x0 < w or y1 - y0 < h:
-            out.append(None)
-            continue
-        res = cv2.matchTemplate(img[y0:y1, x0:x1].astype(np.float32), tpl, cv2.TM_CCOEFF_NORMED)
-        _, score, _, (px, py) = cv2.minMaxLoc(res)
-        if not np.isfinite(score) or score < MIN_SCORE:
-            out.append(None)
-            continue
-        dx = parabola(res[py, px - 1], res[py, px], res[py, px + 1]) if 0 < px < res.shape[1] - 1 else 0.0
-        dy = parabola(res[py - 1, px], res[py, px], res[py + 1, px]) if 0 < py < res.shape[0] - 1 else 0.0
-        last = (x0 + px + dx, y0 + py + dy)
-        out.append(last)
-    return out
-
-
-def run_cv(name: str, frames: list[np.ndarray], box: tuple[int, int, int, int]) -> list[Point | None]:
-    """Top-left of the OpenCV tracker's box in every frame (frames[0] is the start)."""
-    tracker = create(name)[0]()
-    bgr = lambda g: cv2.cvtColor(g, cv2.COLOR_GRAY2BGR)
-    tracker.init(bgr(frames[0]), tuple(int(v) for v in box))
-    out: list[Point | None] = [(float(box[0]), float(box[1]))]
-    for img in frames[1:]:
-        ok, b = tracker.update(bgr(img))
-        out.append((float(b[0]), float(b[1])) if ok else None)
-    return out
-
-
 def track(name: str, frames: list[np.ndarray], start: Point, w: int, h: int, search: int) -> list[Point | None]:
     """Centres from a run over frames that starts on frames[0] at the centre `start`.
 
@@ -136,7 +91,11 @@ def track(name: str, frames: list[np.ndarray], start: Point, w: int, h: int, sea
     bx, by = round_half_up(start[0] - (w - 1) / 2), round_half_up(start[1] - (h - 1) / 2)
     off = (start[0] - bx, start[1] - by)
     box = (bx, by, w, h)
-    tops = run_match(frames, box, search) if name == "match" else run_cv(name, frames, box)
+    if name == "match":
+        tpl = frames[0][by:by + h, bx:bx + w].astype(np.float32)
+        tops = track_template((f.astype(np.float32) for f in frames[1:]), tpl, (bx, by), search)
+    else:
+        tops = track_cv(factory(name)[0](), frames, box)
     return [None if t is None else (t[0] + off[0], t[1] + off[1]) for t in tops]
 
 
@@ -357,12 +316,12 @@ def main() -> int:
     (out / "README.md").write_text(README.format(
         data=data, command="python3 scripts/opencv_footage.py" + "".join(opts),
         cv_version=cv2.__version__, np_version=np.__version__, py_version=sys.version.split()[0],
-        factories=", ".join(create(t)[1] for t in TRACKERS[1:]),
+        factories=", ".join(factory(t)[1] for t in TRACKERS[1:]),
         min_score=MIN_SCORE,
         search=", ".join(f"{c} {m} px" for c, m in SEARCH.items()),
         steps=", ".join(f"{c} {s:.1f} px" for c, s in steps.items()),
         reach=MOTION_REACH, mscore=MOTION_SCORE,
-        csrt=create("csrt")[1], kcf=create("kcf")[1], mosse=create("mosse")[1], loss_px=LOSS_PX,
+        csrt=factory("csrt")[1], kcf=factory("kcf")[1], mosse=factory("mosse")[1], loss_px=LOSS_PX,
         table="\n".join(rows)))
     print(f"wrote {len(summary)} tracker CSVs, summary.csv and README.md to {out} in {time.monotonic() - t0:.0f} s")
     return 0
