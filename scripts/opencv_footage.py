@@ -31,8 +31,9 @@ centre. No forward position at `last`: no backward run.
 
 Output (in --out): <clip>-<object>.<tracker>.csv (frame,x,y,back_x,back_y:
 forward and backward centres, 3 decimals, empty when none), summary.csv and
-README.md; damage.csv compares Megamind_bugy's frames with Megamind's. Scores per object and tracker (no ground truth): positions = frames
-with a forward position; fb_first_px = distance between the start centre and
+README.md; damage.csv compares Megamind_bugy's frames with Megamind's.
+Scores per object and tracker (no ground truth): positions = frames with a
+forward position; fb_first_px = distance between the start centre and
 the backward run's centre at `first`; fb_mean_px = mean distance between the
 forward and backward centres over frames where both exist; agreement with CSRT
 = mean distance to CSRT's forward centre and % of frames within 5 px of it,
@@ -70,6 +71,7 @@ Point = tuple[float, float]
 
 
 def read_clip(path: Path) -> list[np.ndarray]:
+    """Every decodable frame of the clip, converted to 8-bit gray."""
     cap = cv2.VideoCapture(str(path))
     if not cap.isOpened():
         raise RuntimeError(f"{path}: cv2.VideoCapture cannot open it (install opencv-doc?)")
@@ -135,14 +137,17 @@ def damage(clean: list[np.ndarray], bugy: list[np.ndarray]) -> list[tuple]:
 
 
 def dist(p: Point, q: Point) -> float:
+    """Euclidean distance between two centres."""
     return math.hypot(p[0] - q[0], p[1] - q[1])
 
 
 def fmt(v: float | None, digits: int = 3) -> str:
+    """A CSV cell: the value with `digits` decimals, empty for None."""
     return "" if v is None else f"{v:.{digits}f}"
 
 
 def read_objects(path: Path) -> list[dict]:
+    """The objects file's rows, with the frame and box columns as integers."""
     with open(path, newline="") as f:
         rows = list(csv.DictReader(f))
     want = ["clip", "object", "first", "last", "x", "y", "w", "h"]
@@ -256,12 +261,18 @@ def main() -> int:
             except RuntimeError as e:
                 print(f"error: {e}", file=sys.stderr)
                 return 1
-        frames = clips[clip][a:b + 1]
         w, h = obj["w"], obj["h"]
         if not 0 <= a < b < len(clips[clip]):
             print(f"error: {clip}-{name}: frames {a}..{b} outside the clip's 0..{len(clips[clip]) - 1}",
                   file=sys.stderr)
             return 1
+        H, W = clips[clip][a].shape
+        if not (0 < w <= 32 and 0 < h <= 32 and obj["x"] >= 0 and obj["y"] >= 0
+                and obj["x"] + w <= W and obj["y"] + h <= H):
+            print(f"error: {clip}-{name}: box must be at most 32x32 and inside the {W}x{H} frame",
+                  file=sys.stderr)
+            return 1
+        frames = clips[clip][a:b + 1]
         start = (obj["x"] + (w - 1) / 2, obj["y"] + (h - 1) / 2)
         runs = {}
         for tr in TRACKERS:
