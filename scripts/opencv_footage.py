@@ -45,6 +45,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import hashlib
 import math
 import sys
 import time
@@ -168,6 +169,8 @@ Made by `scripts/opencv_footage.py` from Debian `opencv-doc`'s example clips
 ```sh
 {command}
 ```
+
+Clips (SHA-256 of the files read): {hashes}.
 
 OpenCV **{cv_version}** (Python module `cv2`; {factories}), numpy {np_version},
 Python {py_version}; `cv2.setNumThreads(1)`.
@@ -325,6 +328,7 @@ def main() -> int:
         if Path(val).resolve() != Path(default).resolve():
             opts.append(f" {flag} {val}")
     (out / "README.md").write_text(README.format(
+        hashes=", ".join(f"`{c}.avi` {hashlib.sha256((data / f'{c}.avi').read_bytes()).hexdigest()}" for c in clips),
         data=data, command="python3 scripts/opencv_footage.py" + "".join(opts),
         cv_version=cv2.__version__, np_version=np.__version__, py_version=sys.version.split()[0],
         factories=", ".join(factory(t)[1] for t in TRACKERS[1:]),
