@@ -44,6 +44,7 @@ import csv
 import math
 import sys
 from pathlib import Path
+from typing import Iterable
 
 import cv2
 import numpy as np
@@ -78,7 +79,7 @@ def parabola(a: float, b: float, c: float) -> float:
 
 
 def factory(name: str):
-    attr = {"csrt": "TrackerCSRT_create", "kcf": "TrackerKCF_create"}[name]
+    attr = {"csrt": "TrackerCSRT_create", "kcf": "TrackerKCF_create", "mosse": "TrackerMOSSE_create"}[name]
     if hasattr(cv2, attr):
         return getattr(cv2, attr), f"cv2.{attr}"
     if hasattr(cv2, "legacy") and hasattr(cv2.legacy, attr):
@@ -86,18 +87,19 @@ def factory(name: str):
     raise RuntimeError(f"this OpenCV ({cv2.__version__}) has no {attr}")
 
 
-def run_match(frames: list[Path], b0: tuple[int, int]) -> list[tuple[float, float] | None]:
-    f0 = read_gray(frames[0]).astype(np.float32)
-    tpl = f0[b0[1]:b0[1] + BOX, b0[0]:b0[0] + BOX].copy()
+def track_template(images: Iterable[np.ndarray], tpl: np.ndarray, b0: tuple[int, int],
+                   search: int) -> list[tuple[float, float] | None]:
+    """Top-left of the fixed template's best placement: b0 for the start frame, then one entry
+    per image of `images` (float32 gray, the frames after the start)."""
+    th, tw = tpl.shape
     out: list[tuple[float, float] | None] = [(float(b0[0]), float(b0[1]))]
     last = (float(b0[0]), float(b0[1]))
-    for path in frames[1:]:
-        img = read_gray(path).astype(np.float32)
+    for img in images:
         h, w = img.shape
         lx, ly = round_half_up(last[0]), round_half_up(last[1])
-        x0, y0 = max(0, lx - SEARCH), max(0, ly - SEARCH)
-        x1, y1 = min(w, lx + BOX + SEARCH), min(h, ly + BOX + SEARCH)
-        if x1 - x0 < BOX or y1 - y0 < BOX:
+        x0, y0 = max(0, lx - search), max(0, ly - search)
+        x1, y1 = min(w, lx + tw + search), min(h, ly + th + search)
+        if x1 - x0 < tw or y1 - y0 < th:
             out.append(None)
             continue
         res = cv2.matchTemplate(img[y0:y1, x0:x1], tpl, cv2.TM_CCOEFF_NORMED)
@@ -112,16 +114,27 @@ def run_match(frames: list[Path], b0: tuple[int, int]) -> list[tuple[float, floa
     return out
 
 
-def run_cv_tracker(name: str, frames: list[Path], b0: tuple[int, int]) -> list[tuple[float, float] | None]:
-    create, _ = factory(name)
-    tracker = create()
-    bgr = lambda p: cv2.cvtColor(read_gray(p), cv2.COLOR_GRAY2BGR)
-    tracker.init(bgr(frames[0]), (int(b0[0]), int(b0[1]), BOX, BOX))
-    out: list[tuple[float, float] | None] = [(float(b0[0]), float(b0[1]))]
-    for path in frames[1:]:
-        ok, box = tracker.update(bgr(path))
-        out.append((float(box[0]), float(box[1])) if ok else None)
+def run_match(frames: list[Path], b0: tuple[int, int]) -> list[tuple[float, float] | None]:
+    f0 = read_gray(frames[0]).astype(np.float32)
+    tpl = f0[b0[1]:b0[1] + BOX, b0[0]:b0[0] + BOX].copy()
+    return track_template((read_gray(p).astype(np.float32) for p in frames[1:]), tpl, b0, SEARCH)
+
+
+def track_cv(tracker, images: Iterable[np.ndarray], box: tuple[int, int, int, int]) -> list[tuple[float, float] | None]:
+    """Top-left of an OpenCV tracker's box in every image (8-bit gray, the first is the start,
+    given as 3-channel BGR); update() == False gives None."""
+    bgr = lambda g: cv2.cvtColor(g, cv2.COLOR_GRAY2BGR)
+    it = iter(images)
+    tracker.init(bgr(next(it)), tuple(int(v) for v in box))
+    out: list[tuple[float, float] | None] = [(float(box[0]), float(box[1]))]
+    for img in it:
+        ok, b = tracker.update(bgr(img))
+        out.append((float(b[0]), float(b[1])) if ok else None)
     return out
+
+
+def run_cv_tracker(name: str, frames: list[Path], b0: tuple[int, int]) -> list[tuple[float, float] | None]:
+    return track_cv(factory(name)[0](), (read_gray(p) for p in frames), (b0[0], b0[1], BOX, BOX))
 
 
 def score(points, truth) -> tuple[int, float | None, float]:
