@@ -364,6 +364,10 @@ impl<const N: usize> Foveal<N> {
             }
             (None, Some(last)) => {
                 self.tracking = None;
+                // The Peripheral re-detects with the last look the track trusted, too.
+                if let (Some(_), Some(t)) = (&self.adapt, &self.template) {
+                    step.send(Dest::Peripheral, Msg::Template(t.clone()));
+                }
                 step.send(Dest::Peripheral, Msg::Lost(last));
                 step.lost = Some(last);
             }

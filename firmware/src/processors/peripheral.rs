@@ -1,28 +1,44 @@
 //! The Peripheral (Detection) processor (thesis 2.3.2, Table 2.2): SSD of the decimated
 //! template over a 25 % window to locate the target approximately, growing the window (40x40,
 //! then 64x64) when it fails, and handing the location to the Foveal processor.
+//!
+//! With [`Params::adapt`] (issue 21) it re-detects a lost object anywhere in the view: it
+//! matches by zero-mean NCC (blind to the light's gain and offset) both the first template
+//! and the last one the Foveal track trusted (sent on a loss), and when the two growing
+//! windows fail it sweeps the frame at 25 % in [`SWEEP_SIDE`] tiles, one a window, until the
+//! object is found, instead of waiting for motion.
 use super::messages::{Dest, Msg};
-use super::params::Params;
+use super::params::{Params, ADAPT_NCC_MIN};
 use super::step::{placements, Mode, Step, Work};
 use super::template::Template;
 use crate::kernels::matching::{best_match, Method};
 use crate::kernels::view::WindowView;
-use crate::types::{Decimation, Point};
+use crate::types::{Decimation, Point, WindowRequest};
 
 
-/// SSD of the decimated template over a 25% window: the approximate target, or `None`.
-fn ssd_locate(win: &WindowView<'_>, tpl: &Template, p: &Params) -> (Option<Point>, Work) {
+/// Side of the tiles an adapting Peripheral sweeps the frame with: the largest window it
+/// matches at 25 % ([`crate::kernels::matching::MAX_PACKED_PIXELS`]: 64x64 samples).
+pub const SWEEP_SIDE: u16 = 128;
+
+/// The decimated template over a 25% window: the approximate target and how well it matched
+/// (lower is better), or `None`. SSD as the thesis has it, or, for an adapting track, zero-mean
+/// NCC from [`ADAPT_NCC_MIN`].
+fn locate(win: &WindowView<'_>, tpl: &Template, p: &Params) -> (Option<(Point, f32)>, Work) {
     let n = tpl.side();
+    let method = if p.adapt { Method::Zncc } else { Method::Ssd };
     let Some(full) = tpl.view() else { return (None, Work::None) };
     let dt = full.decimated();
     let tn = (dt.width() * dt.height()) as u32;
-    let work = Work::Match { method: Method::Ssd, template: tn, placements: placements(win, n, 2) };
-    let Ok(m) = best_match(Method::Ssd, win, &dt) else { return (None, work) };
-    let per_pixel = m.score as f32 / tn.max(1) as f32;
-    (
-        (per_pixel <= p.ssd_max).then(|| tpl.point_at(m.frame_x, m.frame_y)),
-        work,
-    )
+    let work = Work::Match { method, template: tn, placements: placements(win, n, 2) };
+    let Ok(m) = best_match(method, win, &dt) else { return (None, work) };
+    let (found, badness) = match method {
+        Method::Zncc => (m.score as f32 >= ADAPT_NCC_MIN, -(m.score as f32)),
+        _ => {
+            let per_pixel = m.score as f32 / tn.max(1) as f32;
+            (per_pixel <= p.ssd_max, per_pixel)
+        }
+    };
+    (found.then(|| (tpl.point_at(m.frame_x, m.frame_y), badness)), work)
 }
 
 /// Peripheral processor states.
@@ -34,11 +50,15 @@ enum State {
     Search { at: Point, k: usize },
     /// Located: following the target alongside the Foveal window.
     Follow { at: Point },
+    /// Adapting tracks: both sizes failed; sweeping the frame, tile `tile` next.
+    Sweep { tile: u16 },
 }
 
 /// The Peripheral (Detection) processor: SSD at 25% resolution (2.3.2).
 pub struct Peripheral {
     template: Option<Template>,
+    /// Adapting tracks: the last template the Foveal track trusted, sent on its loss.
+    recent: Option<Template>,
     state: State,
     params: Params,
     /// When set, it also tells the Foveal processor every location, not only on loss: the
@@ -49,7 +69,7 @@ pub struct Peripheral {
 impl Peripheral {
     /// A Peripheral processor, with the template if it is known in advance.
     pub fn new(params: Params, template: Option<Template>) -> Self {
-        Peripheral { template, state: State::Idle, params, foveal_waiting: true }
+        Peripheral { template, recent: None, state: State::Idle, params, foveal_waiting: true }
     }
 
     /// Starts searching at `p` (used when the target is given).
@@ -77,10 +97,16 @@ impl Peripheral {
     pub fn on_message(&mut self, m: &Msg) -> Step {
         let mut step = Step::new(Work::None);
         match (m, self.state) {
+            // A template from an adapting Foveal track while it runs: its last trusted look.
+            (Msg::Template(t), State::Follow { .. } | State::Search { .. } | State::Sweep { .. }) if self.params.adapt && self.template.is_some() => {
+                self.recent = Some(t.clone());
+            }
             (Msg::Template(t), _) => {
                 self.template = Some(t.clone());
+                self.recent = None;
             }
-            (Msg::Motion { xmin, xmax, ymin, ymax }, State::Idle) => {
+            // Motion seen while sweeping is where to look first.
+            (Msg::Motion { xmin, xmax, ymin, ymax }, State::Idle | State::Sweep { .. }) => {
                 // The variable window of Table 2.2: the motion area with a template's margin.
                 let at = Point { x: f32::from(*xmin + *xmax) / 2.0, y: f32::from(*ymin + *ymax) / 2.0 };
                 let span = (*xmax - *xmin).max(*ymax - *ymin) + self.params.template;
@@ -89,7 +115,7 @@ impl Peripheral {
                 self.foveal_waiting = true;
                 step.ask(Some(self.params.window(at, side, Decimation::Quarter)));
             }
-            (Msg::Tracked(p), State::Follow { .. }) | (Msg::Tracked(p), State::Search { .. }) => {
+            (Msg::Tracked(p), State::Follow { .. } | State::Search { .. } | State::Sweep { .. }) => {
                 self.state = State::Follow { at: *p };
                 self.foveal_waiting = false;
             }
@@ -109,13 +135,50 @@ impl Peripheral {
         step
     }
 
+    /// The tiles of the sweep: a grid of [`SWEEP_SIDE`] windows over the frame, overlapping
+    /// by a template so that an object on a seam is whole in one; (columns, rows, stride).
+    fn tiles(&self) -> (u16, u16, u16) {
+        let p = &self.params;
+        let side = SWEEP_SIDE.min(p.frame_w).min(p.frame_h);
+        let stride = side.saturating_sub(p.template).max(1);
+        let count = |len: u16| len.saturating_sub(side).div_ceil(stride) + 1;
+        (count(p.frame_w), count(p.frame_h), stride)
+    }
+
+    /// Tile `k`'s window (row by row), or the first tile's beyond the last.
+    fn tile_window(&self, k: u16) -> WindowRequest {
+        let (cols, rows, stride) = self.tiles();
+        let k = if k < cols * rows { k } else { 0 };
+        let side = SWEEP_SIDE;
+        let centre = |i: u16| f32::from(i * stride) + (f32::from(side) - 1.0) / 2.0;
+        self.params.window(Point { x: centre(k % cols), y: centre(k / cols) }, side, Decimation::Quarter)
+    }
+
+    /// The tile holding `p` (nearest its centre), where a sweep starts.
+    fn tile_of(&self, p: Point) -> u16 {
+        let (cols, rows, stride) = self.tiles();
+        let index = |v: f32, n: u16| ((libm::floorf(v / f32::from(stride)).max(0.0)) as u16).min(n - 1);
+        index(p.y, rows) * cols + index(p.x, cols)
+    }
+
     /// A Peripheral window arrived.
     pub fn on_window(&mut self, win: &WindowView<'_>) -> Step {
         let Some(tpl) = &self.template else {
             self.state = State::Idle;
             return Step::new(Work::None);
         };
-        let (found, work) = ssd_locate(win, tpl, &self.params);
+        let (mut found, mut work) = locate(win, tpl, &self.params);
+        if let Some(recent) = &self.recent {
+            // The better of the first and the last trusted look; the work of both.
+            let (other, w) = locate(win, recent, &self.params);
+            if other.is_some_and(|o| found.is_none_or(|f| o.1 < f.1)) {
+                found = other;
+            }
+            if let (Work::Match { placements, .. }, Work::Match { placements: more, .. }) = (&mut work, w) {
+                *placements += more;
+            }
+        }
+        let found = found.map(|f| f.0);
         let mut step = Step::new(work);
         let side = |k: usize| self.params.peripheral[k.min(1)];
         match (found, self.state) {
@@ -135,6 +198,17 @@ impl Peripheral {
             (None, State::Search { at, k }) if k < 1 => {
                 self.state = State::Search { at, k: k + 1 };
                 step.ask(Some(self.params.window(at, side(k + 1), Decimation::Quarter)));
+            }
+            (None, State::Search { at, .. }) if self.params.adapt => {
+                let tile = self.tile_of(at);
+                self.state = State::Sweep { tile: tile + 1 };
+                step.ask(Some(self.tile_window(tile)));
+            }
+            (None, State::Sweep { tile }) => {
+                let (cols, rows, _) = self.tiles();
+                let tile = if tile < cols * rows { tile } else { 0 };
+                self.state = State::Sweep { tile: tile + 1 };
+                step.ask(Some(self.tile_window(tile)));
             }
             (None, _) => {
                 // Both Detection sizes failed: back to waiting for the Watch processor.

@@ -83,6 +83,20 @@ impl Default for GuardParams {
     }
 }
 
+impl GuardParams {
+    /// For a track whose template adapts ([`crate::processors::Params::adapt`]): its
+    /// zero-mean NCC scores an object that turns, scales or blurs under the 0.99 that the
+    /// thesis's fixed template keeps on a rigid one, while each frame's point is checked by
+    /// aligning the first template; from [`ADAPT_TRUST`] NCC is trusted, so a corner found
+    /// elsewhere in the window does not make a fast object's track coast.
+    pub fn adapting() -> Self {
+        GuardParams { trust: ADAPT_TRUST, ..Self::default() }
+    }
+}
+
+/// The zero-mean NCC score from which an adapting track's NCC is trusted.
+pub const ADAPT_TRUST: f32 = 0.85;
+
 /// Positions in the prediction's least-squares fit.
 pub const HISTORY: usize = 8;
 
