@@ -429,15 +429,15 @@ mod appendix_b_tests {
         ymax: 255,
     };
 
-    fn image() -> Vec<u8> {
-        (0..65536u32).map(|i| (i * 7 + i / 256) as u8).collect()
+    fn image() -> Vec<u16> {
+        (0..65536u32).map(|i| u16::from((i * 7 + i / 256) as u8)).collect()
     }
 
     /// One simulated acquisition shared by the tests (the threaded simulator takes seconds).
     fn record() -> &'static [Flags] {
         static REC: OnceLock<Vec<Flags>> = OnceLock::new();
         REC.get_or_init(|| {
-            simulate_acquisition(RasterTiming::CA_D1, FULL, false, 1, Arc::new(image()))
+            simulate_acquisition::<8, 8>(RasterTiming::CA_D1, FULL, false, 1, Arc::new(image()))
                 .expect("simulation runs")
         })
     }

@@ -93,6 +93,10 @@ pub struct TrackArgs {
     /// Window units: the behavioural model, the rust-hdl blocks, or the Verilog in Verilator
     #[arg(long, value_enum, default_value_t = HdlArg::Model)]
     pub hdl: HdlArg,
+    /// With --hdl rust-hdl or verilator: the window units' pixel width (8 to 16, as `coopwin
+    /// verilog --pixel-bits`); the frames' 8-bit pixels enter as its top bits
+    #[arg(long, default_value_t = 8, value_name = "BITS", value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(8..=16))]
+    pub pixel_bits: usize,
     /// With --hdl rust-hdl: a VCD of every window unit's signals (uut$0, uut$1, ...), and
     /// FILE.requests.csv beside it for `coopwin audit`
     #[arg(long, value_name = "FILE")]
@@ -153,6 +157,7 @@ impl TrackArgs {
             coop_n: self.coop_n,
             target: self.target_point(),
             backend: self.hdl.into(),
+            unit_pixel_bits: self.pixel_bits,
             policy: self.policy.into(),
             mpdf_watch: self.watch.into(),
             jitter: self.blank_jitter,
@@ -285,6 +290,9 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
     };
     if matches!(args.hdl, HdlArg::Model) && vcd.is_some() {
         return Err(CliError::arg("--vcd traces the window units' signals: add --hdl rust-hdl"));
+    }
+    if matches!(args.hdl, HdlArg::Model) && args.pixel_bits != 8 {
+        return Err(CliError::arg("--pixel-bits sets the clocked window units' pixel width: add --hdl rust-hdl or --hdl verilator"));
     }
     let overlay_out = match &args.overlay {
         Some(p) => Some((OverlayKind::of(p)?, OutFile::check(p, "--overlay")?)),

@@ -49,7 +49,7 @@ pub fn simulate_traced(
     vcd: Option<Trace>,
 ) -> Result<RunLog, SimError> {
     let clocks = Clocks::for_frames(source, cfg.jitter);
-    let mut units = units::open(cfg.backend, clocks, cfg.strategy.units(), vcd)?;
+    let mut units = units::open(cfg.backend, clocks, cfg.unit_pixel_bits, cfg.strategy.units(), vcd)?;
     let mut log = simulate_with(cfg, source, units.as_mut(), progress)?;
     let stats = units.finish()?;
     log.hdl_clocks = stats.clocks;
