@@ -329,6 +329,13 @@ fn ctrl_c_exits_130_and_leaves_earlier_outputs_as_they_were() {
         let child = Command::new(env!("CARGO_BIN_EXE_coopwin")).args(args).stdout(std::process::Stdio::piped()).stderr(std::process::Stdio::piped()).spawn().unwrap();
         // Mid-run: either run takes far longer than this.
         std::thread::sleep(std::time::Duration::from_secs(4));
+        if args == &video[..] {
+            // The CSV is written a row as each frame ends (issue 24: written as they go): by
+            // now its temporary file holds rows, though the run is far from done.
+            let partial = std::fs::read_dir(&d).unwrap().map(|e| e.unwrap().path()).find(|p| p.to_string_lossy().contains(".t.csv.")).expect("the CSV's temporary file");
+            let rows = std::fs::read_to_string(&partial).unwrap().lines().count();
+            assert!((2..3000).contains(&rows), "{rows} lines in {} mid-run", partial.display());
+        }
         // SAFETY: signals our own child.
         assert_eq!(unsafe { libc::kill(child.id() as i32, libc::SIGINT) }, 0);
         let o = child.wait_with_output().unwrap();

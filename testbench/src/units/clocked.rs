@@ -254,11 +254,11 @@ impl ClockedUnits {
                         // Quiet: no set part-taken, and CRDY1 low, so a set completed before
                         // is already in the set registers (CRDY1 falls two clocks after those
                         // load) and every later byte's CRDY1 rise is in the trace.
-                        let quiet = self.units.iter().all(|u| u.ready_rises % 4 == 0 && !u.last.coord_ready);
+                        let quiet = self.units.iter().all(|u| u.ready_rises.is_multiple_of(u.writer.set_len()) && !u.last.coord_ready);
                         // Should no quiet clock come, the audit reports the half-written set.
                         r.on = quiet || c + 2 >= r.first;
                         for (before, u) in self.sets_before_trace.iter_mut().zip(&self.units) {
-                            *before = u.ready_rises / 4;
+                            *before = u.ready_rises / u.writer.set_len();
                         }
                     }
                     match r.on {
@@ -279,14 +279,14 @@ impl ClockedUnits {
         }
     }
 
-    /// The units' outputs after clock `c`: completed sets (every fourth CRDY1 rise) and strobed
+    /// The units' outputs after clock `c`: completed sets (the CRDY1 rise of each set's last byte, the fourth or the eighth) and strobed
     /// pixels, a window delivered once whole.
     fn read_outputs(&mut self, c: u64) -> Result<(), UnitError> {
         let shift = self.pixel_shift();
         for (unit, (u, out)) in self.units.iter_mut().zip(self.outs.iter().copied()).enumerate() {
             if out.coord_ready && !u.last.coord_ready {
                 u.ready_rises += 1;
-                if u.ready_rises % 4 == 0 {
+                if u.ready_rises.is_multiple_of(u.writer.set_len()) {
                     if let Some(req) = u.written.pop_front() {
                         u.complete.push((c, req));
                     }
