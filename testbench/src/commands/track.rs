@@ -275,8 +275,6 @@ impl Input {
         }
     }
 
-    /// What the CSV says of each frame beyond the run: file names, timestamps, damage.
-
     /// The rate the source declares (a video's), if any.
     fn declared_fps(&self) -> Option<f64> {
         match self {
