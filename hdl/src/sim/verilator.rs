@@ -346,3 +346,19 @@ impl Drop for VerilatorNetwork {
         unsafe { (self.free)(self.handle) }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_geometry_has_its_own_library() {
+        // The rule stated in `library_in`: the key holds the geometry, so a model compiled for
+        // one sensor is never loaded for another (the harness would drive the wrong widths).
+        let root = Path::new("/cache");
+        let vga = |bits| Geometry::new(640, 480, bits).unwrap();
+        assert_eq!(library_in(root, &Geometry::CA_D1), library_in(root, &Geometry::CA_D1));
+        assert_ne!(library_in(root, &Geometry::CA_D1), library_in(root, &vga(8)));
+        assert_ne!(library_in(root, &vga(8)), library_in(root, &vga(10)));
+    }
+}
