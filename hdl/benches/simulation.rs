@@ -22,8 +22,8 @@ fn frame_speed(c: &mut Criterion) {
     // The Appendix B run spans the blanking before the frame and two lines after it.
     g.throughput(Throughput::Elements((t.frame_clocks() + 2 * t.line_clocks()) as u64));
     g.bench_function("rust_hdl_simulation", |b| {
-        let image = Arc::new(frame.clone());
-        b.iter(|| simulate_acquisition(t, w, false, 1, image.clone()).expect("sim"))
+        let image = Arc::new(frame.iter().map(|&p| u16::from(p)).collect::<Vec<u16>>());
+        b.iter(|| simulate_acquisition::<8, 8>(t, w, false, 1, image.clone()).expect("sim"))
     });
     g.finish();
 }

@@ -429,15 +429,15 @@ mod appendix_b_tests {
         ymax: 255,
     };
 
-    fn image() -> Vec<u8> {
-        (0..65536u32).map(|i| (i * 7 + i / 256) as u8).collect()
+    fn image() -> Vec<u16> {
+        (0..65536u32).map(|i| u16::from((i * 7 + i / 256) as u8)).collect()
     }
 
     /// One simulated acquisition shared by the tests (the threaded simulator takes seconds).
     fn record() -> &'static [Flags] {
         static REC: OnceLock<Vec<Flags>> = OnceLock::new();
         REC.get_or_init(|| {
-            simulate_acquisition(RasterTiming::CA_D1, FULL, false, 1, Arc::new(image()))
+            simulate_acquisition::<8, 8>(RasterTiming::CA_D1, FULL, false, 1, Arc::new(image()))
                 .expect("simulation runs")
         })
     }
@@ -489,7 +489,7 @@ mod appendix_b_tests {
         // Step 15: CSTRB4 strobes the first pixel one clock later, its value aligned
         // (the thesis's two-clock data delay, here the pxc and data registers).
         assert!(rec[l + 1].pixel_strobe && !rec[l].pixel_strobe);
-        assert_eq!(rec[l + 1].pixel_out, u16::from(image()[0]));
+        assert_eq!(rec[l + 1].pixel_out, image()[0]);
         // Step 16: the X count moves on and XMIN is reset.
         assert!(rec[l + 1].xcount == 1 && !rec[l + 1].xmin);
     }
@@ -504,7 +504,7 @@ mod appendix_b_tests {
         assert!(rec[e].xcount == 255 && rec[e].xmax && rec[e].xyval);
         // Steps 19-20: LVAL falls, LVC follows, LVHL is set; pixel 256 is strobed.
         assert!(!rec[e + 1].lval && !rec[e + 1].lvc && rec[e + 1].lvhl);
-        assert!(rec[e + 1].pixel_strobe && rec[e + 1].pixel_out == u16::from(image()[255]));
+        assert!(rec[e + 1].pixel_strobe && rec[e + 1].pixel_out == image()[255]);
         // Step 21: XYVAL reset, strobe deactivated, the Y count moves to the next line.
         assert!(!rec[e + 1].xyval && !rec[e + 2].pixel_strobe && rec[e + 2].ycount == 1);
     }
@@ -533,7 +533,7 @@ mod appendix_b_tests {
             .filter(|f| f.pixel_strobe)
             .map(|f| f.pixel_out)
             .collect();
-        assert_eq!(got, image().into_iter().map(u16::from).collect::<Vec<_>>());
+        assert_eq!(got, image());
     }
 
     #[test]

@@ -31,7 +31,7 @@ fn backends(c: &mut Criterion) {
             }
         })
     });
-    match VerilatorNetwork::new() {
+    match VerilatorNetwork::new(&coopwin_hdl::verilog::Geometry::CA_D1) {
         Ok(mut v) => {
             let mut out = [UnitOutputs::default(); 4];
             g.bench_function("verilator_network", |b| {

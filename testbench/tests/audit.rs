@@ -22,7 +22,7 @@ fn traced_tpdf(name: &str, frames: std::ops::Range<usize>) -> Vec<UnitTrace> {
     cfg.backend = UnitBackend::RustHdl;
     let path = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
     let out = Box::new(std::io::BufWriter::new(std::fs::File::create(&path).unwrap()));
-    let log = simulate_traced(&cfg, &mut SceneFrames::new(scene), &mut |_| {}, Some(Trace { out, frames })).unwrap();
+    let log = simulate_traced(&cfg, &mut SceneFrames::new(scene), &mut |_| {}, &mut |_| {}, Some(Trace { out, frames })).unwrap();
     assert!(log.requests.iter().any(|r| r.2.decimation == Decimation::Quarter));
     let csv = requests::to_csv(&log);
     let read = |unit| read_vcd(std::io::BufReader::new(std::fs::File::open(&path).unwrap()), unit).unwrap();

@@ -216,7 +216,7 @@ fn a_window_the_port_cannot_carry_is_refused_and_nothing_is_written() {
     let empty = WindowRequest { x0: 0, y0: 0, width: 0, height: 8, decimation: Decimation::Full };
     let wide = WindowRequest { x0: 250, y0: 0, width: 10, height: 8, decimation: Decimation::Full };
     let mut model = BehaviouralUnits::new(clocks.clone(), 1);
-    let mut hdl = ClockedUnits::rust_hdl(clocks.clone(), 1, None).unwrap();
+    let mut hdl = ClockedUnits::rust_hdl(clocks.clone(), 8, 1, None).unwrap();
     for backend in [&mut model as &mut dyn WindowUnits, &mut hdl] {
         let why = backend.request(0, empty, 0).unwrap_err().to_string();
         assert!(why.contains("window"), "{why}");

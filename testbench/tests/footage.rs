@@ -6,6 +6,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+mod common;
+
 fn coopwin(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_coopwin")).args(args).output().expect("run coopwin")
 }
@@ -57,8 +59,14 @@ fn clip(dir: &Path, name: &str, size: &str, rate: u32, seconds: f64) -> PathBuf 
 
 /// A 12-frame 256x256 scene folder and its target point.
 fn scene(dir: &Path) -> (PathBuf, String) {
-    let frames = dir.join("frames");
-    let o = coopwin(&["scene", "--frames", "12", "--speed", "50", "--out", s(&frames)]);
+    scene_of(dir, "256x256", 12)
+}
+
+/// A `frames`-frame scene folder of `size` (WxH) and its target point.
+fn scene_of(dir: &Path, size: &str, frames: u32) -> (PathBuf, String) {
+    let frames_dir = dir.join("frames");
+    let o = coopwin(&["scene", "--size", size, "--frames", &frames.to_string(), "--speed", "50", "--out", s(&frames_dir)]);
+    let frames = frames_dir;
     assert!(o.status.success(), "{}", stderr(&o));
     let truth = std::fs::read_to_string(frames.join("groundtruth.csv")).unwrap();
     let f: Vec<&str> = truth.lines().nth(1).unwrap().split(',').collect();
@@ -321,6 +329,21 @@ fn ctrl_c_exits_130_and_leaves_earlier_outputs_as_they_were() {
         let child = Command::new(env!("CARGO_BIN_EXE_coopwin")).args(args).stdout(std::process::Stdio::piped()).stderr(std::process::Stdio::piped()).spawn().unwrap();
         // Mid-run: either run takes far longer than this.
         std::thread::sleep(std::time::Duration::from_secs(4));
+        if args == &video[..] {
+            // The CSV is written a row as each frame ends (issue 24: written as they go): its
+            // temporary file holds rows (a write buffer's worth, about 75) while the run is
+            // far from done (3 000 frames, then the overlay).
+            let rows = || {
+                let partial = std::fs::read_dir(&d).unwrap().map(|e| e.unwrap().path()).find(|p| p.to_string_lossy().contains(".t.csv."));
+                partial.map_or(0, |p| std::fs::read_to_string(p).unwrap_or_default().lines().count())
+            };
+            let waited = std::time::Instant::now();
+            while rows() < 2 && waited.elapsed().as_secs() < 60 {
+                std::thread::sleep(std::time::Duration::from_millis(50));
+            }
+            let n = rows();
+            assert!((2..3000).contains(&n), "{n} lines in the CSV's temporary file mid-run");
+        }
         // SAFETY: signals our own child.
         assert_eq!(unsafe { libc::kill(child.id() as i32, libc::SIGINT) }, 0);
         let o = child.wait_with_output().unwrap();
@@ -363,4 +386,107 @@ fn a_1080p_clip_tracks() {
     let big = d.join("big.mp4");
     ffmpeg(&["-f", "lavfi", "-i", "color=size=4112x64:rate=5", "-frames:v", "2", "-c:v", "libx264", "-pix_fmt", "yuv420p", s(&big)]);
     fails(&coopwin(&["track", "--frames", s(&big), "--out", "/dev/null"]), 1, &["64x64 to 4096x4096", "4112x64"], "4112 px wide");
+}
+
+// Issue 24, case 5 (and issue 22, item 4): the clocked window units at any geometry
+// `coopwin verilog` exports, written by the firmware's writer (eight-byte sets above 256).
+
+/// `coopwin track` over `frames` with `extra` options; its CSV.
+fn track_csv(dir: &Path, name: &str, frames: &Path, target: &str, extra: &[&str]) -> String {
+    let out = dir.join(name);
+    let mut args = vec!["track", "--frames", s(frames), "--target", target, "--out", s(&out)];
+    args.extend_from_slice(extra);
+    let o = coopwin(&args);
+    assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+    std::fs::read_to_string(&out).unwrap()
+}
+
+#[test]
+fn rust_hdl_units_track_640x480x10_as_the_model_does_and_pass_the_audit() {
+    // The reference is the behavioural model of the window unit (--hdl model): the clocked
+    // units must deliver the same windows, so the CSVs must be identical. Three frames of COOP
+    // (4 units, about 316,000 clocks a frame each); then SPMF (1 unit) with a VCD of frame 1.
+    let d = scratch("hdl_640x480");
+    let (frames, target) = scene_of(&d, "640x480", 3);
+    let model = track_csv(&d, "model.csv", &frames, &target, &[]);
+    assert_eq!(model.lines().count(), 4, "{model}");
+    let hdl = track_csv(&d, "hdl.csv", &frames, &target, &["--hdl", "rust-hdl", "--pixel-bits", "10"]);
+    assert_eq!(hdl, model, "COOP: rust-hdl units at 640x480x10 against the behavioural model");
+    let model1 = track_csv(&d, "model1.csv", &frames, &target, &["--strategy", "spmf"]);
+    let vcd = d.join("spmf.vcd");
+    let hdl1 = track_csv(&d, "hdl1.csv", &frames, &target, &["--strategy", "spmf", "--hdl", "rust-hdl", "--pixel-bits", "10", "--vcd", s(&vcd), "--vcd-frames", "1..2"]);
+    assert_eq!(hdl1, model1, "SPMF: rust-hdl units at 640x480x10 against the behavioural model");
+    // The audit decodes eight-byte sets (a four-byte reading would not match the requests).
+    let o = coopwin(&["audit", s(&vcd), "--requests", s(&vcd.with_extension("requests.csv")), "--unit", "0"]);
+    let report = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(o.status.success(), "audit: {report}{}", stderr(&o));
+    assert!(report.contains(" 0 violations") && !report.contains(" 0 windows verified"), "{report}");
+    let _ = std::fs::remove_file(&vcd);
+}
+
+#[test]
+fn verilator_units_track_640x480x10_as_the_model_does() {
+    // The exported Verilog compiled at 640x480x10 (its own cache key); the reference is the
+    // behavioural model, as above.
+    if !common::have_verilator() {
+        return;
+    }
+    let d = scratch("verilator_640x480");
+    let (frames, target) = scene_of(&d, "640x480", 3);
+    let model = track_csv(&d, "model.csv", &frames, &target, &[]);
+    let hdl = track_csv(&d, "verilator.csv", &frames, &target, &["--hdl", "verilator", "--pixel-bits", "10"]);
+    assert_eq!(hdl, model, "COOP: Verilator units at 640x480x10 against the behavioural model");
+}
+
+/// Per rising clock edge of a `coopwin waves` VCD: the named signals' values.
+fn flags_after_edges(vcd: &str, names: &[&str]) -> Vec<Vec<u32>> {
+    let mut codes = std::collections::HashMap::new();
+    for l in vcd.lines().filter(|l| l.starts_with("$var")) {
+        let f: Vec<&str> = l.split_whitespace().collect();
+        if let Some(k) = names.iter().position(|n| *n == f[4]) {
+            codes.insert(f[3].to_string(), k);
+        }
+    }
+    let (mut now, mut out, mut rose) = (vec![0u32; names.len()], Vec::new(), false);
+    for l in vcd.lines().skip_while(|l| !l.starts_with("$enddefinitions")).skip(1) {
+        if l.starts_with('#') {
+            if rose {
+                out.push(now.clone());
+            }
+            rose = false;
+        } else if l == "1!" {
+            rose = true;
+        } else if let Some(v) = l.strip_prefix('b') {
+            let (bits, code) = v.split_once(' ').unwrap();
+            if let Some(&k) = codes.get(code) {
+                now[k] = u32::from_str_radix(bits, 2).unwrap();
+            }
+        } else if let Some(&k) = codes.get(&l[1..]) {
+            now[k] = u32::from(&l[..1] == "1");
+        }
+    }
+    if rose {
+        out.push(now);
+    }
+    out
+}
+
+#[test]
+fn waves_run_at_640x480x10_with_eight_byte_sets() {
+    // References, by hand: a 640-wide sensor takes two bytes a coordinate (eight CRDY1 rises
+    // for the set); the test card's pixel is its column, so the window's columns 300..=339
+    // (past 255: a 10-bit bus) come out in raster order for each of its 30 rows.
+    let d = scratch("waves_640x480");
+    let vcd = d.join("w.vcd");
+    let o = coopwin(&["waves", "--out", s(&vcd), "--width", "640", "--height", "480", "--pixel-bits", "10", "--window", "300,339,200,229"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    for k in 1..=5 {
+        assert!(d.join(format!("w-b1_{k}.svg")).exists(), "diagram {k}");
+    }
+    let edges = flags_after_edges(&std::fs::read_to_string(&vcd).unwrap(), &["coord_ready", "pixel_strobe", "pixel_out"]);
+    let rises = edges.windows(2).filter(|w| w[1][0] == 1 && w[0][0] == 0).count() + usize::from(edges[0][0] == 1);
+    assert_eq!(rises, 8, "CRDY1 rises: one eight-byte set");
+    let got: Vec<u32> = edges.iter().filter(|e| e[1] == 1).map(|e| e[2]).collect();
+    let want: Vec<u32> = (200..=229).flat_map(|_| 300..=339).collect();
+    assert_eq!(got, want);
 }

@@ -38,7 +38,7 @@ fn track_with_cache(frames: &Path, target: &str, cache: &Path) -> (Option<i32>, 
 /// Plants a file that is no library where the model's library goes, with its folders at
 /// `mode`; returns the planted file.
 fn plant(cache: &Path, mode: u32) -> PathBuf {
-    let lib = coopwin_hdl::sim::verilator::library_in(&cache.join("coopwin"));
+    let lib = coopwin_hdl::sim::verilator::library_in(&cache.join("coopwin"), &coopwin_hdl::verilog::Geometry::CA_D1);
     std::fs::create_dir_all(lib.parent().unwrap()).unwrap();
     std::fs::write(&lib, b"planted: not a library").unwrap();
     for d in [lib.parent().unwrap(), &cache.join("coopwin")] {

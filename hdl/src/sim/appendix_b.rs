@@ -3,8 +3,10 @@
 //! frame delivered. Every clock's [`Flags`] are recorded, and the five sequences of the timing
 //! diagrams (Figs. B1.1-B1.5) are located in the record for tests and drawings.
 use super::camera::{CameraBus, RasterTiming, Window};
-use crate::window_unit::Flags;
-use crate::CaD1Unit;
+use super::driver::{queue_window, write_step, UnitOutputs};
+use crate::coord_port::wide_coordinates;
+use crate::window_unit::{Flags, WindowUnit};
+use coopwin_firmware::ports::window::CoordinateWriter;
 use rust_hdl::prelude::*;
 use std::sync::{Arc, Mutex};
 
@@ -84,16 +86,19 @@ impl Sequence {
     }
 }
 
-/// Simulates `frames` acquisitions of `window` in rust-hdl's `Simulation`. Each frame period
-/// starts at the vertical blanking, where the processor writes the set (FVAL low, B1.1 step 1);
-/// then the frame streams past, and the run ends two lines into the last blanking. Returns the
-/// flags after every rising edge ([`super::vcd::write_flags_vcd`] writes them as a VCD).
-pub fn simulate_acquisition(
+/// Simulates `frames` acquisitions of `window` in rust-hdl's `Simulation`, on a
+/// `WindowUnit<C, P>` of a `timing.width` x `timing.height` sensor showing `image` (row-major,
+/// `P`-bit pixels). Each frame period starts at the vertical blanking, where the processor
+/// writes the set (FVAL low, B1.1 step 1) with the firmware's `CoordinateWriter` for that
+/// sensor (eight-byte sets above 256); then the frame streams past, and the run ends two lines
+/// into the last blanking. Returns the flags after every rising edge
+/// ([`super::vcd::write_flags_vcd`] writes them as a VCD).
+pub fn simulate_acquisition<const C: usize, const P: usize>(
     timing: RasterTiming,
     window: Window,
     decimate: bool,
     frames: usize,
-    image: Arc<Vec<u8>>,
+    image: Arc<Vec<u16>>,
 ) -> Result<Vec<Flags>, AcquisitionError> {
     let blank_start = timing.frame_clocks() - timing.v_blank_lines * timing.line_clocks();
     let tail = (blank_start + 2 * timing.line_clocks()).min(timing.frame_clocks());
@@ -107,35 +112,32 @@ pub fn simulate_acquisition(
     let max_time = 125_000 * (clocks.len() as u64 + 16);
     let record = Arc::new(Mutex::new(Vec::with_capacity(clocks.len())));
     let out = record.clone();
-    let mut uut = CaD1Unit::default();
+    let mut uut = WindowUnit::<C, P>::new(timing.width, timing.height);
     uut.connect_all();
     let mut sim = Simulation::new();
     // 125 000 ps: the CA-D1's 8 MHz pixel clock, toggled every half period.
-    sim.add_clock(62_500, |x: &mut Box<CaD1Unit>| {
+    sim.add_clock(62_500, |x: &mut Box<WindowUnit<C, P>>| {
         x.clock.next = !x.clock.val()
     });
-    sim.add_testbench(move |mut sim: Sim<CaD1Unit>| {
+    let wide = wide_coordinates(timing.width, timing.height);
+    let sensor = (timing.width as u16, timing.height as u16);
+    sim.add_testbench(move |mut sim: Sim<WindowUnit<C, P>>| {
         let mut x = sim.init()?;
-        let bytes = window.bytes();
-        let mut next_byte = 4;
+        let mut writer = CoordinateWriter::for_sensor(sensor.0, sensor.1);
         for &(c, write) in &clocks {
             if write {
-                next_byte = 0;
+                queue_window(&mut writer, window, decimate, wide).map_err(|_| SimError::SimPanic)?;
             }
             drive(
                 &mut x,
                 timing.bus_at(c, |px, py| image[py * timing.width + px]),
             );
-            // Four-phase writer: offer the next byte, drop the strobe once it is taken.
-            let ready = x.coord_ready.val();
-            if x.coord_strobe.val() && ready {
-                x.coord_strobe.next = false;
-                next_byte += 1;
-            } else if !x.coord_strobe.val() && !ready && next_byte < 4 {
-                x.coord_strobe.next = true;
-                x.coord_data.next = (bytes[next_byte] as u64).into();
-                x.decimate.next = decimate;
-            }
+            // The firmware's four-phase writer: offers the next byte, drops the strobe once
+            // it is taken.
+            let bus = write_step(&mut writer, &UnitOutputs { coord_ready: x.coord_ready.val(), ..Default::default() });
+            x.coord_strobe.next = bus.strobe;
+            x.coord_data.next = u64::from(bus.data).into();
+            x.decimate.next = bus.decimate;
             wait_clock_cycle!(sim, clock, x);
             out.lock().map_err(|_| SimError::SimPanic)?.push(x.flags());
         }
@@ -169,7 +171,7 @@ impl std::fmt::Display for AcquisitionError {
 
 impl std::error::Error for AcquisitionError {}
 
-fn drive(x: &mut CaD1Unit, cam: CameraBus) {
+fn drive<const C: usize, const P: usize>(x: &mut WindowUnit<C, P>, cam: CameraBus) {
     x.fval.next = cam.fval;
     x.lval.next = cam.lval;
     x.pixel_valid.next = cam.pixel_valid;

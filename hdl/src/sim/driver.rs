@@ -150,7 +150,12 @@ pub struct NetworkDriver<const C: usize, const P: usize> {
 impl<const C: usize, const P: usize> NetworkDriver<C, P> {
     /// `n` units of a 2^C x 2^C sensor at power-on.
     pub fn new(n: usize) -> Self {
-        let mut units: Vec<WindowUnit<C, P>> = (0..n).map(|_| WindowUnit::default()).collect();
+        Self::for_sensor(n, 1 << C, 1 << C)
+    }
+
+    /// `n` units of a `width` x `height` sensor (each at most 2^C) at power-on.
+    pub fn for_sensor(n: usize, width: usize, height: usize) -> Self {
+        let mut units: Vec<WindowUnit<C, P>> = (0..n).map(|_| WindowUnit::new(width, height)).collect();
         units.connect_all();
         settle(&mut units);
         Self { units }
@@ -207,6 +212,74 @@ impl<const C: usize, const P: usize> NetworkDriver<C, P> {
     pub fn block(&self) -> &Vec<WindowUnit<C, P>> {
         &self.units
     }
+}
+
+/// A network of stepped units of any counter and pixel width, as the testbench steps it (the
+/// widths chosen from the sensor by [`network`]).
+pub trait SteppedNetwork {
+    /// One clock: see [`NetworkDriver::step`].
+    fn step(&mut self, cam: CameraBus, ports: &[CoordBus], out: &mut [UnitOutputs]);
+    /// One clock, recorded: see [`NetworkDriver::step_traced`].
+    fn step_traced(&mut self, cam: CameraBus, ports: &[CoordBus], out: &mut [UnitOutputs], trace: &mut VcdTrace<Box<dyn Write>>);
+    /// The units, for a VCD header (`uut$0`, `uut$1`, ...).
+    fn block(&self) -> &dyn Block;
+}
+
+impl<const C: usize, const P: usize> SteppedNetwork for NetworkDriver<C, P> {
+    fn step(&mut self, cam: CameraBus, ports: &[CoordBus], out: &mut [UnitOutputs]) {
+        NetworkDriver::step(self, cam, ports, out)
+    }
+    fn step_traced(&mut self, cam: CameraBus, ports: &[CoordBus], out: &mut [UnitOutputs], trace: &mut VcdTrace<Box<dyn Write>>) {
+        NetworkDriver::step_traced(self, cam, ports, out, trace)
+    }
+    fn block(&self) -> &dyn Block {
+        &self.units
+    }
+}
+
+/// Something done with a unit of chosen counter width `C` and pixel width `P` (a generic
+/// closure): the one place [`with_widths`] turns a sensor's geometry into the const widths.
+pub trait WidthsVisitor {
+    /// What it gives.
+    type Out;
+    /// Does it with `WindowUnit<C, P>`.
+    fn visit<const C: usize, const P: usize>(self) -> Self::Out;
+}
+
+/// The rust-hdl widths that carry geometry `g`: counters of 8 bits up to 256x256 and 12 bits
+/// beyond (to 4096, the exported module's limit); pixels of 8, 10, 12 or 16 bits, the least
+/// that holds `g.pixel_bits`. (The exported Verilog takes the exact widths as parameters; the
+/// rust-hdl blocks are const-generic, so a few are instantiated.)
+pub fn stepped_widths(g: &crate::verilog::Geometry) -> (usize, usize) {
+    let c = if g.counter_bits() <= 8 { 8 } else { 12 };
+    let p = [8, 10, 12, 16].into_iter().find(|&p| p >= g.pixel_bits).unwrap_or(16);
+    (c, p)
+}
+
+/// Runs `v` with the unit widths [`stepped_widths`] picks for `g`.
+pub fn with_widths<V: WidthsVisitor>(g: &crate::verilog::Geometry, v: V) -> V::Out {
+    match stepped_widths(g) {
+        (8, 8) => v.visit::<8, 8>(),
+        (8, 10) => v.visit::<8, 10>(),
+        (8, 12) => v.visit::<8, 12>(),
+        (8, _) => v.visit::<8, 16>(),
+        (_, 8) => v.visit::<12, 8>(),
+        (_, 10) => v.visit::<12, 10>(),
+        (_, 12) => v.visit::<12, 12>(),
+        _ => v.visit::<12, 16>(),
+    }
+}
+
+/// `n` units of sensor `g` at power-on, at the widths [`stepped_widths`] picks.
+pub fn network(n: usize, g: &crate::verilog::Geometry) -> Box<dyn SteppedNetwork> {
+    struct Make(usize, usize, usize);
+    impl WidthsVisitor for Make {
+        type Out = Box<dyn SteppedNetwork>;
+        fn visit<const C: usize, const P: usize>(self) -> Self::Out {
+            Box::new(NetworkDriver::<C, P>::for_sensor(self.0, self.1, self.2))
+        }
+    }
+    with_widths(g, Make(n, g.width, g.height))
 }
 
 /// A unit's coordinate port as the firmware's writer sees its pins: CRDY1 as the unit drove it

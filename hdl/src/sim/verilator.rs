@@ -1,9 +1,11 @@
-//! The exported `window_network` (4 units) compiled with Verilator on demand into a shared
-//! library beside the C interface of `hdl/verilog/tb/verilator_harness.cpp`, and stepped one
-//! pixel clock per call with the same interface as [`super::driver::NetworkDriver`]. The
-//! testbench's `--hdl verilator` window units run on it.
+//! The exported `window_network` (4 units) at a sensor's geometry, compiled with Verilator on
+//! demand into a shared library beside the C interface of
+//! `hdl/verilog/tb/verilator_harness.cpp` (one library per geometry: its parameters are part of
+//! the cache key), and stepped one pixel clock per call with the same interface as
+//! [`super::driver::NetworkDriver`]. The testbench's `--hdl verilator` window units run on it.
 use super::camera::CameraBus;
 use super::driver::{CoordBus, UnitOutputs};
+use crate::verilog::Geometry;
 use std::ffi::c_void;
 use std::hash::{Hash, Hasher};
 use std::path::{Path, PathBuf};
@@ -131,12 +133,12 @@ pub fn cache_root() -> PathBuf {
     }
 }
 
-/// Where the library for the current Verilog lives under the cache `root`:
-/// `verilator-<key>/libwindow_network.so`, the key a hash of the Verilog, the harness and
-/// the flags.
-pub fn library_in(root: &Path) -> PathBuf {
-    let files = crate::verilog::exported(UNITS, &crate::verilog::Geometry::CA_D1);
-    root.join(format!("verilator-{:016x}", key(&files))).join("libwindow_network.so")
+/// Where the library for the current Verilog at geometry `g` lives under the cache `root`:
+/// `verilator-<key>/libwindow_network.so`, the key a hash of the geometry, the Verilog (its
+/// parameters' defaults set to `g`), the harness and the flags.
+pub fn library_in(root: &Path, g: &Geometry) -> PathBuf {
+    let files = crate::verilog::exported(UNITS, g);
+    root.join(format!("verilator-{:016x}", key(g, &files))).join("libwindow_network.so")
 }
 
 /// Makes `dir` (mode 0700) if it is missing, then checks that it is a real folder (not a
@@ -168,13 +170,14 @@ fn private_dir(dir: &Path) -> Result<(), VerilatorError> {
     }
 }
 
-/// Builds (or reuses) the shared library for the current Verilog in the per-user cache
-/// ([`cache_root`]).
-pub fn build() -> Result<PathBuf, VerilatorError> {
-    build_in(&cache_root())
+/// Builds (or reuses) the shared library for the current Verilog at geometry `g` in the
+/// per-user cache ([`cache_root`]).
+pub fn build(g: &Geometry) -> Result<PathBuf, VerilatorError> {
+    build_in(&cache_root(), g)
 }
 
-/// Builds (or reuses) the shared library for the current Verilog under the cache `root`.
+/// Builds (or reuses) the shared library for the current Verilog at geometry `g` under the
+/// cache `root`.
 ///
 /// The library lives at [`library_in`]`(root)`. The cache folder and the key's folder are
 /// made with mode 0700 and checked (owner and mode, see [`private_dir`]) before a library
@@ -182,12 +185,12 @@ pub fn build() -> Result<PathBuf, VerilatorError> {
 /// process id and a counter), and the finished library is linked into place without
 /// replacing one that is already there; so concurrent threads and processes never see a
 /// half-built library, and the first one installed is the one every run loads.
-pub fn build_in(root: &Path) -> Result<PathBuf, VerilatorError> {
+pub fn build_in(root: &Path, g: &Geometry) -> Result<PathBuf, VerilatorError> {
     // One build at a time within a process; other processes are kept apart by the private folders.
     static BUILDING: std::sync::Mutex<()> = std::sync::Mutex::new(());
     let _guard = BUILDING.lock().unwrap_or_else(|e| e.into_inner());
-    let files = crate::verilog::exported(UNITS, &crate::verilog::Geometry::CA_D1);
-    let lib = library_in(root);
+    let files = crate::verilog::exported(UNITS, g);
+    let lib = library_in(root, g);
     let dir = lib.parent().map_or_else(|| root.to_path_buf(), Path::to_path_buf);
     if let Some(parent) = root.parent() {
         std::fs::create_dir_all(parent).map_err(|source| VerilatorError::Io { action: "create", path: parent.display().to_string(), source })?;
@@ -205,11 +208,11 @@ pub fn build_in(root: &Path) -> Result<PathBuf, VerilatorError> {
     installed.map(|()| lib)
 }
 
-/// The library's key: a hash of the Verilog, the harness and the flags (the same in every
-/// process of one build of this crate).
-fn key(files: &[(&'static str, String); 2]) -> u64 {
+/// The library's key: a hash of the geometry, the Verilog, the harness and the flags (the
+/// same in every process of one build of this crate).
+fn key(g: &Geometry, files: &[(&'static str, String); 2]) -> u64 {
     let mut h = std::hash::DefaultHasher::new();
-    (&files[0].1, &files[1].1, HARNESS, VERILATOR_FLAGS).hash(&mut h);
+    ((g.width, g.height, g.pixel_bits), &files[0].1, &files[1].1, HARNESS, VERILATOR_FLAGS).hash(&mut h);
     h.finish()
 }
 
@@ -291,9 +294,9 @@ fn verilator_include() -> Result<PathBuf, VerilatorError> {
 }
 
 impl VerilatorNetwork {
-    /// Builds if needed and loads the model, at power-on.
-    pub fn new() -> Result<Self, VerilatorError> {
-        Self::load(&build()?)
+    /// Builds if needed and loads the model of sensor `g`, at power-on.
+    pub fn new(g: &Geometry) -> Result<Self, VerilatorError> {
+        Self::load(&build(g)?)
     }
 
     fn load(path: &Path) -> Result<Self, VerilatorError> {
@@ -317,7 +320,7 @@ impl VerilatorNetwork {
     /// One pixel clock: the camera bus, each unit's port (missing units idle), the outputs after
     /// the rising edge into `out` (as many as given).
     pub fn step(&mut self, cam: CameraBus, ports: &[CoordBus], out: &mut [UnitOutputs]) {
-        let c = u32::from(cam.fval) | u32::from(cam.lval) << 1 | u32::from(cam.pixel & 0xff) << 2 | u32::from(cam.pixel_valid) << 10;
+        let c = u32::from(cam.fval) | u32::from(cam.lval) << 1 | u32::from(cam.pixel_valid) << 2 | u32::from(cam.pixel) << 16;
         let mut p = [0u32; UNITS];
         for (slot, port) in p.iter_mut().zip(ports) {
             *slot = (port.data & 0xff) | u32::from(port.strobe) << 8 | u32::from(port.decimate) << 9;
@@ -330,8 +333,8 @@ impl VerilatorNetwork {
             *dst = UnitOutputs {
                 coord_ready: w & 1 != 0,
                 pixel_strobe: w & 2 != 0,
-                pixel_out: (w >> 2 & 0xff) as u16,
-                coord_error: w & (1 << 10) != 0,
+                coord_error: w & 4 != 0,
+                pixel_out: (w >> 16) as u16,
             };
         }
     }
@@ -341,5 +344,21 @@ impl Drop for VerilatorNetwork {
     fn drop(&mut self) {
         // SAFETY: created by wn_new, freed once.
         unsafe { (self.free)(self.handle) }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_geometry_has_its_own_library() {
+        // The rule stated in `library_in`: the key holds the geometry, so a model compiled for
+        // one sensor is never loaded for another (the harness would drive the wrong widths).
+        let root = Path::new("/cache");
+        let vga = |bits| Geometry::new(640, 480, bits).unwrap();
+        assert_eq!(library_in(root, &Geometry::CA_D1), library_in(root, &Geometry::CA_D1));
+        assert_ne!(library_in(root, &Geometry::CA_D1), library_in(root, &vga(8)));
+        assert_ne!(library_in(root, &vga(8)), library_in(root, &vga(10)));
     }
 }

@@ -10,7 +10,7 @@
         m->decimate_##k = (port >> 9) & 1;                                               \
         break;
 #define OUT(k) \
-    case k: return m->coord_ready_##k | (m->pixel_strobe_##k << 1) | (m->pixel_out_##k << 2) | (m->coord_error_##k << 10);
+    case k: return m->coord_ready_##k | (m->pixel_strobe_##k << 1) | (m->coord_error_##k << 2) | ((uint32_t)m->pixel_out_##k << 16);
 
 static void set_port(Vwindow_network* m, int k, uint32_t port) {
     switch (k) { UNIT(0) UNIT(1) UNIT(2) UNIT(3) }
@@ -29,14 +29,15 @@ void* wn_new() {
     m->eval();
     return m;
 }
-// cam: fval | lval << 1 | pixel << 2 | pixel_valid << 10; ports[k]: data | strobe << 8 | decimate << 9.
-// outs[k] after the rising edge: ready | strobe << 1 | pixel << 2 | error << 10.
+// cam: fval | lval << 1 | pixel_valid << 2 | pixel << 16 (up to 16 bits);
+// ports[k]: data | strobe << 8 | decimate << 9.
+// outs[k] after the rising edge: ready | strobe << 1 | error << 2 | pixel << 16.
 void wn_step(void* p, uint32_t cam, const uint32_t* ports, uint32_t* outs) {
     auto* m = static_cast<Vwindow_network*>(p);
     m->fval = cam & 1;
     m->lval = (cam >> 1) & 1;
-    m->pixel = (cam >> 2) & 0xff;
-    m->pixel_valid = (cam >> 10) & 1;
+    m->pixel_valid = (cam >> 2) & 1;
+    m->pixel = cam >> 16;
     for (int k = 0; k < 4; k++) set_port(m, k, ports[k]);
     m->clock = 0;
     m->eval();

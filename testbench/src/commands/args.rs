@@ -162,7 +162,7 @@ pub enum ValueError {
     NotACoordinate(String),
     /// A window with other than four coordinates.
     WindowValues(usize),
-    /// A window off the 256x256 camera.
+    /// A window off the largest sensor a unit is exported for (4096x4096).
     WindowOffCamera,
     /// A window with no area.
     WindowEmpty,
@@ -199,7 +199,7 @@ impl Display for ValueError {
             }
             ValueError::NotACoordinate(v) => write!(f, "'{v}' is not a coordinate"),
             ValueError::WindowValues(n) => write!(f, "expected XMIN,XMAX,YMIN,YMAX, got {n} values"),
-            ValueError::WindowOffCamera => f.write_str("coordinates must be 0..255 on the 256x256 camera"),
+            ValueError::WindowOffCamera => f.write_str("coordinates must be 0..4095 (the largest sensor, 4096x4096)"),
             ValueError::WindowEmpty => f.write_str("a window needs XMIN < XMAX and YMIN < YMAX"),
             ValueError::BoxValues(n) => write!(f, "expected X,Y,W,H (e.g. 40,36,24,20), got {n} values"),
             ValueError::Size(v) => write!(f, "'{v}' is not a frame size WxH with sides {}..{} (e.g. 640x480)", SIDES.start(), SIDES.end()),
@@ -291,7 +291,7 @@ pub fn parse_window(s: &str) -> Result<Window, ValueError> {
         return Err(ValueError::WindowValues(v.len()));
     };
     let w = Window { xmin, xmax, ymin, ymax };
-    if xmax > 255 || ymax > 255 {
+    if xmax > 4095 || ymax > 4095 {
         return Err(ValueError::WindowOffCamera);
     }
     if !w.is_valid() {

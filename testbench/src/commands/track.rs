@@ -93,6 +93,10 @@ pub struct TrackArgs {
     /// Window units: the behavioural model, the rust-hdl blocks, or the Verilog in Verilator
     #[arg(long, value_enum, default_value_t = HdlArg::Model)]
     pub hdl: HdlArg,
+    /// With --hdl rust-hdl or verilator: the window units' pixel width (8 to 16, as `coopwin
+    /// verilog --pixel-bits`); the frames' 8-bit pixels enter as its top bits
+    #[arg(long, default_value_t = 8, value_name = "BITS", value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(8..=16))]
+    pub pixel_bits: usize,
     /// With --hdl rust-hdl: a VCD of every window unit's signals (uut$0, uut$1, ...), and
     /// FILE.requests.csv beside it for `coopwin audit`
     #[arg(long, value_name = "FILE")]
@@ -153,6 +157,7 @@ impl TrackArgs {
             coop_n: self.coop_n,
             target: self.target_point(),
             backend: self.hdl.into(),
+            unit_pixel_bits: self.pixel_bits,
             policy: self.policy.into(),
             mpdf_watch: self.watch.into(),
             jitter: self.blank_jitter,
@@ -211,6 +216,31 @@ fn video_error(e: VideoError) -> CliError {
     }
 }
 
+/// What the CSV's rows say beyond the run's record: the folder's file names, or the video's
+/// timestamps and damage; taken from the input before its frames are read, so rows are
+/// written during the run.
+struct RowFacts {
+    names: Vec<String>,
+    video: Option<(Vec<f64>, Vec<bool>)>,
+}
+
+impl RowFacts {
+    fn of(input: &Input) -> RowFacts {
+        match input {
+            Input::Folder(f) => RowFacts { names: f.names(), video: None },
+            Input::Video { scan, .. } => RowFacts { names: Vec::new(), video: Some((scan.times.clone(), scan.damaged.clone())) },
+        }
+    }
+
+    /// The rows' facts, frames `period` seconds apart where no timestamp says otherwise.
+    fn info(&self, period: f64) -> FrameInfo<'_> {
+        match &self.video {
+            None => FrameInfo { files: Some(&self.names), period, ..FrameInfo::default() },
+            Some((times, damaged)) => FrameInfo { times: Some(times), damaged: Some(damaged), period, files: None },
+        }
+    }
+}
+
 impl Input {
     /// Opens `path`: a folder of frames, or a video file, scanned once through FFmpeg. A video
     /// with decoding errors is refused unless `allow_damaged`.
@@ -242,14 +272,6 @@ impl Input {
         match self {
             Input::Folder(f) => f.size(),
             Input::Video { scan, .. } => scan.size,
-        }
-    }
-
-    /// What the CSV says of each frame beyond the run: file names, timestamps, damage.
-    fn info<'a>(&'a self, names: &'a [String], period: f64) -> FrameInfo<'a> {
-        match self {
-            Input::Folder(_) => FrameInfo { files: Some(names), period, ..FrameInfo::default() },
-            Input::Video { scan, .. } => FrameInfo { times: Some(&scan.times), damaged: Some(&scan.damaged), period, files: None },
         }
     }
 
@@ -286,6 +308,9 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
     if matches!(args.hdl, HdlArg::Model) && vcd.is_some() {
         return Err(CliError::arg("--vcd traces the window units' signals: add --hdl rust-hdl"));
     }
+    if matches!(args.hdl, HdlArg::Model) && args.pixel_bits != 8 {
+        return Err(CliError::arg("--pixel-bits sets the clocked window units' pixel width: add --hdl rust-hdl or --hdl verilator"));
+    }
     let overlay_out = match &args.overlay {
         Some(p) => Some((OverlayKind::of(p)?, OutFile::check(p, "--overlay")?)),
         None => None,
@@ -315,20 +340,38 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
     let started = std::time::Instant::now();
     let truth_path = args.frames.join("groundtruth.csv");
     let truth = if args.frames.is_dir() && truth_path.exists() { Some(groundtruth::read(&truth_path)?) } else { None };
-    let (log, vcd_stream) = track_frames(&mut input.frames()?, &cfg, vcd.as_ref().map(|(v, _)| (v, args.vcd_frames.clone())))?;
+    let shape = args.csv_box();
+    let facts = RowFacts::of(&input);
+    // The CSV is written a row as each frame ends (into a temporary file, put in place once
+    // every output is written).
+    let mut csv_out = match &out {
+        Some(o) => {
+            let mut stream = o.stream()?;
+            writeln!(stream, "{}", csv::TRACK_HEADER).map_err(|e| super::io_error("write", &o.path, e))?;
+            Some((o, stream, None))
+        }
+        None => None,
+    };
+    let (log, vcd_stream) = {
+        let mut frames = input.frames()?;
+        // The run's frame period, as the run computes it.
+        let info = facts.info(Clocks::for_frames(&frames, cfg.jitter).period() as f64 / cfg.pixel_clock_hz);
+        let mut on_record = |r: &system::FrameRecord| {
+            if let Some((_, stream, error @ None)) = &mut csv_out {
+                *error = writeln!(stream, "{}", csv::track_row(r, info, shape)).err();
+            }
+        };
+        track_frames(&mut frames, &cfg, vcd.as_ref().map(|(v, _)| (v, args.vcd_frames.clone())), &mut on_record)?
+    };
     let summary = truth.as_ref().map(|t| metrics::summarise(&log, t));
     let secs = started.elapsed().as_secs_f64();
-    let shape = args.csv_box();
     // Every output is completed only once all are written: an interrupted or failed run
     // replaces none of them.
     let mut done = Vec::new();
-    if let Some(o) = &out {
-        let names = match &input {
-            Input::Folder(f) => f.names(),
-            Input::Video { .. } => Vec::new(),
-        };
-        let mut stream = o.stream()?;
-        csv::write_track_csv(&mut stream, &log.frames, input.info(&names, log.frame_period), shape).map_err(|e| super::io_error("write", &o.path, e))?;
+    if let Some((o, stream, error)) = csv_out {
+        if let Some(e) = error {
+            return Err(super::io_error("write", &o.path, e));
+        }
         done.push((stream, (!to_stdout).then(|| format!("wrote {}", o.path.display()))));
     }
     if let Some((v, req)) = &vcd {
@@ -457,11 +500,17 @@ pub fn progress_line(total: usize, label: &'static str) -> impl FnMut(usize) {
     }
 }
 
-/// Tracks `frames`; with `vcd`, every window unit is traced into it, for the frames in its
-/// range (all without), and its stream is returned for the caller to finish. The target, the
+/// Tracks `frames`, handing each frame's record to `on_record` as the frame ends; with `vcd`,
+/// every window unit is traced into it, for the frames in its range (all without), and its
+/// stream is returned for the caller to finish. The target, the
 /// traced range and the write phase are checked against the frames before the run (bad ones
 /// are argument errors).
-pub fn track_frames(frames: &mut dyn FrameSource, cfg: &SystemConfig, vcd: Option<(&OutFile, Option<Range<usize>>)>) -> Result<(RunLog, Option<Shared>), CliError> {
+pub fn track_frames(
+    frames: &mut dyn FrameSource,
+    cfg: &SystemConfig,
+    vcd: Option<(&OutFile, Option<Range<usize>>)>,
+    on_record: &mut dyn FnMut(&system::FrameRecord),
+) -> Result<(RunLog, Option<Shared>), CliError> {
     let (w, h) = frames.size();
     if let Some((x, y)) = cfg.target {
         if !(x.is_finite() && y.is_finite() && x >= 0.0 && y >= 0.0 && x <= (w - 1) as f64 && y <= (h - 1) as f64) {
@@ -499,6 +548,6 @@ pub fn track_frames(frames: &mut dyn FrameSource, cfg: &SystemConfig, vcd: Optio
         }
         None => None,
     };
-    let log = system::simulate_traced(cfg, &mut interrupt::Interruptible(frames), &mut progress_line(n, "tracking"), trace)?;
+    let log = system::simulate_traced(cfg, &mut interrupt::Interruptible(frames), &mut progress_line(n, "tracking"), on_record, trace)?;
     Ok((log, stream))
 }

@@ -1,11 +1,16 @@
 //! `coopwin waves`: window acquisitions simulated in rust-hdl, as a VCD and the five timing
-//! diagrams of Appendix B.
+//! diagrams of Appendix B, on a unit of any geometry `coopwin verilog` exports (the coordinate
+//! sets written by the firmware's writer for that sensor: eight bytes above 256).
 use super::args::parse_window;
 use super::{output::OutFile, CliError};
 use crate::report::timing_svg;
-use coopwin_hdl::sim::appendix_b::{simulate_acquisition, Sequence};
+use crate::units::clocks::Clocks;
+use coopwin_hdl::sim::appendix_b::{simulate_acquisition, AcquisitionError, Sequence};
 use coopwin_hdl::sim::camera::{RasterTiming, Window};
+use coopwin_hdl::sim::driver::{with_widths, WidthsVisitor};
 use coopwin_hdl::sim::vcd::{write_flags_vcd, VCD_CLOCK_PS};
+use coopwin_hdl::verilog::Geometry;
+use coopwin_hdl::window_unit::Flags;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -18,16 +23,27 @@ pub struct WavesArgs {
     #[arg(long)]
     pub out: PathBuf,
     /// Window as XMIN,XMAX,YMIN,YMAX (0-based, inclusive); default the whole frame
-    #[arg(long, default_value = "0,255,0,255", value_parser = parse_window)]
-    pub window: Window,
+    #[arg(long, value_parser = parse_window)]
+    pub window: Option<Window>,
     /// Frames to acquire, one coordinate set written before each
     #[arg(long, default_value_t = 1)]
     pub frames: usize,
+    /// Sensor width in pixels (16..4096)
+    #[arg(long, default_value_t = Geometry::CA_D1.width)]
+    pub width: usize,
+    /// Sensor height in lines (16..4096)
+    #[arg(long, default_value_t = Geometry::CA_D1.height)]
+    pub height: usize,
+    /// Bits per pixel (8..16)
+    #[arg(long, default_value_t = Geometry::CA_D1.pixel_bits)]
+    pub pixel_bits: usize,
 }
 
 /// Writes the VCD and the diagrams and says so.
 pub fn write_waves(args: WavesArgs) -> Result<(), CliError> {
-    let svgs = waves(&args.out, args.window, args.frames)?;
+    let g = Geometry::new(args.width, args.height, args.pixel_bits).map_err(|e| CliError::arg(e.to_string()))?;
+    let window = args.window.unwrap_or(Window { xmin: 0, xmax: g.width as u32 - 1, ymin: 0, ymax: g.height as u32 - 1 });
+    let svgs = waves(&args.out, &g, window, args.frames)?;
     println!("wrote {}", args.out.display());
     for p in svgs {
         println!("wrote {}", p.display());
@@ -35,17 +51,47 @@ pub fn write_waves(args: WavesArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// The test card the waves are simulated on: each pixel's value is its column, so the value on
-/// D4 says which pixel of the line left (the Y count says which line).
-fn test_card() -> Vec<u8> {
-    (0..65536u32).map(|i| (i % 256) as u8).collect()
+/// The test card the waves are simulated on: each pixel's value is its column (modulo the
+/// pixel's range), so the value on D4 says which pixel of the line left (the Y count says
+/// which line).
+fn test_card(g: &Geometry) -> Vec<u16> {
+    let range = 1usize << g.pixel_bits;
+    (0..g.width * g.height).map(|i| (i % g.width % range) as u16).collect()
 }
 
-/// Simulates `frames` acquisitions of `window` in rust-hdl, writes the VCD to `vcd`, and an SVG
-/// timing diagram per Appendix B sequence beside it. Returns the SVG paths.
-pub fn waves(vcd: &Path, window: Window, frames: usize) -> Result<Vec<PathBuf>, CliError> {
+/// The acquisition on a unit of the widths `coopwin_hdl::sim::driver::stepped_widths` picks.
+struct Acquire {
+    timing: RasterTiming,
+    window: Window,
+    frames: usize,
+    image: Arc<Vec<u16>>,
+}
+
+impl WidthsVisitor for Acquire {
+    type Out = Result<Vec<Flags>, AcquisitionError>;
+    fn visit<const C: usize, const P: usize>(self) -> Self::Out {
+        simulate_acquisition::<C, P>(self.timing, self.window, false, self.frames, self.image)
+    }
+}
+
+/// Simulates `frames` acquisitions of `window` on a unit of sensor `g` in rust-hdl, writes the
+/// VCD to `vcd`, and an SVG timing diagram per Appendix B sequence beside it. Returns the SVG
+/// paths.
+pub fn waves(vcd: &Path, g: &Geometry, window: Window, frames: usize) -> Result<Vec<PathBuf>, CliError> {
     if frames == 0 || frames > 100 {
         return Err(CliError::arg(format!("--frames must be 1..100, got {frames}")));
+    }
+    let last = |n: usize| n as u32 - 1;
+    if !window.is_valid() || window.xmax > last(g.width) || window.ymax > last(g.height) {
+        return Err(CliError::arg(format!(
+            "--window {},{},{},{}: the unit takes xmin < xmax <= {} and ymin < ymax <= {}",
+            window.xmin,
+            window.xmax,
+            window.ymin,
+            window.ymax,
+            last(g.width),
+            last(g.height)
+        )));
     }
     if vcd.as_os_str() == "-" {
         return Err(CliError::arg("--out -: the VCD needs a file name (the SVGs are written beside it)"));
@@ -55,9 +101,10 @@ pub fn waves(vcd: &Path, window: Window, frames: usize) -> Result<Vec<PathBuf>, 
     let svgs: Vec<OutFile> = (1..=Sequence::ALL.len())
         .map(|k| OutFile::check(&PathBuf::from(format!("{}-b1_{k}.svg", stem.display())), "--out"))
         .collect::<Result<_, _>>()?;
-    eprintln!("simulating {frames} frame(s) of window {window:?} in rust-hdl ...");
-    let rec = simulate_acquisition(RasterTiming::CA_D1, window, false, frames, Arc::new(test_card()))
-        .map_err(|e| CliError::new(e.to_string()))?;
+    eprintln!("simulating {frames} frame(s) of window {window:?} on a {}x{}x{} unit in rust-hdl ...", g.width, g.height, g.pixel_bits);
+    // The CA-D1's blanking (RasterTiming::CA_D1 at 256x256), at the sensor's size.
+    let timing = Clocks::camera_timing((g.width, g.height));
+    let rec = with_widths(g, Acquire { timing, window, frames, image: Arc::new(test_card(g)) }).map_err(|e| CliError::new(e.to_string()))?;
     let mut vcd_text = Vec::new();
     write_flags_vcd(&mut vcd_text, &rec, VCD_CLOCK_PS).map_err(|e| CliError::new(e.to_string()))?;
     out.write(&vcd_text)?;

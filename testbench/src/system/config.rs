@@ -48,6 +48,9 @@ pub struct SystemConfig {
     pub pixel_clock_hz: f64,
     /// Window units: the behavioural model, the rust-hdl blocks or the Verilog in Verilator.
     pub backend: UnitBackend,
+    /// Pixel width of the clocked window units (8 to 16); the frames' 8-bit pixels fill their
+    /// top bits.
+    pub unit_pixel_bits: usize,
     /// COOP's decision policy.
     pub policy: CoopPolicy,
     /// MPDF's Watch windows.
@@ -79,6 +82,7 @@ impl SystemConfig {
             model: None,
             pixel_clock_hz: coopwin_hdl::sim::camera::CA_D1_PIXEL_CLOCK_HZ,
             backend: UnitBackend::BehaviouralModel,
+            unit_pixel_bits: 8,
             policy: CoopPolicy::Guarded,
             mpdf_watch: MpdfWatch::Strips,
             corrupt_request: None,

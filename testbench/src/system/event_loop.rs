@@ -5,7 +5,7 @@
 use super::config::SystemConfig;
 use super::events::{Event, EventQueue};
 use super::links::{Links, Timing};
-use super::log::{Recorder, RunLog};
+use super::log::{FrameRecord, Recorder, RunLog};
 use super::roster::{Roles, Roster};
 use super::writes::CoordinateWrites;
 use super::SimError;
@@ -18,12 +18,14 @@ use coopwin_firmware::types::Point;
 use coopwin_firmware::kernels::view::WindowView;
 
 /// Runs `cfg` over `source`, its windows from `units`, calling `progress(frame)` at each
-/// frame start.
+/// frame start and `on_record` with each frame's record as the frame ends (the next frame's
+/// FVAL rising, or the end of the run), so a caller can write it out as the run goes.
 pub fn simulate_with(
     cfg: &SystemConfig,
     source: &mut dyn FrameSource,
     units: &mut dyn WindowUnits,
     progress: &mut dyn FnMut(usize),
+    on_record: &mut dyn FnMut(&FrameRecord),
 ) -> Result<RunLog, SimError> {
     let (w, h) = source.size();
     let n = source.len();
@@ -78,12 +80,12 @@ pub fn simulate_with(
         }
         let Some((c, event)) = run.wiring.queue.pop() else { break };
         match event {
-            Event::FrameStart(k) => run.on_frame_start(k, c, progress),
+            Event::FrameStart(k) => run.on_frame_start(k, c, progress, on_record),
             Event::MessageArrives { to, from } => run.on_message(to, from, c)?,
         }
     }
     if n > 0 {
-        run.recorder.end_frame(n - 1, &run.roster);
+        on_record(run.recorder.end_frame(n - 1, &run.roster));
     }
     let mut log = run.recorder.finish();
     log.requests = run.wiring.writes.written;
@@ -184,9 +186,9 @@ impl Run<'_, '_> {
     }
 
     /// Frame `k`'s FVAL rises on clock `c`: the last frame's record, and the watchdog.
-    fn on_frame_start(&mut self, k: usize, c: u64, progress: &mut dyn FnMut(usize)) {
+    fn on_frame_start(&mut self, k: usize, c: u64, progress: &mut dyn FnMut(usize), on_record: &mut dyn FnMut(&FrameRecord)) {
         if k > 0 {
-            self.recorder.end_frame(k - 1, &self.roster);
+            on_record(self.recorder.end_frame(k - 1, &self.roster));
         }
         progress(k);
         let rewrites = self.wiring.writes.watchdog(k, c, self.wiring.units);

@@ -184,7 +184,7 @@ impl Recorder {
     }
 
     /// The record of `frame`, at the end of its period.
-    pub(super) fn end_frame(&mut self, frame: usize, roster: &Roster) {
+    pub(super) fn end_frame(&mut self, frame: usize, roster: &Roster) -> &FrameRecord {
         let mode = roster.mode();
         // A coasting COOP track has no current position: its last one is not this frame's.
         let coasting = roster.coasting();
@@ -207,6 +207,7 @@ impl Recorder {
             state,
             estimate: estimate.map(xy),
         });
+        &self.log.frames[self.log.frames.len() - 1]
     }
 
     /// The finished log, with the robot link's bytes.

@@ -37,20 +37,22 @@ use core::convert::Infallible;
 /// Runs `cfg` over `source` with the window units it names, calling `progress(frame)` at each
 /// frame start.
 pub fn simulate(cfg: &SystemConfig, source: &mut dyn FrameSource, progress: &mut dyn FnMut(usize)) -> Result<RunLog, SimError> {
-    simulate_traced(cfg, source, progress, None)
+    simulate_traced(cfg, source, progress, &mut |_| {}, None)
 }
 
-/// [`simulate`], with a VCD of every window unit (for `vcd`'s frames) when the units are
-/// rust-hdl's.
+/// [`simulate`], calling `on_record` with each frame's record as the frame ends (see
+/// [`simulate_with`]), and with a VCD of every window unit (for `vcd`'s frames) when the
+/// units are rust-hdl's.
 pub fn simulate_traced(
     cfg: &SystemConfig,
     source: &mut dyn FrameSource,
     progress: &mut dyn FnMut(usize),
+    on_record: &mut dyn FnMut(&FrameRecord),
     vcd: Option<Trace>,
 ) -> Result<RunLog, SimError> {
     let clocks = Clocks::for_frames(source, cfg.jitter);
-    let mut units = units::open(cfg.backend, clocks, cfg.strategy.units(), vcd)?;
-    let mut log = simulate_with(cfg, source, units.as_mut(), progress)?;
+    let mut units = units::open(cfg.backend, clocks, cfg.unit_pixel_bits, cfg.strategy.units(), vcd)?;
+    let mut log = simulate_with(cfg, source, units.as_mut(), progress, on_record)?;
     let stats = units.finish()?;
     log.hdl_clocks = stats.clocks;
     log.hdl_seconds = stats.seconds;

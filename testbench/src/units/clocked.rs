@@ -3,23 +3,32 @@
 //! is written by the firmware's `window_ports::CoordinateWriter` over the four-phase handshake
 //! and read from `pixel_strobe`/`pixel_out` by its `window_ports::PixelReceiver`, both through
 //! `embedded-hal` pins ([`super::pins`]), as on the Cortex-M4 board.
+//!
+//! The units are built for the frames' geometry ([`Geometry`]): the writer sends eight-byte
+//! sets when the frame is wider or taller than 256 (the firmware's `for_sensor`, the same rule
+//! as the hardware's), and a unit of `pixel_bits` > 8 takes each 8-bit frame pixel scaled to
+//! its top bits (`v << (pixel_bits - 8)`, as a wider sensor would see the scene) while the
+//! processor's 8-bit port 4 is wired to the unit's top 8 pixel lines; so every width delivers
+//! the pixels the behavioural model does.
 use super::clocks::Clocks;
 use super::pins::{pixel_pins, port_pins};
 use super::{window_of, Delivered, RequestRefused, UnitError, UnitStats, WindowUnits};
 use crate::frames::FrameSource;
 use coopwin_firmware::types::{Decimation, WindowRequest};
-use coopwin_firmware::ports::window::{bound_bytes, CoordinateSet, CoordinateWriter, PixelReceiver, WriteError};
+use coopwin_firmware::ports::window::{bound_bytes, wide_coordinates, CoordinateSet, CoordinateWriter, PixelReceiver, WriteError};
 use coopwin_hdl::sim::camera::CameraBus;
-use coopwin_hdl::sim::driver::{CoordBus, NetworkDriver, UnitOutputs};
+use coopwin_hdl::sim::driver::{network, CoordBus, SteppedNetwork, UnitOutputs};
 use coopwin_hdl::sim::vcd::VcdTrace;
 use coopwin_hdl::sim::verilator::{self, VerilatorNetwork};
+use coopwin_hdl::verilog::Geometry;
 use core::cell::Cell;
 use std::collections::VecDeque;
 
 /// The units' simulator: rust-hdl blocks, or the Verilator model of the exported Verilog.
 pub enum UnitSimulator {
-    /// One rust-hdl `WindowUnit` per processor, stepped directly.
-    RustHdl(NetworkDriver<{ coopwin_hdl::CA_D1_BITS }, { coopwin_hdl::CA_D1_PIXEL_BITS }>),
+    /// One rust-hdl `WindowUnit` per processor, stepped directly (at the widths
+    /// `coopwin_hdl::sim::driver::stepped_widths` picks for the geometry).
+    RustHdl(Box<dyn SteppedNetwork>),
     /// `window_network` compiled with Verilator (4 units; unused ones idle).
     Verilator(VerilatorNetwork),
 }
@@ -50,9 +59,10 @@ struct ClockedUnit {
 }
 
 impl ClockedUnit {
-    fn new() -> Self {
+    /// A unit of sensor `g` at power-on, with the firmware's writer for that sensor.
+    fn new(g: &Geometry) -> Self {
         ClockedUnit {
-            writer: CoordinateWriter::new(),
+            writer: CoordinateWriter::for_sensor(g.width as u16, g.height as u16),
             last: UnitOutputs::default(),
             queued: VecDeque::new(),
             written: VecDeque::new(),
@@ -86,6 +96,8 @@ struct Recording {
 /// Window units simulated clock by clock, rust-hdl or Verilator (see the module docs).
 pub struct ClockedUnits {
     clocks: Clocks,
+    /// The units' sensor: the frames' size and the unit's pixel width.
+    geometry: Geometry,
     simulator: UnitSimulator,
     units: Vec<ClockedUnit>,
     ports: Vec<CoordBus>,
@@ -106,9 +118,10 @@ pub struct ClockedUnits {
 }
 
 impl ClockedUnits {
-    /// `n` units at power-on in `simulator`; with `trace` (rust-hdl only), every unit's signals
-    /// go into a VCD (scopes `uut$0`, `uut$1`, ...) for the frames in its range.
-    pub fn new(clocks: Clocks, n: usize, simulator: UnitSimulator, trace: Option<Trace>) -> Result<Self, UnitError> {
+    /// `n` units of sensor `geometry` (the frames' size, see [`Self::geometry`]) at power-on in
+    /// `simulator`; with `trace` (rust-hdl only), every unit's signals go into a VCD (scopes
+    /// `uut$0`, `uut$1`, ...) for the frames in its range.
+    pub fn new(clocks: Clocks, geometry: Geometry, n: usize, simulator: UnitSimulator, trace: Option<Trace>) -> Result<Self, UnitError> {
         if let UnitSimulator::Verilator(_) = simulator {
             if n > verilator::UNITS {
                 return Err(UnitError::TooFewVerilatorUnits { have: verilator::UNITS, need: n });
@@ -135,8 +148,9 @@ impl ClockedUnits {
         let next_frame_at = clocks.blank();
         Ok(ClockedUnits {
             clocks,
+            geometry,
             simulator,
-            units: (0..n).map(|_| ClockedUnit::new()).collect(),
+            units: (0..n).map(|_| ClockedUnit::new(&geometry)).collect(),
             ports: vec![CoordBus::default(); n],
             outs: vec![UnitOutputs::default(); n],
             clock: 0,
@@ -150,9 +164,30 @@ impl ClockedUnits {
         })
     }
 
-    /// `n` rust-hdl units.
-    pub fn rust_hdl(clocks: Clocks, n: usize, trace: Option<Trace>) -> Result<Self, UnitError> {
-        Self::new(clocks, n, UnitSimulator::RustHdl(NetworkDriver::new(n)), trace)
+    /// The sensor of units for `clocks`' frames with `pixel_bits`-bit pixels (refused outside
+    /// what `coopwin verilog` exports: 16 to 4096 pixels a side, 8 to 16 bits).
+    pub fn geometry(clocks: &Clocks, pixel_bits: usize) -> Result<Geometry, UnitError> {
+        let (w, h) = (clocks.timing.width, clocks.timing.height);
+        Geometry::new(w, h, pixel_bits).map_err(|reason| UnitError::Geometry { width: w, height: h, reason })
+    }
+
+    /// `n` rust-hdl units of `pixel_bits`-bit pixels for `clocks`' frames.
+    pub fn rust_hdl(clocks: Clocks, pixel_bits: usize, n: usize, trace: Option<Trace>) -> Result<Self, UnitError> {
+        let g = Self::geometry(&clocks, pixel_bits)?;
+        Self::new(clocks, g, n, UnitSimulator::RustHdl(network(n, &g)), trace)
+    }
+
+    /// `n` Verilator units (the exported network compiled at the geometry) of
+    /// `pixel_bits`-bit pixels for `clocks`' frames.
+    pub fn verilator(clocks: Clocks, pixel_bits: usize, n: usize) -> Result<Self, UnitError> {
+        let g = Self::geometry(&clocks, pixel_bits)?;
+        Self::new(clocks, g, n, UnitSimulator::Verilator(VerilatorNetwork::new(&g)?), None)
+    }
+
+    /// Bits a frame's 8-bit pixel is shifted up by on the bus (and the unit's output down by
+    /// on port 4).
+    fn pixel_shift(&self) -> u32 {
+        self.geometry.pixel_bits as u32 - 8
     }
 
     /// One pixel clock: the frame on the bus, the writers, the simulator, the units' outputs.
@@ -165,7 +200,8 @@ impl ClockedUnits {
                 false => (None, u64::MAX),
             };
         }
-        let (bus, bus_frame) = self.clocks.bus(c, self.frame.as_ref().map(|(k, px)| (*k, px.as_slice())));
+        let (mut bus, bus_frame) = self.clocks.bus(c, self.frame.as_ref().map(|(k, px)| (*k, px.as_slice())));
+        bus.pixel <<= self.pixel_shift();
         let frame_rises = bus_frame.is_some() && Some(c) == bus_frame.map(|k| self.clocks.frame_start(k));
         self.drive_ports(c, frame_rises.then_some(bus_frame).flatten());
         // Every 16th step is timed (and counted 16 times): timing every clock would itself
@@ -218,11 +254,11 @@ impl ClockedUnits {
                         // Quiet: no set part-taken, and CRDY1 low, so a set completed before
                         // is already in the set registers (CRDY1 falls two clocks after those
                         // load) and every later byte's CRDY1 rise is in the trace.
-                        let quiet = self.units.iter().all(|u| u.ready_rises % 4 == 0 && !u.last.coord_ready);
+                        let quiet = self.units.iter().all(|u| u.ready_rises.is_multiple_of(u.writer.set_len()) && !u.last.coord_ready);
                         // Should no quiet clock come, the audit reports the half-written set.
                         r.on = quiet || c + 2 >= r.first;
                         for (before, u) in self.sets_before_trace.iter_mut().zip(&self.units) {
-                            *before = u.ready_rises / 4;
+                            *before = u.ready_rises / u.writer.set_len();
                         }
                     }
                     match r.on {
@@ -243,13 +279,14 @@ impl ClockedUnits {
         }
     }
 
-    /// The units' outputs after clock `c`: completed sets (every fourth CRDY1 rise) and strobed
+    /// The units' outputs after clock `c`: completed sets (the CRDY1 rise of each set's last byte, the fourth or the eighth) and strobed
     /// pixels, a window delivered once whole.
     fn read_outputs(&mut self, c: u64) -> Result<(), UnitError> {
+        let shift = self.pixel_shift();
         for (unit, (u, out)) in self.units.iter_mut().zip(self.outs.iter().copied()).enumerate() {
             if out.coord_ready && !u.last.coord_ready {
                 u.ready_rises += 1;
-                if u.ready_rises % 4 == 0 {
+                if u.ready_rises.is_multiple_of(u.writer.set_len()) {
                     if let Some(req) = u.written.pop_front() {
                         u.complete.push((c, req));
                     }
@@ -260,8 +297,9 @@ impl ClockedUnits {
                 let Some(a) = &mut u.active else {
                     return Err(UnitError::StrobeWithoutWindow { unit, clock: c });
                 };
-                // Port 4 through embedded-hal input pins, as on the board.
-                let whole = pixel_pins(&out)
+                // Port 4 through embedded-hal input pins, as on the board: the unit's top 8
+                // pixel lines.
+                let whole = pixel_pins(&UnitOutputs { pixel_out: out.pixel_out >> shift, ..out })
                     .poll(&mut a.receiver, &mut a.pixels)
                     .map_err(|error| UnitError::Receive { unit, clock: c, error })?;
                 if whole {
@@ -277,7 +315,8 @@ impl ClockedUnits {
 
 impl WindowUnits for ClockedUnits {
     fn request(&mut self, unit: usize, req: WindowRequest, at: u64) -> Result<(), RequestRefused> {
-        link_set(&req, false).map_err(|reason| RequestRefused::Unwritable { unit, req, reason })?;
+        let wide = wide_coordinates(self.geometry.width, self.geometry.height);
+        link_set(&req, wide).map_err(|reason| RequestRefused::Unwritable { unit, req, reason })?;
         if let Some(u) = self.units.get_mut(unit) {
             u.queued.push_back((at, req));
         }

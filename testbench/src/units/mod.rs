@@ -16,13 +16,14 @@ pub mod model;
 pub mod pins;
 
 use crate::frames::{FrameError, FrameSource};
-use clocked::{ClockedUnits, Trace, UnitSimulator};
+use clocked::{ClockedUnits, Trace};
 use clocks::Clocks;
 use coopwin_firmware::ports::hal_pins::PixelPinError;
 use coopwin_firmware::types::WindowRequest;
 use coopwin_firmware::ports::window::WriteError;
 use coopwin_hdl::sim::camera::Window;
-use coopwin_hdl::sim::verilator::{VerilatorError, VerilatorNetwork};
+use coopwin_hdl::sim::verilator::VerilatorError;
+use coopwin_hdl::verilog::GeometryError;
 use core::convert::Infallible;
 use model::BehaviouralUnits;
 
@@ -77,23 +78,15 @@ pub trait WindowUnits {
     }
 }
 
-/// `n` units of kind `backend` on the raster `clocks`; with `trace`, a VCD of the rust-hdl units.
-pub fn open(backend: UnitBackend, clocks: Clocks, n: usize, trace: Option<Trace>) -> Result<Box<dyn WindowUnits>, UnitError> {
-    match backend {
-        UnitBackend::BehaviouralModel => match trace {
-            Some(_) => Err(UnitError::ModelNotTraced),
-            None => Ok(Box::new(BehaviouralUnits::new(clocks, n))),
-        },
-        UnitBackend::RustHdl | UnitBackend::Verilator => {
-            if clocks.timing.width > 256 || clocks.timing.height > 256 {
-                return Err(UnitError::FrameTooLarge);
-            }
-            Ok(Box::new(if backend == UnitBackend::RustHdl {
-                ClockedUnits::rust_hdl(clocks, n, trace)?
-            } else {
-                ClockedUnits::new(clocks, n, UnitSimulator::Verilator(VerilatorNetwork::new()?), trace)?
-            }))
-        }
+/// `n` units of kind `backend` on the raster `clocks` (the clocked ones built for its frame
+/// size with `pixel_bits`-bit pixels); with `trace`, a VCD of the rust-hdl units.
+pub fn open(backend: UnitBackend, clocks: Clocks, pixel_bits: usize, n: usize, trace: Option<Trace>) -> Result<Box<dyn WindowUnits>, UnitError> {
+    match (backend, trace) {
+        (UnitBackend::BehaviouralModel, Some(_)) => Err(UnitError::ModelNotTraced),
+        (UnitBackend::BehaviouralModel, None) => Ok(Box::new(BehaviouralUnits::new(clocks, n))),
+        (UnitBackend::RustHdl, trace) => Ok(Box::new(ClockedUnits::rust_hdl(clocks, pixel_bits, n, trace)?)),
+        (UnitBackend::Verilator, Some(_)) => Err(UnitError::VerilatorNotTraced),
+        (UnitBackend::Verilator, None) => Ok(Box::new(ClockedUnits::verilator(clocks, pixel_bits, n)?)),
     }
 }
 
@@ -150,8 +143,15 @@ pub enum UnitError {
     ModelNotTraced,
     /// A VCD was asked of the Verilator units.
     VerilatorNotTraced,
-    /// The frames are larger than the exported unit's 8-bit counters reach.
-    FrameTooLarge,
+    /// No window unit is exported for the frames' size or the pixel width.
+    Geometry {
+        /// Frame width.
+        width: usize,
+        /// Frame height.
+        height: usize,
+        /// What is out of range.
+        reason: GeometryError,
+    },
     /// The strategy needs more units than the Verilator network has.
     TooFewVerilatorUnits {
         /// Units in the network.
@@ -194,7 +194,9 @@ impl std::fmt::Display for UnitError {
             UnitError::Frame(e) => write!(f, "{e}"),
             UnitError::ModelNotTraced => f.write_str("a VCD needs the rust-hdl window units (--hdl rust-hdl)"),
             UnitError::VerilatorNotTraced => f.write_str("--vcd records the rust-hdl units (--hdl rust-hdl)"),
-            UnitError::FrameTooLarge => f.write_str("the exported window unit has 8-bit counters: frames up to 256x256"),
+            UnitError::Geometry { width, height, reason } => {
+                write!(f, "no window unit for {width}x{height} frames: {reason} (the behavioural model, --hdl model, has no limit)")
+            }
             UnitError::TooFewVerilatorUnits { have, need } => {
                 write!(f, "the Verilator network has {have} units, the strategy needs {need}")
             }

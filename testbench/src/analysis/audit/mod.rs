@@ -2,7 +2,8 @@
 //! `coopwin track --hdl rust-hdl --vcd`) with the `vcd` crate and checks it against the
 //! coordinate sets the processor wrote and the window logic's rules (Appendix B):
 //!
-//! - every set the processor queued is taken over the handshake, byte for byte, in order;
+//! - every set the processor queued is taken over the handshake, byte for byte, in order (four
+//!   bytes, or eight, high byte first, for a sensor over 256: [`Sample::wide`]);
 //! - each frame delivers exactly the window of the set armed for it (the latest set complete
 //!   at least `ARM_MARGIN` clocks before FVAL rises, each set used once): the right number of strobes,
 //!   each on a line and column inside the window (on the 25% grid when decimated), in raster
@@ -51,6 +52,7 @@ pub fn audit(samples: &[Sample], requests: &[(usize, Set)]) -> Audit {
         }
     };
     // The handshake: bytes taken, sets completed.
+    let per_coordinate = if samples.first().is_some_and(|s| s.wide) { 2 } else { 1 };
     let mut bytes: Vec<u32> = Vec::new();
     let mut complete: Vec<(usize, Set)> = Vec::new();
     let before = match samples.first() {
@@ -67,8 +69,9 @@ pub fn audit(samples: &[Sample], requests: &[(usize, Set)]) -> Audit {
                 bad(&mut a, t, "CRDY1 rose with CSTRB1 low".into());
             }
             bytes.push(s.coord_data);
-            if bytes.len() == 4 {
-                let window = Window { xmin: bytes[0], xmax: bytes[1], ymin: bytes[2], ymax: bytes[3] };
+            if bytes.len() == 4 * per_coordinate {
+                let c: Vec<u32> = bytes.chunks(per_coordinate).map(|b| b.iter().fold(0, |v, &byte| v << 8 | byte)).collect();
+                let window = Window { xmin: c[0], xmax: c[1], ymin: c[2], ymax: c[3] };
                 let set = Set { window, decimate: s.decimate };
                 let n = complete.len() - before;
                 match requests.get(n).map(|r| &r.1) {

@@ -30,6 +30,10 @@ pub struct Sample {
     pub start: bool,
     /// The pending set (the port's set registers).
     pub pending: Set,
+    /// Coordinates take two bytes, high first (eight-byte sets): the unit's set registers are
+    /// wider than 8 bits, which the rust-hdl units are exactly when the sensor is wider or
+    /// taller than 256 (`coopwin_hdl::sim::driver::stepped_widths`).
+    pub wide: bool,
 }
 
 /// The signals read, in the order of the indices `read_vcd` matches on.
@@ -90,6 +94,7 @@ pub fn read_vcd(reader: impl BufRead, unit: usize) -> Result<Vec<Sample>, VcdErr
         })
         .ok_or_else(|| VcdError::NoScope(scope_name.clone()))?;
     let mut ids: HashMap<IdCode, usize> = HashMap::new();
+    let mut cur = Sample::default();
     let mut clock_id = None;
     for (k, name) in SIGNALS.iter().enumerate() {
         let path: Vec<&str> = name.split('.').collect();
@@ -106,13 +111,15 @@ pub fn read_vcd(reader: impl BufRead, unit: usize) -> Result<Vec<Sample>, VcdErr
         }
         let leaf = path[path.len() - 1];
         let var = scope.find_var(leaf).ok_or(VcdError::Lacks(name))?;
+        if *name == "port.set_xn.q" {
+            cur.wide = var.size > 8;
+        }
         ids.insert(var.code, k);
     }
     if let Some(v) = top.find_var("clock") {
         clock_id = Some(v.code);
     }
     let clock_id = clock_id.ok_or(VcdError::Lacks("clock"))?;
-    let mut cur = Sample::default();
     let mut clock_high = false;
     let mut out = Vec::new();
     let mut started = false;
