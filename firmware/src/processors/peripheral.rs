@@ -136,27 +136,26 @@ impl Peripheral {
     }
 
     /// The tiles of the sweep: a grid of [`SWEEP_SIDE`] windows over the frame, overlapping
-    /// by a template so that an object on a seam is whole in one; (columns, rows, stride).
-    fn tiles(&self) -> (u16, u16, u16) {
+    /// by a template so that an object on a seam is whole in one; (columns, rows, stride, side).
+    fn tiles(&self) -> (u16, u16, u16, u16) {
         let p = &self.params;
         let side = SWEEP_SIDE.min(p.frame_w).min(p.frame_h);
         let stride = side.saturating_sub(p.template).max(1);
         let count = |len: u16| len.saturating_sub(side).div_ceil(stride) + 1;
-        (count(p.frame_w), count(p.frame_h), stride)
+        (count(p.frame_w), count(p.frame_h), stride, side)
     }
 
     /// Tile `k`'s window (row by row), or the first tile's beyond the last.
     fn tile_window(&self, k: u16) -> WindowRequest {
-        let (cols, rows, stride) = self.tiles();
+        let (cols, rows, stride, side) = self.tiles();
         let k = if k < cols * rows { k } else { 0 };
-        let side = SWEEP_SIDE;
         let centre = |i: u16| f32::from(i * stride) + (f32::from(side) - 1.0) / 2.0;
         self.params.window(Point { x: centre(k % cols), y: centre(k / cols) }, side, Decimation::Quarter)
     }
 
     /// The tile holding `p` (nearest its centre), where a sweep starts.
     fn tile_of(&self, p: Point) -> u16 {
-        let (cols, rows, stride) = self.tiles();
+        let (cols, rows, stride, _) = self.tiles();
         let index = |v: f32, n: u16| ((libm::floorf(v / f32::from(stride)).max(0.0)) as u16).min(n - 1);
         index(p.y, rows) * cols + index(p.x, cols)
     }
@@ -205,7 +204,7 @@ impl Peripheral {
                 step.ask(Some(self.tile_window(tile)));
             }
             (None, State::Sweep { tile }) => {
-                let (cols, rows, _) = self.tiles();
+                let (cols, rows, ..) = self.tiles();
                 let tile = if tile < cols * rows { tile } else { 0 };
                 self.state = State::Sweep { tile: tile + 1 };
                 step.ask(Some(self.tile_window(tile)));
@@ -253,6 +252,27 @@ mod tests {
         // A loss reported while waiting: search around it (round(40 - 7.5) = 33).
         let s = p.on_message(&Msg::Lost(Point { x: 40.0, y: 40.0 }));
         assert_eq!(s.request, Some(square(33, 33, 16, Decimation::Quarter)));
+    }
+
+    #[test]
+    fn an_adapting_search_sweeps_the_frame_until_it_finds_the_object_anywhere() {
+        let mut p = Peripheral::new(params().adaptive(), Some(template()));
+        // Lost at the target: the two windows around it (as the thesis's) find nothing...
+        let near = square(24, 14, 16, Decimation::Quarter);
+        assert_eq!(p.on_message(&Msg::Lost(TARGET)).request, Some(near));
+        let blank = frame(None);
+        let far = square(20, 10, 24, Decimation::Quarter);
+        assert_eq!(p.on_window(&cut(&blank, &near)).request, Some(far));
+        // ...then the sweep, where the thesis's waits for motion: on a 64x64 frame a single
+        // tile, the whole frame, asked for again and again.
+        let whole = square(0, 0, 64, Decimation::Quarter);
+        assert_eq!(p.on_window(&cut(&blank, &far)).request, Some(whole));
+        let s = p.on_window(&cut(&blank, &whole));
+        assert_eq!((s.request, p.mode()), (Some(whole), Mode::Detect));
+        // The block reappears far away, top-left (50, 44): at 25 % its 2x2 samples match the
+        // decimated template's (zero-mean NCC 1) at placement (48, 42), the point 3.5 px in.
+        let s = p.on_window(&cut(&frame(Some((50, 44))), &whole));
+        assert_eq!(&s.sends[..], &[(Dest::Foveal, Msg::Approx(Point { x: 51.5, y: 45.5 }))][..]);
     }
 
     #[test]
