@@ -7,6 +7,9 @@
 #   scripts/formal.sh --mutants       only the mutants (hdl/formal/broken/*.sed)
 #   scripts/formal.sh --no-mutants    everything but the mutants
 #   scripts/formal.sh --jobs N        checks run N at a time (default 2)
+#   scripts/formal.sh --axis          the AXI4-Stream wrapper (hdl/verilog/window_unit_axis.v)
+#                                     instead: its harness hdl/formal/window_unit_axis_props.sv,
+#                                     its mutants hdl/formal/broken-axis/*.sed
 #
 # Needs Debian's yosys (yosys, yosys-smtbmc, yosys-abc) and z3: apt-get install yosys z3.
 # Nothing is written into the repository unless --out is given; work files live in a temp
@@ -17,13 +20,15 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 rtl="$root/hdl/verilog/window_unit.v"
 props="$root/hdl/formal/window_unit_props.sv"
+top=window_unit_props
 broken="$root/hdl/formal/broken"
+axis=0
 out=""
 jobs=2
 run_proofs=1
 run_mutants=1
 
-usage() { sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; }
 while [ $# -gt 0 ]; do
   case "$1" in
     -h|--help) usage; exit 0 ;;
@@ -31,6 +36,8 @@ while [ $# -gt 0 ]; do
     --jobs) [ $# -ge 2 ] && [[ "$2" =~ ^[1-9][0-9]*$ ]] || { echo "formal.sh: --jobs needs a number" >&2; exit 2; }; jobs="$2"; shift 2 ;;
     --mutants) run_proofs=0; shift ;;
     --no-mutants) run_mutants=0; shift ;;
+    --axis) axis=1; rtl="$root/hdl/verilog/window_unit_axis.v"; props="$root/hdl/formal/window_unit_axis_props.sv"
+            top=window_unit_axis_props; broken="$root/hdl/formal/broken-axis"; shift ;;
     *) echo "formal.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -68,8 +75,9 @@ build() { # dir rtl width height "defines" "assert globs" ["globs of assertions 
   if [ -n "${7:-}" ]; then assume="chformal -assert2assume $(globs "$7")"; fi
   yosys -q -l "$dir/yosys.log" -p "
     read_verilog -formal -sv $defs $src $props
-    chparam -set WIDTH $w -set HEIGHT $h window_unit_props
-    prep -flatten -top window_unit_props
+    chparam -set WIDTH $w -set HEIGHT $h $top
+    prep -flatten -top $top
+    memory_map
     check -assert
     chformal -cover -remove
     $assume
@@ -184,7 +192,27 @@ handshake="P_hs_rise P_hs_fall P_hs_answer_up P_hs_answer_down"
 status="P_armed P_window_done P_set_accepted"
 start=$(date +%s)
 echo "formal.sh: $rtl"
-if [ $run_proofs = 1 ]; then
+if [ $axis = 1 ]; then
+  # The wrapper at 4x4 with 2-beat FIFOs: small enough for a whole window frame, an overflow
+  # and its drain within the bounded depth.
+  axis_props="P_tready P_stable P_order P_accounted P_frames"
+  if [ $run_proofs = 1 ]; then
+    throttle; check_pdr 51 "stream: P_tready P_stable" 4 4 "" "P_tready P_stable" &
+    throttle; check_bmc 52 "stream: $axis_props" 4 4 "" "$axis_props" ${AXIS_DEPTH:-24} &
+    for c in C_rows C_overflow; do
+      throttle; check_cover "5$c" "$c" 4 4 "$c" ${AXIS_DEPTH:-24} &
+    done
+  fi
+  if [ $run_mutants = 1 ]; then
+    i=60
+    for m in "$broken"/*.sed; do
+      [ -e "$m" ] || continue
+      throttle; check_mutant "$i" "$m" 4 4 ${AXIS_DEPTH:-24} &
+      i=$((i + 1))
+    done
+  fi
+fi
+if [ $axis = 0 ] && [ $run_proofs = 1 ]; then
   # The long PDR runs first, so the short ones fill the other slot.
   throttle; check_pdr 01 "window: P_inside P_data P_complete P_bounds P_noset P_invalid P_invalid_error" 16 16 "" "$window" &
   throttle; check_pdr 08 "status: P_armed P_window_done P_set_accepted" 16 16 "" "$status" &
@@ -200,7 +228,7 @@ if [ $run_proofs = 1 ]; then
     throttle; check_cover "1$c" "$c" 16 16 "$c" 100 &
   done
 fi
-if [ $run_mutants = 1 ]; then
+if [ $axis = 0 ] && [ $run_mutants = 1 ]; then
   i=30
   for m in "$broken"/*.sed; do
     [ -e "$m" ] || continue

@@ -56,6 +56,7 @@ _ran: set[str] = set()
 SITUATIONS = [
     "commit 2+ edges before the tuser beat (applies)", "commit 1 edge before the tuser beat (applies)",
     "commit on the tuser beat's edge (applies)", "commit 1 edge after the tuser beat (waits)",
+    "commit 1 edge after a tuser beat that takes a pending set (waits)",
     "commit during a frame, for the next", "a later commit replaces a pending one",
     "three windows open in one frame, overlapping", "window on the frame's first pixel",
     "window on the last column", "window on the last row", "full-frame window", "1x1 window",
@@ -339,6 +340,8 @@ class Bench:
                 cover("commit on the tuser beat's edge (applies)")
             elif d == -1:
                 cover("commit 1 edge after the tuser beat (waits)")
+                if any(r == "valid" and e < edge and w == k for e, w, r in self.commits):
+                    cover("commit 1 edge after a tuser beat that takes a pending set (waits)")
         self.commits.clear()
 
     def done(self, name: str) -> None:
@@ -400,6 +403,9 @@ async def test_commit_races(dut):
 
     for delay in range(-4, 5):
         for k in range(N):
+            # Set A pending, then set B written and committed in the race: B applies to the
+            # frame, or waits and A does.
+            await b.set_window(k, Rect(k * (delay + 5), k * 5 + 17, k * 4, k + 6, k == 2))
             await b.set_window(k, Rect(k * 3 + delay + 4, k * 3 + 20, k, k + 10, k == 1), commit=False)
         commits = cocotb.start_soon(commit_all(max(delay, 0)))
         await ClockCycles(dut.aclk, max(-delay, 0))
