@@ -29,7 +29,7 @@
 module window_unit_axis_props #(
     parameter integer WIDTH = 4,
     parameter integer HEIGHT = 4,
-    parameter integer PIXEL_BITS = 8,
+    parameter integer PIXEL_BITS = 2,
     parameter integer FIFO_DEPTH = 2
 ) (
     input wire                  aclk,
@@ -87,14 +87,14 @@ module window_unit_axis_props #(
     // Shadow of the contract: the set as written, pending and active; the raster.
     // -----------------------------------------------------------------------------------
     wire wr = s_axil_awvalid && s_axil_awready && s_axil_wvalid && s_axil_wready;
-    reg [15:0] w_x0 = 0, w_x1 = 0, w_y0 = 0, w_y1 = 0;
+    reg [4:0] w_x0 = 0, w_x1 = 0, w_y0 = 0, w_y1 = 0;   // below 32 (A_data)
     reg w_dec = 1'b0, w_cont = 1'b0;
-    wire w_ok = w_x0 <= w_x1 && {16'd0, w_x1} < WIDTH && w_y0 <= w_y1 && {16'd0, w_y1} < HEIGHT;
+    wire w_ok = w_x0 <= w_x1 && {27'd0, w_x1} < WIDTH && w_y0 <= w_y1 && {27'd0, w_y1} < HEIGHT;
     wire commit = wr && s_axil_awaddr == 12'h2C && w_ok;   // a valid set committed now
     reg pend = 1'b0;
-    reg [15:0] p_x0 = 0, p_x1 = 0, p_y0 = 0, p_y1 = 0;
+    reg [4:0] p_x0 = 0, p_x1 = 0, p_y0 = 0, p_y1 = 0;
     reg p_dec = 1'b0, p_cont = 1'b0;
-    reg [15:0] a_x0 = 0, a_x1 = 0, a_y0 = 0, a_y1 = 0;
+    reg [4:0] a_x0 = 0, a_x1 = 0, a_y0 = 0, a_y1 = 0;
     reg a_dec = 1'b0, a_cont = 1'b0;
     reg live = 1'b0;                        // the window is open in this frame
     reg inf = 1'b0;                         // a tuser was taken since reset
@@ -107,18 +107,18 @@ module window_unit_axis_props #(
     wire [SB-1:0] by = sof ? {SB{1'b0}} : hy;
     // The set this beat is tested against: on a tuser beat, a commit on this same edge, else
     // the pending set, else the active one (which opens again only if continuous).
-    wire [15:0] c_x0 = sof && commit ? w_x0 : sof && pend ? p_x0 : a_x0;
-    wire [15:0] c_x1 = sof && commit ? w_x1 : sof && pend ? p_x1 : a_x1;
-    wire [15:0] c_y0 = sof && commit ? w_y0 : sof && pend ? p_y0 : a_y0;
-    wire [15:0] c_y1 = sof && commit ? w_y1 : sof && pend ? p_y1 : a_y1;
+    wire [4:0] c_x0 = sof && commit ? w_x0 : sof && pend ? p_x0 : a_x0;
+    wire [4:0] c_x1 = sof && commit ? w_x1 : sof && pend ? p_x1 : a_x1;
+    wire [4:0] c_y0 = sof && commit ? w_y0 : sof && pend ? p_y0 : a_y0;
+    wire [4:0] c_y1 = sof && commit ? w_y1 : sof && pend ? p_y1 : a_y1;
     wire c_dec = sof && commit ? w_dec : sof && pend ? p_dec : a_dec;
     wire c_cont = sof && commit ? w_cont : sof && pend ? p_cont : a_cont;
     wire c_live = sof ? (commit || pend || a_cont) : live;
-    wire [15:0] ox = {{16-SB{1'b0}}, bx} - c_x0;
-    wire [15:0] oy = {{16-SB{1'b0}}, by} - c_y0;
+    wire [5:0] ox = {{6-SB{1'b0}}, bx} - {1'b0, c_x0};
+    wire [5:0] oy = {{6-SB{1'b0}}, by} - {1'b0, c_y0};
     // The last column and row delivered: one less when decimation skips x1 (or y1).
-    wire [15:0] l_x1 = c_dec && ((c_x1 - c_x0) & 16'd1) ? c_x1 - 16'd1 : c_x1;
-    wire [15:0] l_y1 = c_dec && ((c_y1 - c_y0) & 16'd1) ? c_y1 - 16'd1 : c_y1;
+    wire [4:0] l_x1 = c_dec && (c_x1[0] != c_x0[0]) ? c_x1 - 5'd1 : c_x1;
+    wire [4:0] l_y1 = c_dec && (c_y1[0] != c_y0[0]) ? c_y1 - 5'd1 : c_y1;
     wire hit = bin && c_live && bx >= c_x0 && bx <= c_x1 && by >= c_y0 && by <= c_y1
                && (!c_dec || (!ox[0] && !oy[0]));
     wire h_first = hit && bx == c_x0 && by == c_y0;
@@ -131,8 +131,8 @@ module window_unit_axis_props #(
             pend <= 1'b0; live <= 1'b0; inf <= 1'b0; hx <= 0; hy <= 0;
             a_x0 <= 0; a_x1 <= 0; a_y0 <= 0; a_y1 <= 0; a_dec <= 1'b0; a_cont <= 1'b0;
         end else begin
-            if (wr && s_axil_awaddr == 12'h20) begin w_x0 <= s_axil_wdata[15:0]; w_x1 <= s_axil_wdata[31:16]; end
-            if (wr && s_axil_awaddr == 12'h24) begin w_y0 <= s_axil_wdata[15:0]; w_y1 <= s_axil_wdata[31:16]; end
+            if (wr && s_axil_awaddr == 12'h20) begin w_x0 <= s_axil_wdata[4:0]; w_x1 <= s_axil_wdata[20:16]; end
+            if (wr && s_axil_awaddr == 12'h24) begin w_y0 <= s_axil_wdata[4:0]; w_y1 <= s_axil_wdata[20:16]; end
             if (wr && s_axil_awaddr == 12'h28) begin w_dec <= s_axil_wdata[0]; w_cont <= s_axil_wdata[1]; end
             if (sof) begin
                 a_x0 <= c_x0; a_x1 <= c_x1; a_y0 <= c_y0; a_y1 <= c_y1; a_dec <= c_dec; a_cont <= c_cont;
