@@ -160,7 +160,9 @@ check_cover() { # order label w h cover depth
   if ! build "$d" "$rtl" "$w" "$h" "-DCOVER_BAD" "$cov"; then result "$n" "$label" "${w}x$h" "cover" ERROR 0 "$(tr '\n' ' ' <"$d/error")"; return; fi
   yosys-abc -c "read_aiger $d/model.aig; fold; strash; bmc3 -F $depth; write_cex -a $d/trace.aiw" >"$d/abc.log" 2>&1 || true
   if grep -q "was asserted in frame" "$d/abc.log"; then
-    replay "$d" >/dev/null; r=REACHED; note="trace of $(grep -o 'frame [0-9]*' "$d/abc.log" | head -1 | cut -d' ' -f2) clocks"
+    # The wrapper's trace is replayed into VCD only for --out: z3 takes minutes on its model.
+    if [ $axis = 0 ] || [ -n "$out" ]; then replay "$d" >/dev/null; fi
+    r=REACHED; note="trace of $(grep -o 'frame [0-9]*' "$d/abc.log" | head -1 | cut -d' ' -f2) clocks"
     keep_vcd "$d" "cover-$cov"
   else r=FAIL; note="not reached in $depth clocks"; fi
   result "$n" "$label" "${w}x$h" "cover (bmc3)" "$r" $(( $(date +%s) - t0 )) "$note"
@@ -180,7 +182,11 @@ check_mutant() { # order sedfile w h depth
   if ! build "$d" "$d/window_unit.v" "$w" "$h" "" "$keep"; then result "$n" "mutant $name" "${w}x$h" "bounded" ERROR 0 "$(tr '\n' ' ' <"$d/error")"; return; fi
   yosys-abc -c "read_aiger $d/model.aig; fold; strash; bmc3 -F $depth; write_cex -a $d/trace.aiw" >"$d/abc.log" 2>&1 || true
   if grep -q "was asserted in frame" "$d/abc.log"; then
-    r=CAUGHT; note="$(replay "$d") fails ($(grep -o 'asserted in frame [0-9]*' "$d/abc.log"))"; keep_vcd "$d" "mutant-$name"
+    if [ $axis = 0 ] || [ -n "$out" ]; then
+      r=CAUGHT; note="$(replay "$d") fails ($(grep -o 'asserted in frame [0-9]*' "$d/abc.log"))"; keep_vcd "$d" "mutant-$name"
+    else # the wrapper's trace is not replayed (z3 takes minutes on it): one of $keep fails
+      r=CAUGHT; note="$keep fails ($(grep -o 'asserted in frame [0-9]*' "$d/abc.log"))"
+    fi
   else r=MISSED; note="no assertion fails in $depth clocks"; fi
   result "$n" "mutant $name" "${w}x$h" "bounded, depth $depth" "$r" $(( $(date +%s) - t0 )) "$note"
 }
@@ -193,21 +199,21 @@ status="P_armed P_window_done P_set_accepted"
 start=$(date +%s)
 echo "formal.sh: $rtl"
 if [ $axis = 1 ]; then
-  # The wrapper at 4x4 with 2-beat FIFOs: small enough for a whole window frame, an overflow
-  # and its drain within the bounded depth.
-  axis_props="P_tready P_stable P_order P_accounted P_frames"
+  # The wrapper at 4x4 with 2-beat FIFOs. Bit-level BMC of it grows fast with depth (ABC's
+  # bmc3: 0.2 s to 8 clocks, 3 s to 10, 50 s to 12), so the accounting properties are checked
+  # to 10 clocks: a commit, windows of a few beats and their reads, but no overflow (the
+  # cocotb bench covers that). The stream rule is proven unbounded.
+  axis_props="P_order P_accounted P_frames"
   if [ $run_proofs = 1 ]; then
     throttle; check_pdr 51 "stream: P_tready P_stable" 4 4 "" "P_tready P_stable" &
-    throttle; check_bmc 52 "stream: $axis_props" 4 4 "" "$axis_props" ${AXIS_DEPTH:-24} &
-    for c in C_rows C_overflow; do
-      throttle; check_cover "5$c" "$c" 4 4 "$c" ${AXIS_DEPTH:-24} &
-    done
+    throttle; check_bmc 52 "accounting: $axis_props" 4 4 "" "$axis_props" ${AXIS_DEPTH:-10} &
+    throttle; check_cover 53 "C_rows" 4 4 "C_rows" ${AXIS_DEPTH:-10} &
   fi
   if [ $run_mutants = 1 ]; then
     i=60
     for m in "$broken"/*.sed; do
       [ -e "$m" ] || continue
-      throttle; check_mutant "$i" "$m" 4 4 ${AXIS_DEPTH:-24} &
+      throttle; check_mutant "$i" "$m" 4 4 ${AXIS_DEPTH:-10} &
       i=$((i + 1))
     done
   fi
