@@ -266,6 +266,11 @@ if [ "$axis" = 1 ]; then
     echo "Each FIFO reads its memory through a register (the output register), so it can map to a"
     echo "block RAM. The AXI4-Lite read multiplexer (8 words a window) and the per-window 16-bit"
     echo "written set, its validity comparators and the two 32-bit counters are most of the logic."
+    echo "Place and route takes the wrapper's ports as package pins (no PCF or LPF): with 10-bit"
+    echo "pixels and 4 windows they are 209, more than the HX8K ct256's 206 or the LFE5U-25F"
+    echo "CABGA256's 197 user I/O, so that row has no Fmax (inside a design they are wires). The"
+    echo "critical path runs from the written set through its 16-bit validity check into the"
+    echo "pending set's clock enable (COMMIT): it sets the wrapper's Fmax below the bare unit's."
     echo "$axis_end"
   } >"$work/axis.md"
   awk -v b="$axis_begin" -v e="$axis_end" -v f="$work/axis.md" '
