@@ -7,6 +7,9 @@
 #   scripts/formal.sh --mutants       only the mutants (hdl/formal/broken/*.sed)
 #   scripts/formal.sh --no-mutants    everything but the mutants
 #   scripts/formal.sh --jobs N        checks run N at a time (default 2)
+#   scripts/formal.sh --axis          the AXI4-Stream wrapper (hdl/verilog/window_unit_axis.v)
+#                                     instead: its harness hdl/formal/window_unit_axis_props.sv,
+#                                     its mutants hdl/formal/broken-axis/*.sed
 #
 # Needs Debian's yosys (yosys, yosys-smtbmc, yosys-abc) and z3: apt-get install yosys z3.
 # Nothing is written into the repository unless --out is given; work files live in a temp
@@ -17,13 +20,15 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 rtl="$root/hdl/verilog/window_unit.v"
 props="$root/hdl/formal/window_unit_props.sv"
+top=window_unit_props
 broken="$root/hdl/formal/broken"
+axis=0
 out=""
 jobs=2
 run_proofs=1
 run_mutants=1
 
-usage() { sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; }
 while [ $# -gt 0 ]; do
   case "$1" in
     -h|--help) usage; exit 0 ;;
@@ -31,6 +36,8 @@ while [ $# -gt 0 ]; do
     --jobs) [ $# -ge 2 ] && [[ "$2" =~ ^[1-9][0-9]*$ ]] || { echo "formal.sh: --jobs needs a number" >&2; exit 2; }; jobs="$2"; shift 2 ;;
     --mutants) run_proofs=0; shift ;;
     --no-mutants) run_mutants=0; shift ;;
+    --axis) axis=1; rtl="$root/hdl/verilog/window_unit_axis.v"; props="$root/hdl/formal/window_unit_axis_props.sv"
+            top=window_unit_axis_props; broken="$root/hdl/formal/broken-axis"; shift ;;
     *) echo "formal.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -68,8 +75,9 @@ build() { # dir rtl width height "defines" "assert globs" ["globs of assertions 
   if [ -n "${7:-}" ]; then assume="chformal -assert2assume $(globs "$7")"; fi
   yosys -q -l "$dir/yosys.log" -p "
     read_verilog -formal -sv $defs $src $props
-    chparam -set WIDTH $w -set HEIGHT $h window_unit_props
-    prep -flatten -top window_unit_props
+    chparam -set WIDTH $w -set HEIGHT $h $top
+    prep -flatten -top $top
+    memory_map
     check -assert
     chformal -cover -remove
     $assume
@@ -152,7 +160,9 @@ check_cover() { # order label w h cover depth
   if ! build "$d" "$rtl" "$w" "$h" "-DCOVER_BAD" "$cov"; then result "$n" "$label" "${w}x$h" "cover" ERROR 0 "$(tr '\n' ' ' <"$d/error")"; return; fi
   yosys-abc -c "read_aiger $d/model.aig; fold; strash; bmc3 -F $depth; write_cex -a $d/trace.aiw" >"$d/abc.log" 2>&1 || true
   if grep -q "was asserted in frame" "$d/abc.log"; then
-    replay "$d" >/dev/null; r=REACHED; note="trace of $(grep -o 'frame [0-9]*' "$d/abc.log" | head -1 | cut -d' ' -f2) clocks"
+    # The wrapper's trace is replayed into VCD only for --out: z3 takes minutes on its model.
+    if [ $axis = 0 ] || [ -n "$out" ]; then replay "$d" >/dev/null; fi
+    r=REACHED; note="trace of $(grep -o 'frame [0-9]*' "$d/abc.log" | head -1 | cut -d' ' -f2) clocks"
     keep_vcd "$d" "cover-$cov"
   else r=FAIL; note="not reached in $depth clocks"; fi
   result "$n" "$label" "${w}x$h" "cover (bmc3)" "$r" $(( $(date +%s) - t0 )) "$note"
@@ -172,7 +182,11 @@ check_mutant() { # order sedfile w h depth
   if ! build "$d" "$d/window_unit.v" "$w" "$h" "" "$keep"; then result "$n" "mutant $name" "${w}x$h" "bounded" ERROR 0 "$(tr '\n' ' ' <"$d/error")"; return; fi
   yosys-abc -c "read_aiger $d/model.aig; fold; strash; bmc3 -F $depth; write_cex -a $d/trace.aiw" >"$d/abc.log" 2>&1 || true
   if grep -q "was asserted in frame" "$d/abc.log"; then
-    r=CAUGHT; note="$(replay "$d") fails ($(grep -o 'asserted in frame [0-9]*' "$d/abc.log"))"; keep_vcd "$d" "mutant-$name"
+    if [ $axis = 0 ] || [ -n "$out" ]; then
+      r=CAUGHT; note="$(replay "$d") fails ($(grep -o 'asserted in frame [0-9]*' "$d/abc.log"))"; keep_vcd "$d" "mutant-$name"
+    else # the wrapper's trace is not replayed (z3 takes minutes on it): one of $keep fails
+      r=CAUGHT; note="$keep fails ($(grep -o 'asserted in frame [0-9]*' "$d/abc.log"))"
+    fi
   else r=MISSED; note="no assertion fails in $depth clocks"; fi
   result "$n" "mutant $name" "${w}x$h" "bounded, depth $depth" "$r" $(( $(date +%s) - t0 )) "$note"
 }
@@ -184,7 +198,27 @@ handshake="P_hs_rise P_hs_fall P_hs_answer_up P_hs_answer_down"
 status="P_armed P_window_done P_set_accepted"
 start=$(date +%s)
 echo "formal.sh: $rtl"
-if [ $run_proofs = 1 ]; then
+if [ $axis = 1 ]; then
+  # The wrapper at 4x4 with 2-beat FIFOs. Bit-level BMC of it grows fast with depth (ABC's
+  # bmc3: 0.2 s to 8 clocks, 3 s to 10, 50 s to 12), so the accounting properties are checked
+  # to 10 clocks: a commit, windows of a few beats and their reads, but no overflow (the
+  # cocotb bench covers that). The stream rule is proven unbounded.
+  axis_props="P_order P_accounted P_frames"
+  if [ $run_proofs = 1 ]; then
+    throttle; check_pdr 51 "stream: P_tready P_stable" 4 4 "" "P_tready P_stable" &
+    throttle; check_bmc 52 "accounting: $axis_props" 4 4 "" "$axis_props" ${AXIS_DEPTH:-10} &
+    throttle; check_cover 53 "C_rows" 4 4 "C_rows" ${AXIS_DEPTH:-10} &
+  fi
+  if [ $run_mutants = 1 ]; then
+    i=60
+    for m in "$broken"/*.sed; do
+      [ -e "$m" ] || continue
+      throttle; check_mutant "$i" "$m" 4 4 ${AXIS_DEPTH:-10} &
+      i=$((i + 1))
+    done
+  fi
+fi
+if [ $axis = 0 ] && [ $run_proofs = 1 ]; then
   # The long PDR runs first, so the short ones fill the other slot.
   throttle; check_pdr 01 "window: P_inside P_data P_complete P_bounds P_noset P_invalid P_invalid_error" 16 16 "" "$window" &
   throttle; check_pdr 08 "status: P_armed P_window_done P_set_accepted" 16 16 "" "$status" &
@@ -200,7 +234,7 @@ if [ $run_proofs = 1 ]; then
     throttle; check_cover "1$c" "$c" 16 16 "$c" 100 &
   done
 fi
-if [ $run_mutants = 1 ]; then
+if [ $axis = 0 ] && [ $run_mutants = 1 ]; then
   i=30
   for m in "$broken"/*.sed; do
     [ -e "$m" ] || continue

@@ -7,14 +7,18 @@ set -euo pipefail
 
 usage() {
   cat <<'EOF'
-Usage: scripts/synth-report.sh [--check] [--seeds N] [--help]   (from anywhere in the repo)
+Usage: scripts/synth-report.sh [--check] [--axis] [--seeds N] [--help]   (from anywhere in the repo)
 
   (no option)  synthesise, place and route window_unit at every (size, pixel bits) row on
                iCE40 HX8K and ECP5 LFE5U-25F, and rewrite docs/synthesis.md.
   --check      re-run only the (deterministic) Yosys synth_ice40 for the iCE40 rows and exit 1
                if its SB_LUT4, SB_CARRY or flip-flop counts differ from docs/synthesis.md
                (a stale table); exit 0 if they all match. Needs yosys only. A few seconds.
-  --seeds N    placement seeds 1..N for each place-and-route (default 5).
+  --axis       only the AXI4-Stream wrapper (hdl/verilog/window_unit_axis.v): synth_ice40 and
+               nextpnr-ice40, synth_ecp5 and nextpnr-ecp5 (seed 1), synth_xilinx cell counts, at
+               three (size, windows) rows; rewrites only the wrapper's section of
+               docs/synthesis.md (a full run keeps that section as it is).
+  --seeds N    placement seeds 1..N for each place-and-route (default 5; 3 with --axis).
   --help       this text.
 
 Needs: yosys and nextpnr-ice40 (apt-get install -y yosys nextpnr-ice40), and nextpnr-ecp5:
@@ -24,10 +28,12 @@ EOF
 }
 
 check=0
-seeds=5
+axis=0
+seeds=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --check) check=1 ;;
+    --axis) axis=1 ;;
     --seeds)
       [ $# -ge 2 ] || { echo "error: --seeds needs a number" >&2; exit 2; }
       seeds="$2"; shift ;;
@@ -37,6 +43,7 @@ while [ $# -gt 0 ]; do
   esac
   shift
 done
+[ -n "$seeds" ] || { if [ "$axis" = 1 ]; then seeds=3; else seeds=5; fi; }
 case "$seeds" in ''|*[!0-9]*|0) echo "error: --seeds needs a positive integer, not '$seeds'" >&2; exit 2 ;; esac
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -179,10 +186,106 @@ if [ "$check" = 1 ]; then
   exit "$status"
 fi
 
+seed_list="$(seq 1 "$seeds" | tr '\n' ' ')"
+# The wrapper's section of the report, between these markers.
+axis_begin="<!-- window_unit_axis: scripts/synth-report.sh --axis -->"
+axis_end="<!-- end of window_unit_axis -->"
+
+# ------------------------------------------------------------------------------------------
+# --axis: the AXI4-Stream wrapper, one row per (size, pixel bits, windows), FIFO_DEPTH 32.
+# ------------------------------------------------------------------------------------------
+if [ "$axis" = 1 ]; then
+  axis_rtl="$root/hdl/verilog/window_unit_axis.v"
+  [ -f "$axis_rtl" ] && [ -f "$doc" ] || { echo "error: $axis_rtl or $doc not found" >&2; exit 1; }
+  grep -qF "$axis_begin" "$doc" || printf '\n%s\n%s\n' "$axis_begin" "$axis_end" >>"$doc"
+  asynth() { # family width height bits windows out [json]
+    local js=""
+    [ -n "${7:-}" ] && js="-json $6.json"
+    yosys -p "read_verilog $axis_rtl;
+              chparam -set WIDTH $2 -set HEIGHT $3 -set PIXEL_BITS $4 -set WINDOWS $5 window_unit_axis;
+              synth_$1 -top window_unit_axis $js; tee -q -o $6.stat stat" >"$6.ylog" 2>&1 \
+      || { echo "error: yosys synth_$1 of window_unit_axis failed, log:" >&2; tail -20 "$6.ylog" >&2; exit 1; }
+  }
+  rows_ice40=""; rows_ecp5=""; rows_xilinx=""
+  for row in "256x256 8 1" "256x256 8 4" "1920x1080 10 4"; do
+    set -- $row; size="$1"; b="$2"; n="$3"; w="${size%x*}"; h="${size#*x}"
+    out="$work/axis_${size}_${b}_$n"
+    log "window_unit_axis ${size}, $b bits, $n windows: synth_ice40"
+    asynth ice40 "$w" "$h" "$b" "$n" "$out.ice40" json
+    fs=()
+    for s in $seed_list; do
+      log "window_unit_axis ${size}, $b bits, $n windows: nextpnr-ice40 seed $s"
+      nextpnr-ice40 $ice40_opts --json "$out.ice40.json" --freq "$freq" --timing-allow-fail \
+        --seed "$s" >"$out.ice40.pnr.$s" 2>&1 || log "nextpnr-ice40 failed (seed $s)"
+      f="$(fmax_of "$out.ice40.pnr.$s")"; [ -z "$f" ] || fs+=("$f")
+    done
+    rows_ice40="$rows_ice40| $size | $b | $n | $(count "$out.ice40.stat" SB_LUT4) | $(count "$out.ice40.stat" SB_CARRY) | $(count "$out.ice40.stat" 'SB_DFF[A-Z]*') | $(count "$out.ice40.stat" 'SB_RAM40_4K[A-Z]*') | $(util_of "$out.ice40.pnr.1" ICESTORM_LC) | $(spread ${fs[@]+"${fs[@]}"}) | \`$(crit_of "$out.ice40.pnr.1")\` |
+"
+    log "window_unit_axis ${size}, $b bits, $n windows: synth_ecp5"
+    asynth ecp5 "$w" "$h" "$b" "$n" "$out.ecp5" json
+    log "window_unit_axis ${size}, $b bits, $n windows: $ecp5 seed 1"
+    (cd "$work" && "$ecp5" $ecp5_opts --json "${out##*/}.ecp5.json" --freq "$freq" --timing-allow-fail \
+      --seed 1) >"$out.ecp5.pnr" 2>&1 || log "$ecp5 failed, see its log"
+    ecp5_f="$(fmax_of "$out.ecp5.pnr")"; [ -n "$ecp5_f" ] || ecp5_f="failed"
+    rows_ecp5="$rows_ecp5| $size | $b | $n | $(count "$out.ecp5.stat" LUT4) | $(count "$out.ecp5.stat" CCU2C) | $(count "$out.ecp5.stat" TRELLIS_FF) | $(count "$out.ecp5.stat" 'DP16KD|PDPW16KD') | $(count "$out.ecp5.stat" TRELLIS_DPR16X4) | $ecp5_f |
+"
+    log "window_unit_axis ${size}, $b bits, $n windows: synth_xilinx"
+    asynth xilinx "$w" "$h" "$b" "$n" "$out.xilinx"
+    rows_xilinx="$rows_xilinx| $size | $b | $n | $(count "$out.xilinx.stat" 'LUT[1-6]') | $(count "$out.xilinx.stat" CARRY4) | $(count "$out.xilinx.stat" 'FD[A-Z]*') | $(count "$out.xilinx.stat" 'RAMB18E1|RAMB36E1') | $(count "$out.xilinx.stat" 'RAM[0-9]+[MX][0-9A-Z]*') |
+"
+  done
+  yosys_v="$(yosys -V | cut -d' ' -f1-2)"
+  ecp5_v="$("$ecp5" --version 2>&1 | grep -o 'Version [^ )]*' | cut -d' ' -f2 | sed 's/^nextpnr-//')"
+  {
+    echo "$axis_begin"
+    echo "## window_unit_axis, the AXI4-Stream wrapper"
+    echo
+    echo "Generated by \`scripts/synth-report.sh --axis\` on $(date -u +%Y-%m-%d) with $yosys_v: one"
+    echo "\`window_unit_axis\` (\`hdl/verilog/window_unit_axis.v\`) per row, \`FIFO_DEPTH\` 32, its other"
+    echo "parameters set with \`chparam\`. Each window has its own registers (written, pending and"
+    echo "active sets), 32-bit FRAMES and OVERFLOWS counters and a FIFO of 32 beats of PIXEL_BITS + 2 bits."
+    echo
+    echo "### iCE40 HX8K (ct256): synth_ice40, nextpnr-ice40 \`$ice40_opts --freq $freq\`, seeds $(echo $seed_list | sed 's/ /, /g')"
+    echo
+    echo "| size | pixel bits | windows | SB_LUT4 | SB_CARRY | flip-flops | SB_RAM40_4K | ICESTORM_LC | Fmax MHz min / median / max | critical path (seed 1) |"
+    echo "|---|---|---|---|---|---|---|---|---|---|"
+    printf '%s' "$rows_ice40"
+    echo
+    echo "### ECP5 LFE5U-25F: synth_ecp5, then $ecp5 $ecp5_v \`$ecp5_opts --freq $freq\`, seed 1"
+    echo
+    echo "| size | pixel bits | windows | LUT4 | CCU2C | TRELLIS_FF | DP16KD | TRELLIS_DPR16X4 | Fmax MHz |"
+    echo "|---|---|---|---|---|---|---|---|---|"
+    printf '%s' "$rows_ecp5"
+    echo
+    echo "### Xilinx 7-series: synth_xilinx (cell counts only: no place and route for Xilinx here)"
+    echo
+    echo "| size | pixel bits | windows | LUT1-6 | CARRY4 | flip-flops | RAMB18E1/36E1 | distributed RAM cells |"
+    echo "|---|---|---|---|---|---|---|---|"
+    printf '%s' "$rows_xilinx"
+    echo
+    echo "Each FIFO reads its memory through a register (the output register), so it can map to a"
+    echo "block RAM. The AXI4-Lite read multiplexer (8 words a window) and the per-window 16-bit"
+    echo "written set, its validity comparators and the two 32-bit counters are most of the logic."
+    echo "Place and route takes the wrapper's ports as package pins (no PCF or LPF): with 10-bit"
+    echo "pixels and 4 windows they are 209, more than the HX8K ct256's 206 or the LFE5U-25F"
+    echo "CABGA256's 197 user I/O, so that row has no Fmax (inside a design they are wires). The"
+    echo "critical path runs from the written set through its 16-bit validity check into the"
+    echo "pending set's clock enable (COMMIT): it sets the wrapper's Fmax below the bare unit's."
+    echo "$axis_end"
+  } >"$work/axis.md"
+  awk -v b="$axis_begin" -v e="$axis_end" -v f="$work/axis.md" '
+    $0 == b { while ((getline l < f) > 0) print l; skip = 1; next }
+    $0 == e { skip = 0; next }
+    !skip { print }' "$doc" >"$work/doc.md"
+  cp "$work/doc.md" "$doc"
+  log "rewrote the window_unit_axis section of $doc"
+  sed -n "/^$axis_begin\$/,/^$axis_end\$/p" "$doc"
+  exit 0
+fi
+
 # ------------------------------------------------------------------------------------------
 # Full report.
 # ------------------------------------------------------------------------------------------
-seed_list="$(seq 1 "$seeds" | tr '\n' ' ')"
 ice40_rows=""
 ecp5_rows=""
 reset_costs=""
@@ -334,6 +437,12 @@ TRELLIS_COMB is nextpnr's count of the combinational sites used after packing (L
   wrapping counters, 8-bit coordinates compared as each byte arrived) had 72 SB_LUT4,
   20 SB_CARRY and 161 flip-flops, and 160 to 182 MHz on iCE40 over seeds 1-5 with the same tools.
 EOF
-} >"$doc"
+  # The wrapper's section (scripts/synth-report.sh --axis), kept as it is.
+  if [ -f "$doc" ] && grep -qF "$axis_begin" "$doc"; then
+    echo
+    sed -n "/^$axis_begin\$/,/^$axis_end\$/p" "$doc"
+  fi
+} >"$work/full.md"
+mv "$work/full.md" "$doc"
 log "wrote $doc"
 cat "$doc"

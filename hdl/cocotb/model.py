@@ -160,3 +160,176 @@ def crop(window: Window, line_lengths: list, pixel) -> list:
             for y in range(window.ymin, min(window.ymax + 1, len(line_lengths)))
             for x in range(window.xmin, min(window.xmax + 1, line_lengths[y]))
             if window.contains(x, y)]
+
+
+# ------------------------------------------------------------------------------------------
+# window_unit_axis (hdl/verilog/window_unit_axis.v): the AXI4-Stream wrapper's contract, as
+# its header states it. Windows are inclusive rectangles (one pixel is a window), a commit
+# applies to the first frame whose tuser beat is taken on the commit's edge or later, a set
+# without `continuous` delivers one window, and each window's beats carry tuser on its first
+# pixel and tlast on the last pixel of each of its rows.
+# ------------------------------------------------------------------------------------------
+
+# Register offsets (bytes): global, then window k at AXIS_WINDOW * (k + 1) + offset.
+AXIS_INFO, AXIS_GEOMETRY, AXIS_IRQ_STATUS, AXIS_IRQ_ENABLE = 0x00, 0x04, 0x08, 0x0C
+AXIS_WINDOW = 0x20
+AXIS_X, AXIS_Y, AXIS_CTRL, AXIS_COMMIT, AXIS_STATUS, AXIS_FRAMES, AXIS_OVERFLOWS = \
+    0x00, 0x04, 0x08, 0x0C, 0x10, 0x14, 0x18
+
+
+@dataclass(frozen=True)
+class Rect:
+    """A window of window_unit_axis: columns xmin..xmax and rows ymin..ymax, inclusive."""
+
+    xmin: int
+    xmax: int
+    ymin: int
+    ymax: int
+    decimate: bool = False
+    continuous: bool = False
+
+    def valid(self, width: int, height: int) -> bool:
+        return self.xmin <= self.xmax < width and self.ymin <= self.ymax < height
+
+    def contains(self, x: int, y: int) -> bool:
+        if not (self.xmin <= x <= self.xmax and self.ymin <= y <= self.ymax):
+            return False
+        return not self.decimate or ((x - self.xmin) % 2 == 0 and (y - self.ymin) % 2 == 0)
+
+    def last_column(self) -> int:
+        return self.xmax - ((self.xmax - self.xmin) % 2 if self.decimate else 0)
+
+    def last_row(self) -> int:
+        return self.ymax - ((self.ymax - self.ymin) % 2 if self.decimate else 0)
+
+    def beats(self) -> int:
+        step = 2 if self.decimate else 1
+        return len(range(self.xmin, self.xmax + 1, step)) * len(range(self.ymin, self.ymax + 1, step))
+
+    def __str__(self) -> str:
+        mode = (" decimated" if self.decimate else "") + (" continuous" if self.continuous else "")
+        return f"x {self.xmin}..{self.xmax}, y {self.ymin}..{self.ymax}{mode}"
+
+
+@dataclass
+class AxisBeat:
+    """A beat a window must deliver: its window frame (counted per window), place and flags."""
+
+    wframe: int
+    x: int
+    y: int
+    data: int
+    user: bool
+    last: bool
+
+
+class AxisModel:
+    """The register file and the windows of window_unit_axis, told each register write (on the
+    edge of its write handshake) and each input beat, in edge order, writes before beats."""
+
+    def __init__(self, width: int, height: int, windows: int):
+        self.width, self.height, self.n = width, height, windows
+        self.reset()
+
+    def reset(self) -> None:
+        n = self.n
+        self.written = [Rect(0, 0, 0, 0) for _ in range(n)]   # X, Y and CTRL as written
+        self.pending: list[Rect | None] = [None] * n
+        self.active: list[Rect | None] = [None] * n
+        self.live = [False] * n
+        self.invalid = [False] * n
+        self.frames = [0] * n          # windows completed (FRAMES)
+        self.wframes = [0] * n         # window frames opened
+        self.irq_status = 0
+        self.irq_enable = 0
+        self.expected: list[list[AxisBeat]] = [[] for _ in range(n)]
+        self.in_frame = False
+        self.x = self.y = 0
+        self.frame = -1                # input frames since reset
+
+    def write(self, addr: int, data: int) -> str | None:
+        """A register write. Returns what a COMMIT did: 'valid', 'invalid' or None."""
+        if addr == AXIS_IRQ_STATUS:
+            self.irq_status &= ~data
+        elif addr == AXIS_IRQ_ENABLE:
+            self.irq_enable = data & ((1 << self.n) - 1)
+        k, off = addr // AXIS_WINDOW - 1, addr % AXIS_WINDOW
+        if not 0 <= k < self.n:
+            return None
+        w = self.written[k]
+        lo, hi = data & 0xFFFF, data >> 16
+        if off == AXIS_X:
+            self.written[k] = Rect(lo, hi, w.ymin, w.ymax, w.decimate, w.continuous)
+        elif off == AXIS_Y:
+            self.written[k] = Rect(w.xmin, w.xmax, lo, hi, w.decimate, w.continuous)
+        elif off == AXIS_CTRL:
+            self.written[k] = Rect(w.xmin, w.xmax, w.ymin, w.ymax, bool(data & 1), bool(data & 2))
+        elif off == AXIS_COMMIT:
+            if w.valid(self.width, self.height):
+                self.pending[k], self.invalid[k] = w, False
+                return "valid"
+            self.invalid[k] = True
+            return "invalid"
+        return None
+
+    def beat(self, data: int, user: bool, last: bool) -> None:
+        """An input beat taken."""
+        if user:
+            self.in_frame, self.x, self.y = True, 0, 0
+            self.frame += 1
+            for k in range(self.n):
+                if self.pending[k] is not None:
+                    self.active[k], self.pending[k] = self.pending[k], None
+                    self.live[k] = True
+                else:
+                    self.live[k] = self.active[k] is not None and self.active[k].continuous
+                self.wframes[k] += self.live[k]
+        if not self.in_frame:
+            return
+        x, y = self.x, self.y
+        for k in range(self.n):
+            r = self.active[k]
+            if self.live[k] and r.contains(x, y):
+                self.expected[k].append(AxisBeat(self.wframes[k], x, y, data,
+                                                 (x, y) == (r.xmin, r.ymin), x == r.last_column()))
+                if (x, y) == (r.last_column(), r.last_row()):
+                    self.live[k] = False
+                    self.frames[k] += 1
+                    self.irq_status |= 1 << k
+        self.x, self.y = (0, y + 1) if last else (x + 1, y)
+
+    def status(self, k: int, fifo_busy: bool) -> int:
+        """STATUS of window k, given whether its FIFO holds beats (not the model's to know)."""
+        armed = self.pending[k] is not None or self.live[k] or \
+            (self.active[k] is not None and self.active[k].continuous)
+        return (int(armed) | (int(self.live[k] or fifo_busy) << 1)
+                | (int(self.pending[k] is not None) << 2) | (int(self.invalid[k]) << 3))
+
+
+def match_with_drops(expected: list, delivered: list) -> tuple[int, str | None]:
+    """Scoreboard of one window's output when beats may have been dropped on overflow.
+
+    `expected` holds AxisBeat, `delivered` (data, user, last) in order. The delivered beats must
+    be the expected ones in order with some left out, a dropped beat's tlast is not carried, and
+    tuser is on exactly the first delivered beat of each window frame (a dropped first beat's
+    tuser moves to the next one delivered). So a beat with tuser is matched in a later window
+    frame than the last match, one without in the same frame, each with the earliest expected
+    beat of equal data and tlast (pixel values may repeat; the earliest match finds a way
+    whenever one exists). Returns (beats dropped, None) or (beats matched, what went wrong)."""
+    j, wframe = 0, None
+    for i, (data, user, last) in enumerate(delivered):
+        if user:
+            while j < len(expected) and expected[j].wframe == wframe:
+                j += 1
+            if j < len(expected):
+                wframe = expected[j].wframe
+        while j < len(expected) and expected[j].wframe == wframe \
+                and (expected[j].data, expected[j].last) != (data, last):
+            j += 1
+        if j == len(expected) or expected[j].wframe != wframe:
+            where = "its window frame" if not user else "a later window frame"
+            return i, (f"delivered beat {i} ({data:#x}, tuser {user}, tlast {last}) is not in "
+                       f"{where} after the last match (tuser on the first beat delivered of each "
+                       "window frame, the others in order)")
+        j += 1
+    return len(expected) - len(delivered), None

@@ -3,7 +3,9 @@
 
 With no arguments it builds and tests two configurations, 256x256 with 8-bit pixels and
 640x480 with 10-bit pixels (two-byte coordinates), prints a summary with the functional
-coverage, and exits non-zero if a test failed or a coverage goal was not reached.
+coverage, and exits non-zero if a test failed or a coverage goal was not reached. With --axis
+it runs the bench of the AXI4-Stream wrapper hdl/verilog/window_unit_axis.v instead (three
+windows, 8-beat FIFOs), at 80x40 with 16-bit pixels and 260x16 with 10-bit pixels (9-bit coordinates).
 
 Examples:
   python3 hdl/cocotb/run.py                         # the default configurations
@@ -12,6 +14,7 @@ Examples:
   python3 hdl/cocotb/run.py --test test_resets      # one test
   python3 hdl/cocotb/run.py --probes                # camera timing below the minimums
   python3 hdl/cocotb/run.py --rtl /tmp/mutant.v     # another copy of the module
+  python3 hdl/cocotb/run.py --axis                  # the AXI4-Stream wrapper's bench
 """
 
 from __future__ import annotations
@@ -31,8 +34,12 @@ sys.dont_write_bytecode = True          # no __pycache__ in the repository
 HERE = Path(__file__).resolve().parent
 RTL = HERE.parent / "verilog" / "window_unit.v"
 DEFAULT_CONFIGS = [(256, 256, 8), (640, 480, 10)]
+AXIS_RTL = HERE.parent / "verilog" / "window_unit_axis.v"
+AXIS_TOP = HERE / "tb_window_unit_axis.v"
+AXIS_CONFIGS = [(80, 40, 16), (260, 16, 10)]
+AXIS_FIFO_DEPTH = 8
 INSTALL = ("install them with:\n"
-           "  pip install -r hdl/cocotb/requirements.txt   (or: pip install cocotb cocotb-coverage)\n"
+           "  pip install -r hdl/cocotb/requirements.txt   (or: pip install cocotb cocotb-coverage cocotbext-axi)\n"
            "  apt-get install -y iverilog                  (Icarus Verilog 11 or later)")
 
 
@@ -49,6 +56,10 @@ def missing_tools() -> list[str]:
         import cocotb_coverage  # noqa: F401
     except ImportError:
         missing.append("cocotb-coverage (Python package)")
+    try:
+        import cocotbext.axi  # noqa: F401
+    except ImportError:
+        missing.append("cocotbext-axi (Python package)")
     for tool in ("iverilog", "vvp"):
         if shutil.which(tool) is None:
             missing.append(f"{tool} (Icarus Verilog)")
@@ -93,13 +104,20 @@ def parse_args(argv):
     ap.add_argument("--probes", action="store_true",
                     help="run only the probes of camera timing below the documented minimums "
                     "(expected to fail)")
-    ap.add_argument("--rtl", type=Path, default=RTL, metavar="FILE",
-                    help=f"the Verilog to test (default {RTL.relative_to(HERE.parent.parent)})")
+    ap.add_argument("--axis", action="store_true",
+                    help="test the AXI4-Stream wrapper window_unit_axis instead of the unit")
+    ap.add_argument("--rtl", type=Path, metavar="FILE",
+                    help=f"the Verilog to test (default {RTL.relative_to(HERE.parent.parent)}, "
+                    f"with --axis {AXIS_RTL.relative_to(HERE.parent.parent)})")
     ap.add_argument("--waves", action="store_true", help="write window_unit.fst in the build dir")
     ap.add_argument("--verbose", action="store_true", help="log every frame, set and reset")
     args = ap.parse_args(argv)
+    if args.rtl is None:
+        args.rtl = AXIS_RTL if args.axis else RTL
+    if args.axis and args.probes:
+        ap.error("--probes is for the unit's bench, not --axis")
     if args.size is None and args.bits is None:
-        args.configs = DEFAULT_CONFIGS
+        args.configs = AXIS_CONFIGS if args.axis else DEFAULT_CONFIGS
     else:
         w, h = args.size or (256, 256)
         args.configs = [(w, h, args.bits or 8)]
@@ -158,14 +176,19 @@ def run_config(args, base: Path, width: int, height: int, pbits: int):
         "COOPWIN_PROBES": "1" if args.probes else "",
         "COOPWIN_COVERAGE_DIR": str(build),
     })
+    parameters = {"WIDTH": width, "HEIGHT": height, "PIXEL_BITS": pbits}
+    sources, top, module = [args.rtl.resolve()], "window_unit", "test_window_unit"
+    if args.axis:
+        parameters["FIFO_DEPTH"] = AXIS_FIFO_DEPTH
+        sources, top, module = [args.rtl.resolve(), AXIS_TOP], "tb_window_unit_axis", "test_window_unit_axis"
+        os.environ.update({f"COOPWIN_{k}": str(v) for k, v in parameters.items()})
     runner = get_runner("icarus")
-    runner.build(sources=[args.rtl.resolve()], hdl_toplevel="window_unit",
-                 parameters={"WIDTH": width, "HEIGHT": height, "PIXEL_BITS": pbits},
+    runner.build(sources=sources, hdl_toplevel=top, parameters=parameters,
                  build_dir=build, timescale=("1ns", "1ps"), always=True, waves=args.waves)
     testcase = args.test if args.test and not args.probes else None
     test_filter = r"\.probe_" if args.probes else None
     t0 = time.time()
-    xml = runner.test(hdl_toplevel="window_unit", test_module="test_window_unit",
+    xml = runner.test(hdl_toplevel=top, test_module=module,
                       build_dir=build, test_dir=build, testcase=testcase, test_filter=test_filter,
                       seed=args.seed,
                       waves=args.waves, results_xml=str(build / "results.xml"))
@@ -199,7 +222,7 @@ def main(argv=None) -> int:
             failed |= status == "FAILED"
         summary.append((name, build, tests, secs, cov))
 
-    print("\n==== window_unit cocotb summary " + "=" * 48)
+    print(f"\n==== {'window_unit_axis' if args.axis else 'window_unit'} cocotb summary " + "=" * 48)
     print(f"RTL: {args.rtl}   seed {args.seed}")
     for name, build, tests, secs, cov in summary:
         print(f"\n{name}  ({secs:.0f} s, reports in {build})")

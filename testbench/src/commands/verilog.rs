@@ -1,6 +1,6 @@
 //! `coopwin verilog`: the window logic's Verilog export (thesis Appendix A) for a sensor's size.
 use super::{output::OutFile, CliError};
-use coopwin_hdl::verilog::{Geometry, Netlist};
+use coopwin_hdl::verilog::{window_unit_axis, Geometry, Netlist, AXIS_MAX_WINDOWS};
 use std::path::{Path, PathBuf};
 
 /// Examples shown after `coopwin verilog --help`.
@@ -13,6 +13,9 @@ Examples:
   coopwin verilog --netlist rust-hdl --width 640 --height 480 --out rtl/
       rust-hdl's own netlist of the blocks for that size, proven equivalent to the readable
       module (hdl/tests/equivalence.rs); fixed widths, no parameters
+  coopwin verilog --axis --out hdl/verilog
+      also window_unit_axis.v, the AXI4-Stream video wrapper with --units windows
+      (docs/window-logic.md; the committed copy)
 The parameters WIDTH, HEIGHT and PIXEL_BITS of the readable module stay overridable in the
 Verilog; these options set their defaults. Check a size with
 scripts/icarus-check.sh --size WxH --bits P.";
@@ -56,12 +59,16 @@ pub struct VerilogArgs {
     /// Which window_unit to write
     #[arg(long, value_enum, default_value_t = NetlistArg::Readable)]
     pub netlist: NetlistArg,
+    /// Also write window_unit_axis.v: AXI4-Stream video in, --units cropped AXI4-Stream
+    /// windows out (1..32), AXI4-Lite registers
+    #[arg(long)]
+    pub axis: bool,
 }
 
 /// Writes `window_unit.v` and `window_network.v` and says so.
 pub fn export(args: VerilogArgs) -> Result<(), CliError> {
     let g = Geometry::new(args.width, args.height, args.pixel_bits).map_err(|e| CliError::arg(e.to_string()))?;
-    for p in write_verilog(&args.out, args.units, &g, args.netlist.into())? {
+    for p in write_verilog(&args.out, args.units, &g, args.netlist.into(), args.axis)? {
         println!("wrote {}", p.display());
     }
     println!(
@@ -76,15 +83,19 @@ pub fn export(args: VerilogArgs) -> Result<(), CliError> {
 }
 
 /// Writes `window_unit.v` (`netlist`'s) and `window_network.v` (with `units` units) for `g`
-/// into `out`.
-pub fn write_verilog(out: &Path, units: usize, g: &Geometry, netlist: Netlist) -> Result<Vec<PathBuf>, CliError> {
+/// into `out`, and with `axis` `window_unit_axis.v` (with `units` windows).
+pub fn write_verilog(out: &Path, units: usize, g: &Geometry, netlist: Netlist, axis: bool) -> Result<Vec<PathBuf>, CliError> {
     if units == 0 || units > 64 {
         return Err(CliError::arg(format!("--units must be 1..64, got {units}")));
     }
+    if axis && units > AXIS_MAX_WINDOWS {
+        return Err(CliError::arg(format!("--axis takes at most {AXIS_MAX_WINDOWS} windows (--units), got {units}")));
+    }
     let files = coopwin_hdl::verilog::exported_netlist(netlist, units, g).map_err(|e| CliError::arg(e.to_string()))?;
+    let wrapper = axis.then(|| ("window_unit_axis.v", window_unit_axis(units, g)));
     super::output::create_folder(out, "--out")?;
     let mut written = Vec::new();
-    for (name, text) in files {
+    for (name, text) in files.into_iter().chain(wrapper) {
         let path = out.join(name);
         OutFile::check(&path, "--out")?.write(text.as_bytes())?;
         written.push(path);
