@@ -145,10 +145,9 @@ impl Peripheral {
         (count(p.frame_w), count(p.frame_h), stride, side)
     }
 
-    /// Tile `k`'s window (row by row), or the first tile's beyond the last.
+    /// Tile `k`'s window, counting row by row.
     fn tile_window(&self, k: u16) -> WindowRequest {
-        let (cols, rows, stride, side) = self.tiles();
-        let k = if k < cols * rows { k } else { 0 };
+        let (cols, _, stride, side) = self.tiles();
         let centre = |i: u16| f32::from(i * stride) + (f32::from(side) - 1.0) / 2.0;
         self.params.window(Point { x: centre(k % cols), y: centre(k / cols) }, side, Decimation::Quarter)
     }
@@ -205,7 +204,7 @@ impl Peripheral {
             }
             (None, State::Sweep { tile }) => {
                 let (cols, rows, ..) = self.tiles();
-                let tile = if tile < cols * rows { tile } else { 0 };
+                let tile = tile % (cols * rows);
                 self.state = State::Sweep { tile: tile + 1 };
                 step.ask(Some(self.tile_window(tile)));
             }

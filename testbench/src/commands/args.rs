@@ -4,7 +4,9 @@ use crate::frames::folder::SIDES;
 use crate::system::cost::CostModel;
 use crate::system::{CoopPolicy, MpdfWatch, Strategy};
 use crate::units::UnitBackend;
+use super::CliError;
 use coopwin_hdl::sim::camera::{Jitter, Window};
+use coopwin_hdl::verilog::Geometry;
 use std::fmt::Display;
 
 /// `--strategy`.
@@ -340,5 +342,26 @@ pub fn parse_size(s: &str) -> Result<(usize, usize), ValueError> {
         Ok((w, h))
     } else {
         Err(bad())
+    }
+}
+
+/// A sensor's size and pixel width (`verilog`, `waves`).
+#[derive(clap::Args)]
+pub struct SensorArgs {
+    /// Sensor width: pixels per line (16..4096)
+    #[arg(long, default_value_t = Geometry::CA_D1.width)]
+    pub width: usize,
+    /// Sensor height: lines per frame (16..4096)
+    #[arg(long, default_value_t = Geometry::CA_D1.height)]
+    pub height: usize,
+    /// Bits per pixel (8..16)
+    #[arg(long, default_value_t = Geometry::CA_D1.pixel_bits)]
+    pub pixel_bits: usize,
+}
+
+impl SensorArgs {
+    /// The geometry, or an argument error naming what is out of range.
+    pub fn geometry(&self) -> Result<Geometry, CliError> {
+        Geometry::new(self.width, self.height, self.pixel_bits).map_err(|e| CliError::arg(e.to_string()))
     }
 }

@@ -1,4 +1,5 @@
 //! `coopwin verilog`: the window logic's Verilog export (thesis Appendix A) for a sensor's size.
+use super::args::SensorArgs;
 use super::{output::OutFile, CliError};
 use coopwin_hdl::verilog::{window_unit_axis, Geometry, Netlist, AXIS_MAX_WINDOWS};
 use std::path::{Path, PathBuf};
@@ -47,15 +48,8 @@ pub struct VerilogArgs {
     /// Window units in window_network (1..64)
     #[arg(long, default_value_t = coopwin_hdl::verilog::DEFAULT_UNITS)]
     pub units: usize,
-    /// Pixels per line of the sensor (16..4096)
-    #[arg(long, default_value_t = Geometry::CA_D1.width)]
-    pub width: usize,
-    /// Lines per frame of the sensor (16..4096)
-    #[arg(long, default_value_t = Geometry::CA_D1.height)]
-    pub height: usize,
-    /// Bits per pixel (8..16)
-    #[arg(long, default_value_t = Geometry::CA_D1.pixel_bits)]
-    pub pixel_bits: usize,
+    #[command(flatten)]
+    pub sensor: SensorArgs,
     /// Which window_unit to write
     #[arg(long, value_enum, default_value_t = NetlistArg::Readable)]
     pub netlist: NetlistArg,
@@ -67,7 +61,7 @@ pub struct VerilogArgs {
 
 /// Writes `window_unit.v` and `window_network.v` and says so.
 pub fn export(args: VerilogArgs) -> Result<(), CliError> {
-    let g = Geometry::new(args.width, args.height, args.pixel_bits).map_err(|e| CliError::arg(e.to_string()))?;
+    let g = args.sensor.geometry()?;
     for p in write_verilog(&args.out, args.units, &g, args.netlist.into(), args.axis)? {
         println!("wrote {}", p.display());
     }

@@ -1,7 +1,7 @@
 //! `coopwin waves`: window acquisitions simulated in rust-hdl, as a VCD and the five timing
 //! diagrams of Appendix B, on a unit of any geometry `coopwin verilog` exports (the coordinate
 //! sets written by the firmware's writer for that sensor: eight bytes above 256).
-use super::args::parse_window;
+use super::args::{parse_window, SensorArgs};
 use super::{output::OutFile, CliError};
 use crate::report::timing_svg;
 use crate::units::clocks::Clocks;
@@ -28,20 +28,13 @@ pub struct WavesArgs {
     /// Frames to acquire, one coordinate set written before each
     #[arg(long, default_value_t = 1)]
     pub frames: usize,
-    /// Sensor width in pixels (16..4096)
-    #[arg(long, default_value_t = Geometry::CA_D1.width)]
-    pub width: usize,
-    /// Sensor height in lines (16..4096)
-    #[arg(long, default_value_t = Geometry::CA_D1.height)]
-    pub height: usize,
-    /// Bits per pixel (8..16)
-    #[arg(long, default_value_t = Geometry::CA_D1.pixel_bits)]
-    pub pixel_bits: usize,
+    #[command(flatten)]
+    pub sensor: SensorArgs,
 }
 
 /// Writes the VCD and the diagrams and says so.
 pub fn write_waves(args: WavesArgs) -> Result<(), CliError> {
-    let g = Geometry::new(args.width, args.height, args.pixel_bits).map_err(|e| CliError::arg(e.to_string()))?;
+    let g = args.sensor.geometry()?;
     let window = args.window.unwrap_or(Window { xmin: 0, xmax: g.width as u32 - 1, ymin: 0, ymax: g.height as u32 - 1 });
     let svgs = waves(&args.out, &g, window, args.frames)?;
     println!("wrote {}", args.out.display());

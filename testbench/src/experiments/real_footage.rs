@@ -204,7 +204,7 @@ pub struct Figures {
     pub frames: usize,
     /// Frames with a position.
     pub positions: usize,
-    /// Frames where CSRT reports, and of those, the frames with a position.
+    /// Frames where CSRT reports.
     pub csrt_frames: usize,
     /// Of the frames where CSRT reports, those with a position.
     pub where_csrt: usize,

@@ -66,14 +66,14 @@ pub fn track_row(r: &FrameRecord, info: FrameInfo, shape: CsvBox) -> String {
     let (x, y) = shown.map(|(x, y)| (format!("{x:.3}"), format!("{y:.3}"))).unwrap_or_default();
     let file = info.files.and_then(|f| f.get(r.frame)).map(|n| csv_field(n)).unwrap_or_default();
     let measured = r.point.and(r.shape);
+    // The box's side as the object's measured scale makes it (3 decimals), or as given.
+    let side = |n: usize| match measured {
+        Some(s) => (n as f64 * f64::from(s.scale), format!("{:.3}", n as f64 * f64::from(s.scale))),
+        None => (n as f64, n.to_string()),
+    };
+    let ((w, w_text), (h, h_text)) = (side(bw), side(bh));
     let boxed = shown
-        .map(|(x, y)| match measured {
-            Some(s) => {
-                let (w, h) = (bw as f64 * f64::from(s.scale), bh as f64 * f64::from(s.scale));
-                format!("{:.3},{:.3},{w:.3},{h:.3}", x - (w - 1.0) / 2.0, y - (h - 1.0) / 2.0)
-            }
-            None => format!("{:.3},{:.3},{bw},{bh}", x - (bw as f64 - 1.0) / 2.0, y - (bh as f64 - 1.0) / 2.0),
-        })
+        .map(|(x, y)| format!("{:.3},{:.3},{w_text},{h_text}", x - (w - 1.0) / 2.0, y - (h - 1.0) / 2.0))
         .unwrap_or_else(|| ",,,".into());
     let shaped = measured.map_or(",".into(), |s| format!("{:.4},{:.2}", s.scale, s.angle_deg));
     let confidence = match (r.point, r.score) {
