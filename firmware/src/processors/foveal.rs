@@ -5,7 +5,7 @@ use super::adapt::Adaptive;
 use super::coop::guard::{dist, Guard, GuardParams};
 use super::coop::Policy;
 use super::messages::{Dest, Msg};
-use super::params::{Params, COAST_MARGIN, GROW_MARGIN};
+use super::params::{Params, COAST_MARGIN, GROW_MARGIN, MAX_MARGIN, MISS_DECAY};
 use super::step::{placements, Mode, Step, Work};
 use super::template::Template;
 use crate::kernels::corner::{CornerDetector, CornerParams, MAX_DIM};
@@ -120,6 +120,11 @@ pub struct Foveal<const N: usize = MAX_DIM> {
     adapt: Option<Adaptive>,
     /// The last NCC placement sat on the window's edge: the next window is wider.
     pinned: bool,
+    /// Adapting tracks: where the last window was aimed (the motion's prediction).
+    aimed: Option<Point>,
+    /// Adapting tracks: the largest recent distance between where a window was aimed and
+    /// where the point was found, decaying by [`MISS_DECAY`] a window: the motion's surprise.
+    miss: f32,
     /// Where a coasting track expects the point (its window's centre), while it coasts.
     predicted: Option<Point>,
     /// The object's shape as the last window's alignment measured it (adapting tracks).
@@ -150,6 +155,8 @@ impl<const N: usize> Foveal<N> {
             partner: None,
             adapt: None,
             pinned: false,
+            aimed: None,
+            miss: 0.0,
             predicted: None,
             shape: None,
         };
@@ -203,6 +210,7 @@ impl<const N: usize> Foveal<N> {
     /// Peripheral's approximate location.
     fn start(&mut self, p: Point, exact: bool, step: &mut Step) {
         self.tracking = Some(p);
+        (self.aimed, self.miss) = (None, 0.0);
         self.coop.begin(p, exact);
         // An adapting track resumed from the Peripheral's approximate location (25 %: +-2 px)
         // looks as widely as when its motion is unknown.
@@ -357,6 +365,9 @@ impl<const N: usize> Foveal<N> {
         match (found, self.tracking) {
             (Some(p), _) => {
                 self.tracking = Some(p);
+                if let Some(a) = self.aimed {
+                    self.miss = dist(p, a).max(self.miss * MISS_DECAY);
+                }
                 step.ask(Some(self.next_window(p, t))).send(Dest::Peripheral, Msg::Tracked(p));
                 step.report = Some((p, source));
                 step.score = score;
@@ -379,17 +390,21 @@ impl<const N: usize> Foveal<N> {
     /// the motion puts the point at the next window, widened on each side by half the
     /// predicted step, or by [`GROW_MARGIN`] after a match on the window's edge or before the
     /// motion is known; otherwise the thesis's, centred on `p`.
-    fn next_window(&self, p: Point, t: f64) -> WindowRequest {
+    fn next_window(&mut self, p: Point, t: f64) -> WindowRequest {
         if self.adapt.is_none() {
             return self.params.foveal_window(p);
         }
         // Without a prediction yet (the track's first window) the motion is unknown too. A
-        // fast target also accelerates by more: half its step a window is added.
+        // fast target also accelerates by more: half its step a window is added, or the
+        // prediction's recent miss where that is larger (a hand-held camera's shake, a low
+        // frame rate).
         let ahead = self.coop.ahead(t);
+        self.aimed = ahead;
         let extra = match ahead {
-            Some(q) if !self.pinned => (libm::roundf(dist(p, q) / 2.0) as u16).min(GROW_MARGIN),
-            _ => GROW_MARGIN,
+            Some(q) if !self.pinned => (dist(p, q) / 2.0).max(self.miss),
+            _ => self.miss.max(f32::from(GROW_MARGIN)),
         };
+        let extra = (libm::ceilf(extra) as u16).min(MAX_MARGIN);
         self.params.window(ahead.unwrap_or(p), self.params.foveal + 2 * extra, Decimation::Full)
     }
 
@@ -434,6 +449,31 @@ mod tests {
         assert_eq!((s.report, s.request, s.lost), (None, None, Some(p)));
         assert_eq!(&s.sends[..], &[(Dest::Peripheral, Msg::Lost(p))][..]);
         assert_eq!(f.mode(), Mode::Watch);
+    }
+
+    #[test]
+    fn an_adapting_window_widens_by_the_motions_surprise() {
+        // The block moves 2 px a window (40 ms) for four windows, then 5: the fifth window,
+        // aimed where the motion predicted (x 39.5), finds the point 3 px further (42.5). The
+        // next window adds that miss on each side (16 + 2 x 3 = 22 px), where half the
+        // predicted step alone (about 1.5 px, rounded up to 2) would give 20.
+        // The motion is the COOP guard's: a master, its partner finding no corner.
+        let mut f = Foveal::new(FovealKind::CoopMaster, params().adaptive(), Some(template()));
+        let mut req = f.start_at(TARGET).request.unwrap();
+        let mut last = None;
+        for (k, x) in [30, 32, 34, 36, 41].into_iter().enumerate() {
+            let t = 0.04 * k as f64;
+            f.on_window(&cut(&frame(Some((x, 20))), &req), t);
+            let s = f.on_message(&Msg::Result(None), t);
+            let (p, _) = s.report.unwrap();
+            assert!(near(p, Point { x: TARGET.x + (x - 30) as f32, y: TARGET.y }), "window {k}: {p:?}");
+            req = s.request.unwrap();
+            last = Some(p);
+        }
+        assert!((f.miss - 3.0).abs() < 0.01, "{}", f.miss);
+        let ahead = f.coop.ahead(0.16).unwrap();
+        assert!(libm::ceilf(dist(last.unwrap(), ahead) / 2.0) < 3.0, "{ahead:?}");
+        assert_eq!(req.width, 16 + 2 * 3);
     }
 
     #[test]

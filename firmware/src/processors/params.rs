@@ -12,6 +12,14 @@ pub const COAST_MARGIN: u16 = 6;
 /// motion is not known: 6 px a frame is a brisk motion at 25-30 frames/s.
 pub const GROW_MARGIN: u16 = 6;
 
+/// Most extra pixels on each side of an adapting track's Foveal window: a 32x32 template's
+/// window stays within 64x64 (the largest the matcher and the corner detector take).
+pub const MAX_MARGIN: u16 = 14;
+
+/// Factor by which an adapting track's largest recent miss of the motion's prediction
+/// decays a window: a shake widens the next few windows, not all the later ones.
+pub const MISS_DECAY: f32 = 0.8;
+
 
 /// Tuning shared by the processors (thesis Table 2.2 sizes by default).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -64,8 +72,15 @@ impl Default for Params {
 /// most a few frames old, so a lower score means a changed look (a turn, a zoom, blur) more
 /// often than another object; zero-mean NCC, unlike the thesis's, scores a flat or unrelated
 /// patch near 0 however bright it is (a cut to another scene is not followed), and the
-/// guard's prediction gate keeps a match far from the motion out.
-pub const ADAPT_NCC_MIN: f32 = 0.7;
+/// guard's prediction gate keeps a match far from the motion out. 0.4: the gap between
+/// wind-blown leaves of opencv-doc's `tree.avi` (15 frames/s, blocky MPEG) scores 0.42-0.6
+/// frame to frame at the place CSRT puts it; 0.7 lost it in the third frame.
+pub const ADAPT_NCC_MIN: f32 = 0.4;
+
+/// Zero-mean NCC from which an adapting track's Peripheral re-detects the object anywhere in
+/// its window: no motion gate checks the match there, so it is the acceptance of the first
+/// lock-on, not [`ADAPT_NCC_MIN`] (at 0.5 it re-locked onto a cheek 60 px from the eye).
+pub const REDETECT_MIN: f32 = 0.7;
 
 impl Params {
     /// These parameters with the template adapting ([`Params::adapt`]).

@@ -8,7 +8,7 @@
 //! windows fail it sweeps the frame at 25 % in [`SWEEP_SIDE`] tiles, one a window, until the
 //! object is found, instead of waiting for motion.
 use super::messages::{Dest, Msg};
-use super::params::{Params, ADAPT_NCC_MIN};
+use super::params::{Params, REDETECT_MIN};
 use super::step::{placements, Mode, Step, Work};
 use super::template::Template;
 use crate::kernels::matching::{best_match, Method};
@@ -32,7 +32,7 @@ fn locate(win: &WindowView<'_>, tpl: &Template, p: &Params) -> (Option<(Point, f
     let work = Work::Match { method, template: tn, placements: placements(win, n, 2) };
     let Ok(m) = best_match(method, win, &dt) else { return (None, work) };
     let (found, badness) = match method {
-        Method::Zncc => (m.score as f32 >= ADAPT_NCC_MIN, -(m.score as f32)),
+        Method::Zncc => (m.score as f32 >= REDETECT_MIN, -(m.score as f32)),
         _ => {
             let per_pixel = m.score as f32 / tn.max(1) as f32;
             (per_pixel <= p.ssd_max, per_pixel)

@@ -40,8 +40,8 @@
 //!    `gate / 2` px of it: a step of `jump` at a time would let a corner creep onto clutter.
 //! 5. **Coasting.** When neither source measures the point (an occluder passes over it), the
 //!    track coasts for up to `coast` seconds: the next window is placed at the prediction and
-//!    nothing is reported; an NCC match within `reacquire` px of the prediction (a corner
-//!    alone: within `gate / 2` px) resumes the track. After `coast` seconds the target is lost.
+//!    nothing is reported; an NCC match within `reacquire` px of the prediction scoring at
+//!    least `resume` (a corner alone: within `gate / 2` px) resumes the track. After `coast` seconds the target is lost.
 //!
 //! Everything is `f32`/`f64` arithmetic on a few values: no allocation, no panic.
 
@@ -73,13 +73,15 @@ pub struct GuardParams {
     pub coast: f64,
     /// Largest distance in pixels from the prediction at which a coasting track resumes.
     pub reacquire: f32,
+    /// Lowest NCC score at which a coasting track resumes on NCC's match (0: any accepted).
+    pub resume: f32,
 }
 
 impl Default for GuardParams {
     fn default() -> Self {
         // trust: NCC of a 20x20 textured template under sensor noise stays above 0.99 while
         // the appearance holds; a lamp's highlight or a partial occluder takes it under.
-        GuardParams { trust: 0.99, gate: 1.5, learn: 8, learn_spread: 0.5, unlearn: 3, jump: 4.0, anchor: 3.0, persist: 3, coast: 0.35, reacquire: 8.0 }
+        GuardParams { trust: 0.99, gate: 1.5, learn: 8, learn_spread: 0.5, unlearn: 3, jump: 4.0, anchor: 3.0, persist: 3, coast: 0.35, reacquire: 8.0, resume: 0.0 }
     }
 }
 
@@ -88,9 +90,11 @@ impl GuardParams {
     /// zero-mean NCC scores an object that turns, scales or blurs under the 0.99 that the
     /// thesis's fixed template keeps on a rigid one, while each frame's point is checked by
     /// aligning the first template; from [`ADAPT_TRUST`] NCC is trusted, so a corner found
-    /// elsewhere in the window does not make a fast object's track coast.
+    /// elsewhere in the window does not make a fast object's track coast. A coasting track
+    /// resumes only on a trusted match: its weak matches (from the low acceptance of
+    /// [`crate::processors::ADAPT_NCC_MIN`]) followed a neck or a shoulder after a blink.
     pub fn adapting() -> Self {
-        GuardParams { trust: ADAPT_TRUST, ..Self::default() }
+        GuardParams { trust: ADAPT_TRUST, resume: ADAPT_TRUST, ..Self::default() }
     }
 }
 
@@ -194,6 +198,8 @@ impl Guard {
                 self.anchored = true;
             }
         }
+        // A coasting track has lost its look: a weak match is as likely something else.
+        let m = Measured { ncc: m.ncc.filter(|(_, s)| self.coasted == 0 || *s >= self.params.resume), ..m };
         let trusted = m.ncc.filter(|(_, s)| *s >= self.params.trust).map(|(p, _)| p);
         if let (Some(n), Some(c), false) = (trusted, m.corner, self.anchored) {
             self.learn(sub(n, c));
