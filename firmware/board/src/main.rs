@@ -182,12 +182,7 @@ fn main() -> ! {
     } else {
         let _ = writeln!(meter.out, "# calibration instructions_per_tick={}/{}", per.0, per.1);
     }
-    // The STM32F405's 128 KB of SRAM does not hold the COOP pair yet: the kernels only.
-    #[cfg(feature = "stm32f405")]
-    let suite = suite::run_kernels(&mut out, &mut meter);
-    #[cfg(not(feature = "stm32f405"))]
-    let suite = suite::run(&mut out, &mut meter);
-    if let Err(e) = suite {
+    if let Err(e) = suite::run(&mut out, &mut meter) {
         let _ = writeln!(out, "error {e:?}");
         fail("suite");
     }

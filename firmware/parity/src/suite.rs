@@ -121,9 +121,9 @@ pub fn run<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteEr
     tracker(out, meter, inputs::WINDOWS)
 }
 
-/// The suite without the COOP pair's replay (the lines before the first `tracker` line): every
-/// kernel, the number formats and the decisions, for a board whose RAM does not hold the pair.
-pub fn run_kernels<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
+/// The suite before the COOP pair's replay (the lines before the first `tracker` line): every
+/// kernel, the number formats and the decisions.
+fn run_kernels<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
     kernels(out, meter)?;
     float_formats(out, meter)?;
     decisions(out, meter)
@@ -303,6 +303,9 @@ fn to_partner(step: &Step) -> impl Iterator<Item = &Msg> {
 /// Side of the COOP master's corner detector: it finds the corner of the template
 /// (`Support`), 20x20 at the thesis's sizes.
 pub const MASTER_SIDE: usize = 24;
+/// Used pixels the COOP master's Lucas-Kanade template holds: the interior of the thesis's
+/// 20x20 template (a larger template is tracked without the refinement).
+pub const MASTER_LK: usize = 20 * 20;
 /// Side of the COOP partner's corner detector: the Foveal window (24) and a coasting track's,
 /// 12 px wider (`COAST_MARGIN`), rounded up to a multiple of 8.
 pub const PARTNER_SIDE: usize = 40;
@@ -315,7 +318,7 @@ pub const PARTNER_SIDE: usize = 40;
 /// owner's slot ([`CoopPair::new`]) and started in place ([`CoopPair::start`]), so no copy of
 /// it passes through the stack.
 pub struct CoopPair {
-    master: Foveal<MASTER_SIDE>,
+    master: Foveal<MASTER_SIDE, MASTER_LK>,
     partner: CornerPartner<PARTNER_SIDE>,
     /// The master's answer to the partner's result (its decision).
     decision: Step,
@@ -331,8 +334,10 @@ impl Default for CoopPair {
 }
 
 impl CoopPair {
-    /// An idle pair (default thesis parameters, no template): only struct literals of zeroed
-    /// buffers, which the compiler writes straight into the caller's slot.
+    /// An idle pair (default thesis parameters, no template), returned into the caller's slot.
+    /// Never inlined: whatever temporaries the compiler builds it through are in this frame,
+    /// which ends before the replay's deepest calls, not in its caller's.
+    #[inline(never)]
     pub fn new() -> Self {
         let params = Params::default();
         CoopPair {

@@ -10,7 +10,7 @@ use super::step::{placements, Mode, Step, Work};
 use super::template::Template;
 use crate::kernels::corner::{CornerDetector, CornerParams, MAX_DIM};
 use crate::kernels::matching::best_match;
-use crate::kernels::refine::LkTemplate;
+use crate::kernels::refine::{LkTemplate, INTERIOR};
 use crate::kernels::support::{best_match_on, Support};
 use crate::kernels::view::WindowView;
 use crate::types::{Decimation, Point, Shape, Source, WindowRequest};
@@ -18,14 +18,14 @@ use crate::types::{Decimation, Point, Shape, Source, WindowRequest};
 /// Lucas-Kanade's side of the template ([`LkTemplate`]), prepared once per template and
 /// kept while it is; `over` says for which pixels (`Some(true)`: its support, `Some(false)`:
 /// the whole template, `None`: not prepared).
-struct LkCache {
+struct LkCache<const P: usize> {
     over: Option<bool>,
-    template: LkTemplate,
+    template: LkTemplate<P>,
 }
 
-impl LkCache {
+impl<const P: usize> LkCache<P> {
     /// The template prepared over `support` (or all of it), as it is or prepared now.
-    fn prepared(&mut self, tpl: &WindowView<'_>, support: Option<&Support>) -> &LkTemplate {
+    fn prepared(&mut self, tpl: &WindowView<'_>, support: Option<&Support>) -> &LkTemplate<P> {
         if self.over != Some(support.is_some()) {
             self.template.prepare(tpl, support);
             self.over = Some(support.is_some());
@@ -48,7 +48,8 @@ struct NccFound {
 /// score is under `ncc_min` (the target has left the window, or no longer looks like the
 /// template). `lk` holds the template prepared for the refinement; an `adapting` template is
 /// matched by zero-mean NCC ([`Params::correlation`]).
-fn ncc_track(win: &WindowView<'_>, tpl: &Template, support: Option<&Support>, lk: &mut LkCache, p: &Params, adapting: bool) -> (Option<NccFound>, Work) {
+#[inline(never)]
+fn ncc_track<const P: usize>(win: &WindowView<'_>, tpl: &Template, support: Option<&Support>, lk: &mut LkCache<P>, p: &Params, adapting: bool) -> (Option<NccFound>, Work) {
     let (method, acceptance) = p.correlation(adapting);
     let n = tpl.side();
     // The cost model counts the whole template: the support is a part of it.
@@ -101,13 +102,14 @@ pub enum FovealKind {
 }
 
 /// A Foveal (Tracking) processor, its corner detector sized for windows (and templates) up
-/// to `N x N`.
-pub struct Foveal<const N: usize = MAX_DIM> {
+/// to `N x N`, its Lucas-Kanade template for up to `P` used pixels ([`LkTemplate`]: `(n - 2)²`
+/// for an `n x n` template; a larger template is tracked without the refinement).
+pub struct Foveal<const N: usize = MAX_DIM, const P: usize = INTERIOR> {
     kind: FovealKind,
     template: Option<Template>,
     /// The object's part of a corner template ([`crate::kernels::support`]), when it is one.
     support: Option<Support>,
-    lk: LkCache,
+    lk: LkCache<P>,
     detector: CornerDetector<N>,
     tracking: Option<Point>,
     params: Params,
@@ -137,7 +139,7 @@ impl Foveal {
     }
 }
 
-impl<const N: usize> Foveal<N> {
+impl<const N: usize, const P: usize> Foveal<N, P> {
     /// A processor as [`Foveal::new`] without a template yet ([`Foveal::set_template`]), with
     /// a detector for windows up to `N x N`. Only a struct literal of zeroed buffers, so the
     /// compiler builds it in the caller's slot: a board holds it without a copy on the stack.
@@ -146,7 +148,7 @@ impl<const N: usize> Foveal<N> {
             kind,
             template: None,
             support: None,
-            lk: LkCache { over: None, template: LkTemplate::new() },
+            lk: LkCache { over: None, template: LkTemplate::sized() },
             detector: CornerDetector::sized(),
             tracking: None,
             params,
