@@ -305,7 +305,7 @@ fn to_partner(step: &Step) -> impl Iterator<Item = &Msg> {
 pub const MASTER_SIDE: usize = 24;
 /// Used pixels the COOP master's Lucas-Kanade template holds: the interior of the thesis's
 /// 20x20 template (a larger template is tracked without the refinement).
-pub const MASTER_LK: usize = 20 * 20;
+pub const MASTER_LK: usize = 18 * 18;
 /// Side of the COOP partner's corner detector: the Foveal window (24) and a coasting track's,
 /// 12 px wider (`COAST_MARGIN`), rounded up to a multiple of 8.
 pub const PARTNER_SIDE: usize = 40;

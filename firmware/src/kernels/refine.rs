@@ -269,6 +269,7 @@ struct Block {
 impl Block {
     /// Converts the pixels at `at` (`offset` subtracted) for the `used` rows; `None` when
     /// the block (with its weighted column and row) reaches outside the window.
+    #[inline(always)]
     fn fill(&mut self, win: &WindowView<'_>, at: Placement, iw: usize, used: &[u32], offset: f32) -> Option<()> {
         let (right, below) = (usize::from(at.right), usize::from(at.below));
         self.at = None;
@@ -293,6 +294,7 @@ impl Block {
     /// `(i, j)`) at fractions `(ax, ay)` of the block's placement, by bilinear
     /// interpolation (a translation: one pair of weights for every pixel), each paired in
     /// turn with the gradients in `tg`.
+    #[inline(always)]
     fn sums(&self, ax: f32, ay: f32, iw: usize, used: &[u32], tg: &[[f32; 3]]) -> Option<WindowSums> {
         let right = usize::from(self.at?.right);
         let stride = iw + right;

@@ -48,7 +48,6 @@ struct NccFound {
 /// score is under `ncc_min` (the target has left the window, or no longer looks like the
 /// template). `lk` holds the template prepared for the refinement; an `adapting` template is
 /// matched by zero-mean NCC ([`Params::correlation`]).
-#[inline(never)]
 fn ncc_track<const P: usize>(win: &WindowView<'_>, tpl: &Template, support: Option<&Support>, lk: &mut LkCache<P>, p: &Params, adapting: bool) -> (Option<NccFound>, Work) {
     let (method, acceptance) = p.correlation(adapting);
     let n = tpl.side();
