@@ -392,4 +392,22 @@ mod tests {
         let big_win = WindowView::packed(&big_win_px, 40, 40).unwrap();
         assert_eq!(refine_translation(&big_win, &big_tpl, 3.0, 3.0), None);
     }
+
+    #[test]
+    fn a_template_sized_for_its_interior_refines_as_the_full_one() {
+        // A 20x20 template has 18x18 interior pixels: a cache of that many refines to the
+        // bit what the default (32x32) one does, the reference; one pixel fewer prepares
+        // nothing rather than refine on part of the template.
+        let tpl_px = render(20, 20, 0.0, 0.0);
+        let win_px = render(32, 32, 6.3, 5.7);
+        let tpl = WindowView::packed(&tpl_px, 20, 20).unwrap();
+        let win = WindowView::packed(&win_px, 32, 32).unwrap();
+        let mut full = LkTemplate::new();
+        let mut sized = LkTemplate::<{ 18 * 18 }>::sized();
+        assert!(full.prepare(&tpl, None) && sized.prepare(&tpl, None));
+        let (a, b) = (full.refine(&win, 6.0, 6.0).expect("textured"), sized.refine(&win, 6.0, 6.0).expect("textured"));
+        assert_eq!((a.0.to_bits(), a.1.to_bits()), (b.0.to_bits(), b.1.to_bits()));
+        assert!(!LkTemplate::<{ 18 * 18 - 1 }>::sized().prepare(&tpl, None));
+        assert!(core::mem::size_of::<LkTemplate<{ 18 * 18 }>>() < core::mem::size_of::<LkTemplate>() / 2);
+    }
 }

@@ -81,3 +81,41 @@ impl<const N: usize> CornerPartner<N> {
         step
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kernels::corner::CornerParams;
+    use crate::processors::testing::{cut, frame, params, square, TARGET};
+    use crate::types::Decimation;
+
+    #[test]
+    fn it_follows_its_master_and_returns_the_detectors_corner() {
+        let mut partner = CornerPartner::<24>::sized(params());
+        // Follow: the Foveal window (16 px) centred on the point, columns round(31.5 - 7.5).
+        let win = square(24, 14, 16, Decimation::Full);
+        let s = partner.on_message(&Msg::Follow(TARGET));
+        assert_eq!((s.request, s.sends.len(), partner.mode()), (Some(win), 0, Mode::Track));
+        // The window's corner, as the detector kernel itself finds it (the reference), goes
+        // to the master; the partner reports nothing and asks for nothing.
+        let block = frame(Some((30, 20)));
+        let view = cut(&block, &win);
+        let reference = CornerDetector::<24>::sized().detect(&view, &CornerParams::new(params().corner_threshold)).ok();
+        let s = partner.on_window(&view);
+        let expected = Msg::Result(reference.map(|c| Point { x: c.x, y: c.y }));
+        assert_eq!(&s.sends[..], &[(Dest::Foveal, expected)][..]);
+        assert_eq!((s.work, s.report, s.request), (Work::Corner { pixels: 256 }, None, None));
+        // Lost: it stops, answering nothing; a Result (the master's input) is not its own.
+        let s = partner.on_message(&Msg::Lost(TARGET));
+        assert_eq!((s.request, s.sends.len(), partner.mode()), (None, 0, Mode::Watch));
+        assert_eq!(partner.on_message(&Msg::Result(None)).request, None);
+    }
+
+    #[test]
+    fn it_holds_its_detector_and_little_else() {
+        // No template, Lucas-Kanade cache or policy: the detector plus a point and the
+        // parameters (under 256 bytes), against a COOP master's tens of kilobytes beyond it.
+        let extra = core::mem::size_of::<CornerPartner<40>>() - core::mem::size_of::<CornerDetector<40>>();
+        assert!(extra < 256, "{extra} bytes beside the detector");
+    }
+}
