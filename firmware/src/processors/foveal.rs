@@ -140,8 +140,9 @@ impl Foveal {
 
 impl<const N: usize, const P: usize> Foveal<N, P> {
     /// A processor as [`Foveal::new`] without a template yet ([`Foveal::set_template`]), with
-    /// a detector for windows up to `N x N`. Only a struct literal of zeroed buffers, so the
-    /// compiler builds it in the caller's slot: a board holds it without a copy on the stack.
+    /// a detector for windows up to `N x N`. A struct literal of zeroed buffers and nothing
+    /// else: the template is taken afterwards, in place, where the caller keeps the processor
+    /// (the board's COOP pair builds it once, in a frame of its own, then never moves it).
     pub fn sized(kind: FovealKind, params: Params) -> Self {
         Foveal {
             kind,

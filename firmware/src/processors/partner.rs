@@ -28,8 +28,8 @@ impl CornerPartner {
 }
 
 impl<const N: usize> CornerPartner<N> {
-    /// A partner with a detector for windows up to `N x N`. A struct literal of zeroed buffers,
-    /// so the compiler builds it in the caller's slot (it is `N x N x 28` bytes).
+    /// A partner with a detector for windows up to `N x N` (`N x N x 28` bytes): a struct
+    /// literal of zeroed buffers, built once where its owner keeps it.
     pub fn sized(params: Params) -> Self {
         CornerPartner { detector: CornerDetector::sized(), tracking: None, params }
     }
