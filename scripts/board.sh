@@ -4,9 +4,9 @@
 # runs it on QEMU's mps2-an386 with one instruction per virtual nanosecond, and fails unless
 # its result lines equal fixtures/board/expected.txt, which the host computes
 # (firmware/parity/tests/board_parity.rs). Then the same for an image linked for an STM32F405
-# (QEMU netduinoplus2: flash at 0x08000000, 128 KB of SRAM), which runs the suite without the
-# COOP pair's replay (the pair does not fit its SRAM yet): its lines must equal expected.txt's
-# before the first `tracker` line.
+# (QEMU netduinoplus2: flash at 0x08000000, 128 KB of SRAM), which runs the same suite, the COOP
+# pair's replay included: its lines must equal expected.txt's too, and its static RAM plus its
+# static stack bound (scripts/stack_bound.py) must fit the 128 KiB.
 #
 #   scripts/board.sh             build, run, compare
 #   scripts/board.sh --profile   also profile the COOP frames (QEMU's execution trace, through
@@ -71,7 +71,7 @@ if ! grep -v '^#' "$run" | diff -u "$root/fixtures/board/expected.txt" - >"$out/
 fi
 echo "board.sh: $(grep -vc '^#' "$run") result lines bit-identical to the host's; $(grep '^# pins' "$run" | sed 's/^# //')"
 
-# The STM32F405 image (`stm32f405` feature: its memory map, the suite without the pair).
+# The STM32F405 image (`stm32f405` feature: its memory map, the same suite).
 stm="$root/target/board-stm32"
 stm_elf="$stm/thumbv7em-none-eabihf/release/coopwin-board"
 (cd "$root/firmware/board" &&
@@ -85,12 +85,20 @@ if [ "$status" != 0 ]; then
   tail -20 "$stm_run" >&2
   exit 1
 fi
-if ! grep -v '^#' "$stm_run" | diff -u <(grep -v '^tracker' "$root/fixtures/board/expected.txt") - >"$stm/diff.txt"; then
+if ! grep -v '^#' "$stm_run" | diff -u "$root/fixtures/board/expected.txt" - >"$stm/diff.txt"; then
   echo "board.sh: the STM32F405 output differs from the host's (fixtures/board/expected.txt):" >&2
   head -40 "$stm/diff.txt" >&2
   exit 1
 fi
-echo "board.sh: STM32F405: $(grep -vc '^#' "$stm_run") result lines bit-identical to the host's; $(grep '^# stack' "$stm_run" | sed 's/^# //')"
+# Its RAM: the static sections and the static stack bound (scripts/stack_bound.py, with the
+# exceptions) must fit the part's 128 KiB, not only this run's stack.
+stm_static=$(arm-none-eabi-size -A "$stm_elf" | awk '$1 ~ /^\.(data|bss|uninit)$/ { s += $2 } END { print s + 0 }')
+stm_bound=$(python3 "$root/scripts/stack_bound.py" "$stm_elf" --run "$stm_run" | sed -n 's/.*; with exceptions \([0-9,]*\)$/\1/p' | tr -d ,)
+if [ -z "$stm_bound" ] || [ $((stm_static + stm_bound)) -gt 131072 ]; then
+  echo "board.sh: the STM32F405 image's RAM (static ${stm_static} + stack bound ${stm_bound:-?}) exceeds its 131072 bytes" >&2
+  exit 1
+fi
+echo "board.sh: STM32F405: $(grep -vc '^#' "$stm_run") result lines bit-identical to the host's; $(grep '^# stack' "$stm_run" | sed 's/^# //'); RAM static + stack bound $((stm_static + stm_bound)) of 131072"
 
 if [ "$figures" = 1 ]; then
   arm-none-eabi-size -A "$elf" >"$out/size.txt"

@@ -85,6 +85,14 @@ def memory(run, size):
     return flash, ram, stack, sections
 
 
+def sizes(run):
+    """The `# size` line's fields: bytes of the COOP pair, its processors and one answer."""
+    for line in run.splitlines():
+        if line.startswith("# size "):
+            return {k: int(v) for k, v in (f.split("=") for f in line.split()[2:])}
+    sys.exit("board_figures.py: the run has no `# size` line")
+
+
 def stm32(p, argv):
     """The "On an STM32F405" section: the image linked for the part, and its figures."""
     run, size, disasm = (open(f).read() for f in argv[:3])
@@ -101,9 +109,10 @@ def stm32(p, argv):
     p("`scripts/board.sh` also links the board for an STM32F405 (`--features stm32f405`,")
     p("`memory-stm32f405.x`: 1 MB of flash at 0x08000000, 128 KB of SRAM at 0x20000000) and runs")
     p("it on QEMU's `netduinoplus2` (that part, at 168 MHz), semihosting for output as on the")
-    p(f"mps2. This image runs the suite without the COOP pair's replay: its {lines} result lines")
-    p("equal `expected.txt`'s before the first `tracker` line, bit for bit. The pair's replay")
-    p("does not fit the 128 KB yet (see Memory above).")
+    p(f"mps2. This image runs the same suite, the COOP pair's replay included: its {lines} result")
+    p("lines equal `expected.txt`'s, bit for bit. Its RAM is the stack (the pair in `tracker`'s")
+    p(f"frame, Memory above): static RAM plus the static stack bound leave {131072 - ram - bound:,} of")
+    p("the 128 KiB free.")
     p()
     p("| | bytes |")
     p("|---|---:|")
@@ -149,7 +158,8 @@ def main():
     p()
     p("Thesis 2.6 ran the window processors on TMS320C40 DSPs. `firmware/board` runs the same")
     p("`coopwin-firmware` kernels and the COOP Foveal pair (4.2-4.3) on a Cortex-M4F: QEMU's")
-    p("`mps2-an386`, built for `thumbv7em-none-eabihf` (single-precision FPU, f64 in software).")
+    p("`mps2-an386`, built for `thumbv7em-none-eabihf` (single-precision FPU, f64 in software),")
+    p("and the same suite linked for an STM32F405 (128 KB of SRAM) on QEMU's `netduinoplus2`.")
     p("`scripts/board.sh` builds it, runs it and compares every result line with the host's")
     p("`fixtures/board/expected.txt`; the comparison passed for the figures below.")
     p()
@@ -196,19 +206,33 @@ def main():
     for name, b in frames[:8]:
         p(f"| `{name}` | {b:,} |")
     p()
-    p("The stack is dominated by the processors' fixed buffers. A `processors::Foveal<N>` holds a")
-    p("`CornerDetector<N>`, sized for its largest window: 28 bytes a pixel of `N x N` (most of it")
-    p("the edge points of the line fit), 16 KB at `N` = 24, 44 KB at 40, 113 KB at 64, the host's")
-    p("default (`corner::tests::detector_is_sized_by_its_window`). The suite's COOP master has")
-    p("`N` = 24 (it runs the detector only on the 20x20 template), the partner 40 (the 24x24")
-    p("window and a coasting track's 36x36); each also holds the template prepared for")
-    p("Lucas-Kanade (`refine::LkTemplate`, 11 KB, used by the master only). The suite holds the")
-    p("pair and its two answers (`Step`, 4.3 KB each) for the whole run, and `CoopPair::new`'s")
-    p("frame holds copies of the two processors as they are constructed by value (Rust does not")
-    p("build them in place). The code and inputs fit an STM32F405's 1 MB of flash; this stack")
-    p("does not yet fit its 128 KB of SRAM, so the pair runs on the mps2 (4 MB, `memory-mps2.x`).")
-    p("Before the right-sizing (commit 1c1786a, `CornerDetector` 70,160 bytes for 64x64 in every")
-    p("Foveal) the measured high-water mark was 450,676 bytes and the static bound 455,396.")
+    z = sizes(run)
+    p("The stack is dominated by the COOP pair, which `suite::tracker` holds in its frame for the")
+    p(f"replay: {z['pair']:,} bytes (the run's `# size` line). Its NCC master (`Foveal<24, 324>`,")
+    p(f"{z['master']:,} bytes) holds a `CornerDetector<24>` for the 20x20 template's corner support")
+    p("and the template prepared for Lucas-Kanade, sized for that template's 18x18 interior")
+    p("pixels (`refine::LkTemplate<324>`, 4 KB; 11 KB for the largest, 32x32, template), and the")
+    p("adaptation's state (13 KB, held although the suite's track does not adapt). Its corner")
+    p(f"partner (`processors::CornerPartner<40>`, {z['partner']:,} bytes) holds the detector for the")
+    p("24x24 window and a coasting track's 36x36, and nothing else: no template, Lucas-Kanade")
+    p(f"cache or policy. Then the pair's two answers (`Step`, {z['step']:,} bytes each: a message")
+    p("carries a template inline). A `CornerDetector<N>` takes 28 bytes a pixel of `N x N` (most")
+    p("of it the edge points of the line fit): 16 KB at `N` = 24, 44 KB at 40, 113 KB at 64, the")
+    p("host's default (`corner::tests::detector_is_sized_by_its_window`).")
+    p()
+    p("Nothing of the pair is copied on the stack: `CoopPair::new` (never inlined) returns it")
+    p("into `tracker`'s slot, and whatever temporaries the compiler builds it through end with")
+    p("its own frame, before the replay's deepest calls; `CoopPair::start` takes the template and")
+    p("starts the track in place. Below the pair, a frame's deepest calls are the master's NCC")
+    p("(`matching::*`, with the 8 KB packing buffers of a strided view, which the static bound")
+    p("counts although the replay's windows are packed). The Lucas-Kanade refinement (its 8 KB")
+    p("block), the partner's detector, the template's preparation and the pins exercise (its 4 KB")
+    p("buffer) each run in a frame of their own, off that path. The code, the inputs and this")
+    p("stack fit an STM32F405 (below). Before this layout (commit ef145db: both Foveals with an")
+    p("11 KB Lucas-Kanade template and the adaptation's 13 KB, built by value through")
+    p("`CoopPair::new`) the measured high-water mark was 251,504 bytes and the static bound")
+    p("256,252; before the detector's right-sizing (commit 1c1786a, 70,160 bytes for 64x64 in")
+    p("every Foveal) 450,676 and 455,396.")
     p()
     static_bound(p, sb, stack)
     if len(sys.argv) > 9:
@@ -293,10 +317,11 @@ def main():
         for line in table:
             p(line)
         p()
-        p("The processors' own code (Lucas-Kanade, the guard's decision) is inlined into")
-        p("`CoopPair::frame` and its metered closure; `matching::dot::*` and `matching::best_match::*`")
-        p("are NCC; the corner detector's line fit is in `detect` (inlined point collection and")
-        p("2-means) and `corner::lines::fit_side`.")
+        p("The corner partner's window step is `CornerPartner<40>::on_window_into` (the detector,")
+        p("inlined, with its point collection and 2-means; the line fit is `corner::lines::fit_side`);")
+        p("Lucas-Kanade is `LkTemplate<324>::refine` (its block's `fill` and `sums` inlined); the")
+        p("guard's decision is inlined into `CoopPair::frame` and its metered closure;")
+        p("`matching::dot::*` and `matching::best_match::*` are NCC.")
         if "corner_24_literal" in counts and "corner_24" in counts:
             lit = sum(counts["corner_24_literal"]) / len(counts["corner_24_literal"])
             p()
@@ -428,9 +453,10 @@ def static_bound(p, sb, measured):
             break
         common += 1
     rest = ", ".join(f"{name(a)} ({add:,})" for a, add, _ in dpath[common:])
+    along = (f"along the same path as far as {name(dpath[common - 1][0])}, then {rest}" if rest
+             else "along the same path: no indirect call is on it")
     para(f"**Direct calls only** (every indirect call ignored): {direct['thread']:,} bytes from "
-         f"`Reset`, {direct['total']:,} with the exceptions, along the same path as far as "
-         f"{name(dpath[common - 1][0])}, then {rest}. The indirect calls are in: "
+         f"`Reset`, {direct['total']:,} with the exceptions, {along}. The indirect calls are in: "
          + ", ".join(f"{name(a)} ({n})" for a, n in sorted(sites.items(), key=lambda kv: (-kv[1], funcs[kv[0]].name)))
          + ".")
     if measured is not None:

@@ -64,7 +64,8 @@ pub fn record(cfg: &SceneConfig) -> Result<Vec<u8>, RecordError> {
     let start = Point { x: truth.corner.0 as f32, y: truth.corner.1 as f32 };
     let view = WindowView::packed(&frame0, w, h).map_err(|error| RecordError::View { frame: 0, error })?;
     let tpl = Template::capture(&view, start, 20).ok_or(RecordError::TemplateDoesNotFit)?;
-    let mut pair = CoopPair::new(tpl.clone(), start);
+    let mut pair = CoopPair::new();
+    pair.start(tpl.clone(), start);
     let mut windows: Vec<(f64, WindowRequest, Vec<u8>)> = Vec::new();
     for k in 0..cfg.frames {
         let Some(r) = pair.want() else { break };

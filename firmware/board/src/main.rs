@@ -16,7 +16,9 @@ use core::fmt::{self, Write};
 use cortex_m::peripheral::{syst::SystClkSource, SYST};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hio};
+use coopwin_firmware::processors::{CornerPartner, Foveal, Step};
 use coopwin_parity::suite::{self, Meter};
+use core::mem::size_of;
 
 /// Semihosting stdout, one host call per line (a call per `fmt` piece would be slow).
 struct Out {
@@ -182,12 +184,7 @@ fn main() -> ! {
     } else {
         let _ = writeln!(meter.out, "# calibration instructions_per_tick={}/{}", per.0, per.1);
     }
-    // The STM32F405's 128 KB of SRAM does not hold the COOP pair yet: the kernels only.
-    #[cfg(feature = "stm32f405")]
-    let suite = suite::run_kernels(&mut out, &mut meter);
-    #[cfg(not(feature = "stm32f405"))]
-    let suite = suite::run(&mut out, &mut meter);
-    if let Err(e) = suite {
+    if let Err(e) = suite::run(&mut out, &mut meter) {
         let _ = writeln!(out, "error {e:?}");
         fail("suite");
     }
@@ -200,6 +197,15 @@ fn main() -> ! {
             fail("pins");
         }
     }
+    // What the replay holds on the stack: the pair, its processors and one of its answers.
+    let _ = writeln!(
+        out,
+        "# size pair={} master={} partner={} step={}",
+        size_of::<suite::CoopPair>(),
+        size_of::<Foveal<{ suite::MASTER_SIDE }, { suite::MASTER_LK }>>(),
+        size_of::<CornerPartner<{ suite::PARTNER_SIDE }>>(),
+        size_of::<Step>()
+    );
     let top = core::ptr::addr_of!(_stack_start) as usize;
     let _ = writeln!(out, "# stack used={} painted_from={bottom:#x} top={top:#x}", stack_used(bottom));
     debug::exit(debug::EXIT_SUCCESS);

@@ -76,7 +76,9 @@ pub enum PinsError {
 
 /// Writes every recorded window's coordinates over port 1 and strobes its pixels in over
 /// port 4; checks the bytes taken against `coordinate_bytes` and the pixels against the
-/// recording. Returns a summary line (a measurement line, `#`).
+/// recording. Returns a summary line (a measurement line, `#`). Never inlined: its 4 KiB
+/// pixel buffer is not in `main`'s frame, under the suite's calls.
+#[inline(never)]
 pub fn exercise<M: Meter>(meter: &mut M) -> Result<Line, PinsError> {
     let s = Stream::parse(inputs::WINDOWS).map_err(|_| PinsError::Stream)?;
     let mut coord = HalCoordinatePins { data: core::array::from_fn(|b| Pin(b as u8)), strobe: Pin(STROBE), decimate: Pin(DECIMATE), ready: Pin(READY) };

@@ -10,7 +10,7 @@ use coopwin_firmware::kernels::fmath::sqrtf;
 use coopwin_firmware::kernels::info::{corner_information, edge_information, edge_information_with_prior};
 use coopwin_firmware::kernels::matching::{best_match, best_match_decimated, Match, MatchError, Method};
 use coopwin_firmware::kernels::motion::detect_motion;
-use coopwin_firmware::processors::{Dest, Foveal, FovealKind, Msg, Params, Step, Template, Work};
+use coopwin_firmware::processors::{CornerPartner, Dest, Foveal, FovealKind, Msg, Params, Step, Template, Work};
 use coopwin_firmware::kernels::view::WindowView;
 use coopwin_firmware::types::{Point, Source, WindowRequest};
 use core::fmt::{self, Write};
@@ -121,9 +121,9 @@ pub fn run<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteEr
     tracker(out, meter, inputs::WINDOWS)
 }
 
-/// The suite without the COOP pair's replay (the lines before the first `tracker` line): every
-/// kernel, the number formats and the decisions, for a board whose RAM does not hold the pair.
-pub fn run_kernels<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
+/// The suite before the COOP pair's replay (the lines before the first `tracker` line): every
+/// kernel, the number formats and the decisions.
+fn run_kernels<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
     kernels(out, meter)?;
     float_formats(out, meter)?;
     decisions(out, meter)
@@ -303,6 +303,9 @@ fn to_partner(step: &Step) -> impl Iterator<Item = &Msg> {
 /// Side of the COOP master's corner detector: it finds the corner of the template
 /// (`Support`), 20x20 at the thesis's sizes.
 pub const MASTER_SIDE: usize = 24;
+/// Used pixels the COOP master's Lucas-Kanade template holds: the interior of the thesis's
+/// 20x20 template (a larger template is tracked without the refinement).
+pub const MASTER_LK: usize = 18 * 18;
 /// Side of the COOP partner's corner detector: the Foveal window (24) and a coasting track's,
 /// 12 px wider (`COAST_MARGIN`), rounded up to a multiple of 8.
 pub const PARTNER_SIDE: usize = 40;
@@ -311,10 +314,12 @@ pub const PARTNER_SIDE: usize = 40;
 /// corner detector on the same coordinates, wired to each other as their link would be.
 /// The testbench's recorder and the replay below drive it alike. It keeps the processors'
 /// answers ([`Step`], over 4 KiB each) and has them filled in place, as a board loop would:
-/// the master's decision and one answer at a time from either processor.
+/// the master's decision and one answer at a time from either processor. Built empty in its
+/// owner's slot ([`CoopPair::new`]) and started in place ([`CoopPair::start`]), so no copy of
+/// it passes through the stack.
 pub struct CoopPair {
-    master: Foveal<MASTER_SIDE>,
-    partner: Foveal<PARTNER_SIDE>,
+    master: Foveal<MASTER_SIDE, MASTER_LK>,
+    partner: CornerPartner<PARTNER_SIDE>,
     /// The master's answer to the partner's result (its decision).
     decision: Step,
     /// The answer being passed on: the master's to its window, then the partner's to the same
@@ -322,18 +327,37 @@ pub struct CoopPair {
     scratch: Step,
 }
 
+impl Default for CoopPair {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl CoopPair {
-    /// A pair tracking from `start` with `template` (default thesis parameters).
-    pub fn new(template: Template, start: Point) -> Self {
+    /// An idle pair (default thesis parameters, no template), returned into the caller's slot.
+    /// Never inlined: whatever temporaries the compiler builds it through are in this frame,
+    /// which ends before the replay's deepest calls, not in its caller's.
+    #[inline(never)]
+    pub fn new() -> Self {
         let params = Params::default();
-        let mut master = Foveal::sized(FovealKind::CoopMaster, params, Some(template));
-        let mut partner = Foveal::sized(FovealKind::CoopPartner, params, None);
-        let decision = master.start_at(start);
-        let mut scratch = Step::new(Work::None);
-        for m in to_partner(&decision) {
-            partner.on_message_into(m, 0.0, &mut scratch);
+        CoopPair {
+            master: Foveal::sized(FovealKind::CoopMaster, params),
+            partner: CornerPartner::sized(params),
+            decision: Step::new(Work::None),
+            scratch: Step::new(Work::None),
         }
-        CoopPair { master, partner, decision, scratch }
+    }
+
+    /// Starts a new pair's track from `start` with `template`, in place. Never inlined: the
+    /// template's preparation does not add to the replay's stack.
+    #[inline(never)]
+    pub fn start(&mut self, template: Template, start: Point) {
+        let CoopPair { master, partner, decision, scratch } = self;
+        master.set_template(template);
+        master.start_at_into(start, decision);
+        for m in to_partner(decision) {
+            partner.on_message_into(m, scratch);
+        }
     }
 
     /// The window the pair wants next (both processors' window; `None` once lost).
@@ -351,7 +375,7 @@ impl CoopPair {
         meter.once("coop_frame", &mut || {
             // The master's own answer only records its NCC result until the partner's comes.
             master.on_window_into(view, t, scratch);
-            partner.on_window_into(view, t, scratch);
+            partner.on_window_into(view, scratch);
             let mut answered = false;
             for (_, m) in scratch.sends.iter().filter(|(d, _)| *d == Dest::Foveal) {
                 master.on_message_into(m, t, decision);
@@ -360,7 +384,7 @@ impl CoopPair {
             answered.then_some(())
         })?;
         for m in to_partner(decision) {
-            partner.on_message_into(m, t, scratch);
+            partner.on_message_into(m, scratch);
         }
         Some(&self.decision)
     }
@@ -373,7 +397,8 @@ pub fn tracker<W: Write, M: Meter>(out: &mut W, meter: &mut M, bytes: &[u8]) -> 
     let s = Stream::parse(bytes).map_err(SuiteError::Stream)?;
     let anchor = Point { x: s.anchor.0, y: s.anchor.1 };
     let tpl = Template::from_parts(usize::from(s.side), anchor, s.template).ok_or(SuiteError::Template)?;
-    let mut pair = CoopPair::new(tpl, Point { x: s.start.0, y: s.start.1 });
+    let mut pair = CoopPair::new();
+    pair.start(tpl, Point { x: s.start.0, y: s.start.1 });
     let (mut reports, mut cd) = (0u32, 0u32);
     for (k, f) in s.frames().enumerate() {
         let k = k as u16;

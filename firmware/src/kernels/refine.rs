@@ -39,7 +39,8 @@ const FLAT: f32 = 1e-5;
 
 /// Largest template side refined (the processors' templates are at most 32 x 32).
 pub const MAX_SIDE: usize = 32;
-const INTERIOR: usize = (MAX_SIDE - 2) * (MAX_SIDE - 2);
+/// Interior pixels of a [`MAX_SIDE`] template: what an [`LkTemplate`] holds by default.
+pub const INTERIOR: usize = (MAX_SIDE - 2) * (MAX_SIDE - 2);
 
 /// The refined top-left placement of `tpl` in `win`, starting from `(x, y)` (window pixels,
 /// real-valued, e.g. the parabola fit), or `None` when the template is over [`MAX_SIDE`] or
@@ -62,9 +63,11 @@ pub fn refine_translation_on(win: &WindowView<'_>, tpl: &WindowView<'_>, support
 /// the template's mean and deviation), which does not depend on the window: a tracker that
 /// refines every frame with one template prepares it once ([`LkTemplate::prepare`]) and
 /// refines with it ([`LkTemplate::refine`]), with the results of [`refine_translation`] (or
-/// [`refine_translation_on`] with a support). Prepared in place: it is 11 KiB.
+/// [`refine_translation_on`] with a support). Prepared in place: it is 11 KiB for up to
+/// [`INTERIOR`] used pixels (a 32x32 template); `P` sizes it for fewer (`(N - 2)²` for an
+/// `N x N` template: 4 KiB at the thesis's 20), and a template with more prepares nothing.
 #[derive(Clone, Debug)]
-pub struct LkTemplate {
+pub struct LkTemplate<const P: usize = INTERIOR> {
     /// A template was prepared and can refine.
     ready: bool,
     /// Bit `i` of `used[j]`: interior pixel `(i, j)` is summed over.
@@ -73,7 +76,7 @@ pub struct LkTemplate {
     ih: usize,
     /// The used pixels' values and gradients `[T, gx, gy]`, row by row: the order of every
     /// sum (together, as the iterations read them).
-    tg: Vec<[f32; 3], INTERIOR>,
+    tg: Vec<[f32; 3], P>,
     h: (f32, f32, f32),
     det: f32,
     t_mean: f32,
@@ -83,15 +86,22 @@ pub struct LkTemplate {
     g_err: (f32, f32),
 }
 
-impl Default for LkTemplate {
+impl<const P: usize> Default for LkTemplate<P> {
     fn default() -> Self {
-        Self::new()
+        Self::sized()
     }
 }
 
 impl LkTemplate {
     /// Nothing prepared: refines nothing.
     pub const fn new() -> Self {
+        Self::sized()
+    }
+}
+
+impl<const P: usize> LkTemplate<P> {
+    /// [`LkTemplate::new`], for up to `P` used pixels.
+    pub const fn sized() -> Self {
         LkTemplate {
             ready: false,
             used: [0; MAX_SIDE],
@@ -178,7 +188,9 @@ impl LkTemplate {
     /// `σ_W² = Q - S²/n` and `Σ g (Ŵ - T) = (σ_T / σ_W) (G - (S/n) Σ g) + Σ g (mean T - T)`,
     /// whose last term the template fixes ([`LkTemplate::prepare`]). The window's pixels
     /// are converted once per integer placement ([`Block`]); the iterations that stay on it
-    /// (most: the walk is under a pixel) only blend them.
+    /// (most: the walk is under a pixel) only blend them. Never inlined: the block's 8 KiB are
+    /// on the stack only during the refinement, not under the matching its caller also runs.
+    #[inline(never)]
     pub fn refine(&self, win: &WindowView<'_>, x: f32, y: f32) -> Option<(f32, f32)> {
         if !self.ready || !x.is_finite() || !y.is_finite() {
             return None;
@@ -257,6 +269,7 @@ struct Block {
 impl Block {
     /// Converts the pixels at `at` (`offset` subtracted) for the `used` rows; `None` when
     /// the block (with its weighted column and row) reaches outside the window.
+    #[inline(always)]
     fn fill(&mut self, win: &WindowView<'_>, at: Placement, iw: usize, used: &[u32], offset: f32) -> Option<()> {
         let (right, below) = (usize::from(at.right), usize::from(at.below));
         self.at = None;
@@ -281,6 +294,7 @@ impl Block {
     /// `(i, j)`) at fractions `(ax, ay)` of the block's placement, by bilinear
     /// interpolation (a translation: one pair of weights for every pixel), each paired in
     /// turn with the gradients in `tg`.
+    #[inline(always)]
     fn sums(&self, ax: f32, ay: f32, iw: usize, used: &[u32], tg: &[[f32; 3]]) -> Option<WindowSums> {
         let right = usize::from(self.at?.right);
         let stride = iw + right;
@@ -377,5 +391,23 @@ mod tests {
         let big_win_px = render(40, 40, 3.0, 3.0);
         let big_win = WindowView::packed(&big_win_px, 40, 40).unwrap();
         assert_eq!(refine_translation(&big_win, &big_tpl, 3.0, 3.0), None);
+    }
+
+    #[test]
+    fn a_template_sized_for_its_interior_refines_as_the_full_one() {
+        // A 20x20 template has 18x18 interior pixels: a cache of that many refines to the
+        // bit what the default (32x32) one does, the reference; one pixel fewer prepares
+        // nothing rather than refine on part of the template.
+        let tpl_px = render(20, 20, 0.0, 0.0);
+        let win_px = render(32, 32, 6.3, 5.7);
+        let tpl = WindowView::packed(&tpl_px, 20, 20).unwrap();
+        let win = WindowView::packed(&win_px, 32, 32).unwrap();
+        let mut full = LkTemplate::new();
+        let mut sized = LkTemplate::<{ 18 * 18 }>::sized();
+        assert!(full.prepare(&tpl, None) && sized.prepare(&tpl, None));
+        let (a, b) = (full.refine(&win, 6.0, 6.0).expect("textured"), sized.refine(&win, 6.0, 6.0).expect("textured"));
+        assert_eq!((a.0.to_bits(), a.1.to_bits()), (b.0.to_bits(), b.1.to_bits()));
+        assert!(!LkTemplate::<{ 18 * 18 - 1 }>::sized().prepare(&tpl, None));
+        assert!(core::mem::size_of::<LkTemplate<{ 18 * 18 }>>() < core::mem::size_of::<LkTemplate>() / 2);
     }
 }

@@ -10,7 +10,7 @@ use super::step::{placements, Mode, Step, Work};
 use super::template::Template;
 use crate::kernels::corner::{CornerDetector, CornerParams, MAX_DIM};
 use crate::kernels::matching::best_match;
-use crate::kernels::refine::LkTemplate;
+use crate::kernels::refine::{LkTemplate, INTERIOR};
 use crate::kernels::support::{best_match_on, Support};
 use crate::kernels::view::WindowView;
 use crate::types::{Decimation, Point, Shape, Source, WindowRequest};
@@ -18,14 +18,14 @@ use crate::types::{Decimation, Point, Shape, Source, WindowRequest};
 /// Lucas-Kanade's side of the template ([`LkTemplate`]), prepared once per template and
 /// kept while it is; `over` says for which pixels (`Some(true)`: its support, `Some(false)`:
 /// the whole template, `None`: not prepared).
-struct LkCache {
+struct LkCache<const P: usize> {
     over: Option<bool>,
-    template: LkTemplate,
+    template: LkTemplate<P>,
 }
 
-impl LkCache {
+impl<const P: usize> LkCache<P> {
     /// The template prepared over `support` (or all of it), as it is or prepared now.
-    fn prepared(&mut self, tpl: &WindowView<'_>, support: Option<&Support>) -> &LkTemplate {
+    fn prepared(&mut self, tpl: &WindowView<'_>, support: Option<&Support>) -> &LkTemplate<P> {
         if self.over != Some(support.is_some()) {
             self.template.prepare(tpl, support);
             self.over = Some(support.is_some());
@@ -48,7 +48,7 @@ struct NccFound {
 /// score is under `ncc_min` (the target has left the window, or no longer looks like the
 /// template). `lk` holds the template prepared for the refinement; an `adapting` template is
 /// matched by zero-mean NCC ([`Params::correlation`]).
-fn ncc_track(win: &WindowView<'_>, tpl: &Template, support: Option<&Support>, lk: &mut LkCache, p: &Params, adapting: bool) -> (Option<NccFound>, Work) {
+fn ncc_track<const P: usize>(win: &WindowView<'_>, tpl: &Template, support: Option<&Support>, lk: &mut LkCache<P>, p: &Params, adapting: bool) -> (Option<NccFound>, Work) {
     let (method, acceptance) = p.correlation(adapting);
     let n = tpl.side();
     // The cost model counts the whole template: the support is a part of it.
@@ -76,8 +76,9 @@ fn ncc_track(win: &WindowView<'_>, tpl: &Template, support: Option<&Support>, lk
     (Some(NccFound { point: tpl.point_at(x, y), score, pinned }), work)
 }
 
-/// The corner in `win`, or `None` when the detector finds none.
-fn cd_track<const N: usize>(win: &WindowView<'_>, det: &mut CornerDetector<N>, p: &Params) -> (Option<Point>, Work) {
+/// The corner in `win`, or `None` when the detector finds none (also the COOP partner's,
+/// [`super::partner`]).
+pub(super) fn cd_track<const N: usize>(win: &WindowView<'_>, det: &mut CornerDetector<N>, p: &Params) -> (Option<Point>, Work) {
     let work = Work::Corner { pixels: (win.width() * win.height()) as u32 };
     let c = det.detect(win, &CornerParams::new(p.corner_threshold)).ok();
     (c.map(|c| Point { x: c.x, y: c.y }), work)
@@ -94,21 +95,20 @@ pub enum FovealKind {
     Ncc,
     /// The corner detector alone (Table 4.1's CD).
     Cd,
-    /// COOP master: NCC here, the corner detector on the partner; the confidence measure
-    /// chooses (4.2-4.3).
+    /// COOP master: NCC here, the corner detector on the partner
+    /// ([`super::partner::CornerPartner`]); the confidence measure chooses (4.2-4.3).
     CoopMaster,
-    /// COOP partner: the corner detector on the master's coordinates.
-    CoopPartner,
 }
 
 /// A Foveal (Tracking) processor, its corner detector sized for windows (and templates) up
-/// to `N x N`.
-pub struct Foveal<const N: usize = MAX_DIM> {
+/// to `N x N`, its Lucas-Kanade template for up to `P` used pixels ([`LkTemplate`]: `(n - 2)²`
+/// for an `n x n` template; a larger template is tracked without the refinement).
+pub struct Foveal<const N: usize = MAX_DIM, const P: usize = INTERIOR> {
     kind: FovealKind,
     template: Option<Template>,
     /// The object's part of a corner template ([`crate::kernels::support`]), when it is one.
     support: Option<Support>,
-    lk: LkCache,
+    lk: LkCache<P>,
     detector: CornerDetector<N>,
     tracking: Option<Point>,
     params: Params,
@@ -135,18 +135,25 @@ impl Foveal {
     /// A Foveal processor; a COOP master decides with guarded cooperation
     /// ([`Foveal::with_policy`] chooses another policy).
     pub fn new(kind: FovealKind, params: Params, template: Option<Template>) -> Self {
-        Self::sized(kind, params, template)
+        let mut f = Self::sized(kind, params);
+        if let Some(t) = template {
+            f.set_template(t);
+        }
+        f
     }
 }
 
-impl<const N: usize> Foveal<N> {
-    /// [`Foveal::new`] with a detector for windows up to `N x N`.
-    pub fn sized(kind: FovealKind, params: Params, template: Option<Template>) -> Self {
-        let mut f = Foveal {
+impl<const N: usize, const P: usize> Foveal<N, P> {
+    /// A processor as [`Foveal::new`] without a template yet ([`Foveal::set_template`]), with
+    /// a detector for windows up to `N x N`. A struct literal of zeroed buffers and nothing
+    /// else: the template is taken afterwards, in place, where the caller keeps the processor
+    /// (the board's COOP pair builds it once, in a frame of its own, then never moves it).
+    pub fn sized(kind: FovealKind, params: Params) -> Self {
+        Foveal {
             kind,
             template: None,
             support: None,
-            lk: LkCache { over: None, template: LkTemplate::new() },
+            lk: LkCache { over: None, template: LkTemplate::sized() },
             detector: CornerDetector::sized(),
             tracking: None,
             params,
@@ -159,15 +166,14 @@ impl<const N: usize> Foveal<N> {
             miss: 0.0,
             predicted: None,
             shape: None,
-        };
-        if let Some(t) = template {
-            f.set_template(t);
         }
-        f
     }
 
-    /// Takes `tpl` as the template, with its support when it is centred on a corner.
-    fn set_template(&mut self, tpl: Template) {
+    /// Takes `tpl` as the template, with its support when it is centred on a corner (as the
+    /// Watch's `Template` message does). Never inlined: its temporaries (the adaptation's
+    /// first template prepared, 13 KB) stay off the stack of the frames that take messages.
+    #[inline(never)]
+    pub fn set_template(&mut self, tpl: Template) {
         let a = tpl.anchor();
         self.support = tpl.view().and_then(|v| {
             Support::of_template(&v, (a.x, a.y), &mut self.detector, &CornerParams::new(self.params.corner_threshold))
@@ -202,8 +208,15 @@ impl<const N: usize> Foveal<N> {
     /// Starts tracking at `p` (the target given at start).
     pub fn start_at(&mut self, p: Point) -> Step {
         let mut step = Step::new(Work::None);
-        self.start(p, true, &mut step);
+        self.start_at_into(p, &mut step);
         step
+    }
+
+    /// [`Foveal::start_at`], answered into `step` (cleared first), as
+    /// [`Foveal::on_message_into`].
+    pub fn start_at_into(&mut self, p: Point, step: &mut Step) {
+        step.clear(Work::None);
+        self.start(p, true, step);
     }
 
     /// Starts tracking at `p`: the tracked point itself when `exact`, otherwise the
@@ -259,7 +272,6 @@ impl<const N: usize> Foveal<N> {
                     step.work = Work::Decision;
                 }
             }
-            Msg::Lost(_) if self.kind == FovealKind::CoopPartner => self.tracking = None,
             _ => {}
         }
     }
@@ -275,14 +287,10 @@ impl<const N: usize> Foveal<N> {
     /// [`Foveal::on_message_into`].
     pub fn on_window_into(&mut self, win: &WindowView<'_>, t: f64, step: &mut Step) {
         match self.kind {
-            FovealKind::Cd | FovealKind::CoopPartner => {
+            FovealKind::Cd => {
                 let (found, work) = cd_track(win, &mut self.detector, &self.params);
                 step.clear(work);
-                if self.kind == FovealKind::CoopPartner {
-                    step.send(Dest::Foveal, Msg::Result(found));
-                } else {
-                    self.follow(step, t, found, Source::Cd, None);
-                }
+                self.follow(step, t, found, Source::Cd, None);
             }
             FovealKind::Ncc | FovealKind::CoopMaster => {
                 let (found, work) = match &self.template {
@@ -418,6 +426,7 @@ impl<const N: usize> Foveal<N> {
 mod tests {
     use super::*;
     use crate::kernels::matching::Method;
+    use crate::processors::partner::CornerPartner;
     use crate::processors::testing::{cut, frame, params, square, template, TARGET};
 
     fn near(p: Point, q: Point) -> bool {
@@ -492,14 +501,14 @@ mod tests {
     #[test]
     fn the_coop_master_decides_once_both_results_of_a_window_are_in() {
         let mut master = Foveal::new(FovealKind::CoopMaster, params(), Some(template()));
-        let mut partner = Foveal::new(FovealKind::CoopPartner, params(), None);
+        let mut partner = CornerPartner::new(params());
         let win = square(24, 14, 16, Decimation::Full);
         let s = master.start_at(TARGET);
         assert_eq!(&s.sends[..], &[(Dest::FovealCd, Msg::Follow(TARGET))][..]);
-        assert_eq!(partner.on_message(&Msg::Follow(TARGET), 0.0).request, Some(win));
+        assert_eq!(partner.on_message(&Msg::Follow(TARGET)).request, Some(win));
         let block = frame(Some((30, 20)));
         // The partner answers with its corner, whatever it is; it reports nothing itself.
-        let s = partner.on_window(&cut(&block, &win), 0.0);
+        let s = partner.on_window(&cut(&block, &win));
         assert!(matches!(&s.sends[..], [(Dest::Foveal, Msg::Result(_))]) && s.report.is_none());
         // The master's own NCC waits for the partner's result.
         let s = master.on_window(&cut(&block, &win), 0.0);

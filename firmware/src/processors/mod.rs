@@ -9,6 +9,8 @@
 //! - [`Foveal`]: NCC (or the corner detector) at full resolution for accurate tracking; in
 //!   COOP a second Foveal window runs the other algorithm on the same coordinates and the
 //!   least-squares confidence measure picks the result each frame (4.3);
+//! - [`CornerPartner`]: COOP's second Foveal processor, the corner detector on its master's
+//!   coordinates (4.2);
 //! - [`Spmf`]: the single processor that runs Watch, Detection and Tracking in turn (2.3.1).
 //!
 //! The hardware is reached only through the [`Step`]s: the caller (a board's main loop, or the
@@ -23,6 +25,7 @@ pub mod coop;
 pub mod foveal;
 pub mod messages;
 pub mod params;
+pub mod partner;
 pub mod peripheral;
 pub mod spmf;
 pub mod step;
@@ -35,6 +38,7 @@ pub use coop::Policy;
 pub use foveal::{Foveal, FovealKind};
 pub use messages::{Dest, Msg};
 pub use params::{Params, ADAPT_NCC_MIN, COAST_MARGIN, GROW_MARGIN};
+pub use partner::CornerPartner;
 pub use peripheral::Peripheral;
 pub use spmf::Spmf;
 pub use step::{Mode, Step, Work};

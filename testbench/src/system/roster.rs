@@ -7,7 +7,7 @@ use super::SimError;
 use coopwin_firmware::kernels::confidence::{KalmanCoop, SseCoop};
 use coopwin_firmware::processors::coop::guard::{Guard, GuardParams};
 use coopwin_firmware::types::{Decimation, WindowRequest};
-use coopwin_firmware::processors::{Dest, Foveal, FovealKind, Mode, Msg, Params, Peripheral, Policy, Spmf, Step, Template, Watch, Work};
+use coopwin_firmware::processors::{CornerPartner, Dest, Foveal, FovealKind, Mode, Msg, Params, Peripheral, Policy, Spmf, Step, Template, Watch, Work};
 use coopwin_firmware::types::Point;
 use coopwin_firmware::kernels::view::WindowView;
 
@@ -60,6 +60,7 @@ pub(super) enum Processor<'b> {
     Watch(Watch<'b>),
     Peripheral(Peripheral),
     Foveal(Foveal),
+    Partner(CornerPartner),
     Spmf(Spmf<'b>),
 }
 
@@ -135,7 +136,7 @@ impl<'b> Roster<'b> {
                     Processor::Foveal(foveal(kind).with_policy(coop_policy(cfg)?)),
                 ];
                 if cfg.strategy == Strategy::Coop {
-                    v.push(Processor::Foveal(foveal(FovealKind::CoopPartner)));
+                    v.push(Processor::Partner(CornerPartner::new(params)));
                 }
                 v
             }
@@ -150,11 +151,10 @@ impl<'b> Roster<'b> {
         if processors.len() != cfg.strategy.units() {
             return Err(SimError::Roster { processors: processors.len(), units: cfg.strategy.units() });
         }
-        let fovea: Vec<usize> = (0..processors.len()).filter(|&i| matches!(processors[i], Processor::Foveal(_))).collect();
         let roles = Roles {
             peripheral: processors.iter().position(|p| matches!(p, Processor::Peripheral(_))),
-            foveal: fovea.first().copied(),
-            partner: fovea.get(1).copied(),
+            foveal: processors.iter().position(|p| matches!(p, Processor::Foveal(_))),
+            partner: processors.iter().position(|p| matches!(p, Processor::Partner(_))),
         };
         Ok(Roster { processors, roles })
     }
@@ -163,11 +163,10 @@ impl<'b> Roster<'b> {
     pub(super) fn processor_roles(&self) -> Vec<Role> {
         self.processors
             .iter()
-            .enumerate()
-            .map(|(k, p)| match p {
+            .map(|p| match p {
                 Processor::Watch(_) => Role::Watch,
                 Processor::Peripheral(_) => Role::Peripheral,
-                Processor::Foveal(_) if self.roles.partner == Some(k) => Role::FovealCd,
+                Processor::Partner(_) => Role::FovealCd,
                 Processor::Foveal(_) => Role::Foveal,
                 Processor::Spmf(_) => Role::Single,
             })
@@ -198,6 +197,7 @@ impl<'b> Roster<'b> {
             Processor::Watch(x) => x.on_window(view),
             Processor::Peripheral(x) => x.on_window(view),
             Processor::Foveal(x) => x.on_window(view, t),
+            Processor::Partner(x) => x.on_window(view),
             Processor::Spmf(x) => x.on_window(view, t),
         }
     }
@@ -208,6 +208,7 @@ impl<'b> Roster<'b> {
         match &mut self.processors[p] {
             Processor::Peripheral(x) => Some(x.on_message(msg)),
             Processor::Foveal(x) => Some(x.on_message(msg, t)),
+            Processor::Partner(x) => Some(x.on_message(msg)),
             _ => None,
         }
     }
@@ -219,6 +220,7 @@ impl<'b> Roster<'b> {
             let m = match p {
                 Processor::Spmf(s) => s.mode(),
                 Processor::Foveal(f) => f.mode(),
+                Processor::Partner(f) => f.mode(),
                 Processor::Peripheral(x) => x.mode(),
                 Processor::Watch(_) => Mode::Watch,
             };
