@@ -102,8 +102,7 @@ module coopwin_ice40_axis_top #(
     wire [8*WINDOWS-1:0] w_tdata;
     wire [WINDOWS-1:0]   w_tvalid, w_tready, w_tuser, w_tlast;
     reg         awvalid = 1'b0, arvalid = 1'b0;
-    wire        awready, wready, bvalid, arready, rvalid, irq;
-    wire  [1:0] bresp, rresp;
+    wire        awready, bvalid, arready, rvalid, irq;
     wire [31:0] rdata;
     window_unit_axis #(.WIDTH(WIDTH), .HEIGHT(HEIGHT), .PIXEL_BITS(8), .WINDOWS(WINDOWS),
                        .FIFO_DEPTH(FIFO_DEPTH)) u_axis (
@@ -113,14 +112,16 @@ module coopwin_ice40_axis_top #(
         .m_axis_tdata(w_tdata), .m_axis_tvalid(w_tvalid), .m_axis_tready(w_tready),
         .m_axis_tuser(w_tuser), .m_axis_tlast(w_tlast),
         .s_axil_awaddr(a_addr[11:0]), .s_axil_awvalid(awvalid), .s_axil_awready(awready),
-        .s_axil_wdata(a_wdata), .s_axil_wstrb(4'hF), .s_axil_wvalid(awvalid), .s_axil_wready(wready),
-        .s_axil_bresp(bresp), .s_axil_bvalid(bvalid), .s_axil_bready(1'b1),
+        .s_axil_wdata(a_wdata), .s_axil_wstrb(4'hF), .s_axil_wvalid(awvalid), .s_axil_wready(),
+        .s_axil_bresp(), .s_axil_bvalid(bvalid), .s_axil_bready(1'b1),
         .s_axil_araddr(a_addr[11:0]), .s_axil_arvalid(arvalid), .s_axil_arready(arready),
-        .s_axil_rdata(rdata), .s_axil_rresp(rresp), .s_axil_rvalid(rvalid), .s_axil_rready(1'b1),
+        .s_axil_rdata(rdata), .s_axil_rresp(), .s_axil_rvalid(rvalid), .s_axil_rready(1'b1),
         .irq(irq));
 
     // The AXI4-Lite master: one access per a_req (the synchronised level), then a_ack until
     // a_req falls. Addresses from 0x1000 are this top's own registers, answered at once.
+    // window_unit_axis takes a write's address and data together (awready = wready), so one
+    // valid drives both; bready and rready are held high.
     wire a_req_p;
     coopwin_sync2 sync_areq (.clk(pclk), .d(a_req), .q(a_req_p));
     localparam [1:0] M_IDLE = 2'd0, M_WRITE = 2'd1, M_READ = 2'd2, M_RESP = 2'd3;
