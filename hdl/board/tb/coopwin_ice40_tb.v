@@ -1,6 +1,6 @@
 // Self-checking simulation of coopwin_ice40_top (the whole board top) with an OV7670 model
 // on the camera pins and a host model on the UART pins. Icarus Verilog:
-//   iverilog -g2005 -o tb.vvp -s coopwin_ice40_tb hdl/verilog/window_unit.v \
+//   iverilog -g2005 -I hdl/board/tb -o tb.vvp -s coopwin_ice40_tb hdl/verilog/window_unit.v \
 //       hdl/board/coopwin_ice40_top.v hdl/board/tb/ov7670_model.v hdl/board/tb/coopwin_ice40_tb.v
 //   vvp -n tb.vvp          (exit status 0 and "PASS" only if every check held)
 // scripts/board-fpga.sh runs it. Options (vvp plusargs): +novga skips the VGA-size frames,
