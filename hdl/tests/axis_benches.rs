@@ -3,7 +3,9 @@
 //! both the design and a reference model written from the contract (hdl/cocotb/model.py), with
 //! the functional coverage goal of every listed situation (`hdl/cocotb/run.py --axis`); and its
 //! formal properties of the AXI4-Stream rules, with mutants each a property must catch
-//! (`scripts/formal.sh --axis`). The scripts exit non-zero when a check fails.
+//! (`scripts/formal.sh --axis`); and its example integration on the iCE40 board, simulated end
+//! to end against the camera model's pixels and built to a bitstream, with mutants the bench
+//! must catch (`scripts/board-fpga.sh --axis`). The scripts exit non-zero when a check fails.
 //! Without their tools these tests fail, or skip visibly with COOPWIN_ALLOW_MISSING_EDA=1.
 mod common;
 use common::{have_tool, run, scratch};
