@@ -23,6 +23,7 @@ props="$root/hdl/formal/window_unit_props.sv"
 top=window_unit_props
 broken="$root/hdl/formal/broken"
 axis=0
+mutant_defs=""   # the harness's defines for the mutants (the wrapper's: its probes)
 out=""
 jobs=2
 run_proofs=1
@@ -37,7 +38,7 @@ while [ $# -gt 0 ]; do
     --mutants) run_proofs=0; shift ;;
     --no-mutants) run_mutants=0; shift ;;
     --axis) axis=1; rtl="$root/hdl/verilog/window_unit_axis.v"; props="$root/hdl/formal/window_unit_axis_props.sv"
-            top=window_unit_axis_props; broken="$root/hdl/formal/broken-axis"; shift ;;
+            top=window_unit_axis_props; broken="$root/hdl/formal/broken-axis"; mutant_defs="-DPROBES"; shift ;;
     *) echo "formal.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -68,6 +69,12 @@ globs() { # "glob ..." -> a selection of the cells so named
   done
   echo "$sel"
 }
+# The harness's probes into the flattened RTL (define PROBES): yosys commands tying them.
+probes() { # "defines"
+  case " $1 " in
+    *" -DPROBES "*) echo "connect -set probe_hit dut.win[0].hit; connect -set probe_drops dut.win[0].drops" ;;
+  esac
+}
 build() { # dir rtl width height "defines" "assert globs" ["globs of assertions to assume"]
   local dir="$1" src="$2" w="$3" h="$4" defs="$5" keep="$6" assume="" sel
   mkdir -p "$dir"
@@ -77,6 +84,7 @@ build() { # dir rtl width height "defines" "assert globs" ["globs of assertions 
     read_verilog -formal -sv $defs $src $props
     chparam -set WIDTH $w -set HEIGHT $h $top
     prep -flatten -top $top
+    $(probes "$defs")
     memory_map
     check -assert
     chformal -cover -remove
@@ -179,7 +187,7 @@ check_mutant() { # order sedfile w h depth
   local keep
   keep="$(sed -n 's/^# Caught by: *//p' "$sedf" | tr ',' ' ' | tr -s ' ' | sed 's/(.*//; s/\.$//')"
   [ -n "$keep" ] || keep="P_*"
-  if ! build "$d" "$d/window_unit.v" "$w" "$h" "" "$keep"; then result "$n" "mutant $name" "${w}x$h" "bounded" ERROR 0 "$(tr '\n' ' ' <"$d/error")"; return; fi
+  if ! build "$d" "$d/window_unit.v" "$w" "$h" "$mutant_defs" "$keep"; then result "$n" "mutant $name" "${w}x$h" "bounded" ERROR 0 "$(tr '\n' ' ' <"$d/error")"; return; fi
   yosys-abc -c "read_aiger $d/model.aig; fold; strash; bmc3 -F $depth; write_cex -a $d/trace.aiw" >"$d/abc.log" 2>&1 || true
   if grep -q "was asserted in frame" "$d/abc.log"; then
     if [ $axis = 0 ] || [ -n "$out" ]; then
@@ -208,6 +216,7 @@ if [ $axis = 1 ]; then
     throttle; check_pdr 51 "stream: P_tready P_stable" 4 4 "" "P_tready P_stable" &
     throttle; check_bmc 52 "accounting: $axis_props" 4 4 "" "$axis_props" ${AXIS_DEPTH:-10} &
     throttle; check_cover 53 "C_rows" 4 4 "C_rows" ${AXIS_DEPTH:-10} &
+    throttle; check_pdr 54 "conservation: P_conserve P_drained" 4 4 "-DPROBES" "P_conserve P_drained" &
   fi
   if [ $run_mutants = 1 ]; then
     i=60

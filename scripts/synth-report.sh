@@ -13,7 +13,8 @@ Usage: scripts/synth-report.sh [--check] [--axis] [--seeds N] [--help]   (from a
                iCE40 HX8K and ECP5 LFE5U-25F, and rewrite docs/synthesis.md.
   --check      re-run only the (deterministic) Yosys synth_ice40 for the iCE40 rows and exit 1
                if its SB_LUT4, SB_CARRY or flip-flop counts differ from docs/synthesis.md
-               (a stale table); exit 0 if they all match. Needs yosys only. A few seconds.
+               (a stale table), and the same for the wrapper's iCE40 rows (with SB_RAM40_4K);
+               exit 0 if they all match. Needs yosys only. About a minute.
   --axis       only the AXI4-Stream wrapper (hdl/verilog/window_unit_axis.v): synth_ice40 and
                nextpnr-ice40, synth_ecp5 and nextpnr-ecp5 (seed 1), synth_xilinx cell counts, at
                three (size, windows) rows; rewrites only the wrapper's section of
@@ -152,6 +153,24 @@ synth_wrapped() { # top width height bits out-prefix: synth_ice40 of a wrapper
     || { echo "error: yosys ($top) failed at ${w}x$h/$b bits, log:" >&2; tail -20 "$out.ylog" >&2; exit 1; }
 }
 
+# The AXI4-Stream wrapper's rows (size, pixel bits, windows) and its synthesis.
+axis_rtl="$root/hdl/verilog/window_unit_axis.v"
+axis_rows=("256x256 8 1" "256x256 8 4" "1920x1080 10 4")
+asynth() { # family width height bits windows out [json]
+  local js=""
+  [ -n "${7:-}" ] && js="-json $6.json"
+  yosys -p "read_verilog $axis_rtl;
+            chparam -set WIDTH $2 -set HEIGHT $3 -set PIXEL_BITS $4 -set WINDOWS $5 window_unit_axis;
+            synth_$1 -top window_unit_axis $js; tee -q -o $6.stat stat" >"$6.ylog" 2>&1 \
+    || { echo "error: yosys synth_$1 of window_unit_axis failed, log:" >&2; tail -20 "$6.ylog" >&2; exit 1; }
+}
+# The wrapper's section of the report, between these markers.
+axis_begin="<!-- window_unit_axis: scripts/synth-report.sh --axis -->"
+axis_end="<!-- end of window_unit_axis -->"
+# Prints the wrapper's section of docs/synthesis.md, markers included. (Not sed: the markers
+# hold a '/'.)
+axis_section() { awk -v b="$axis_begin" -v e="$axis_end" '$0 == b { p = 1 } p { print } $0 == e { p = 0 }' "$doc"; }
+
 # ------------------------------------------------------------------------------------------
 # --check: the iCE40 rows' cell counts against the committed table.
 # ------------------------------------------------------------------------------------------
@@ -178,36 +197,44 @@ if [ "$check" = 1 ]; then
       fi
     done
   done
+  # The wrapper's iCE40 table, inside its section. Columns: | size | pixel bits | windows |
+  # SB_LUT4 | SB_CARRY | flip-flops | SB_RAM40_4K | ...
+  [ -f "$axis_rtl" ] || { echo "error: $axis_rtl not found" >&2; exit 1; }
+  axis_section |
+    awk -F'|' '/^\| size .*windows .*SB_LUT4/ { t = 1; next } t && /^\|---/ { next } t && !/^\|/ { exit }
+               t { for (i = 2; i <= 8; i++) gsub(/[ `]/, "", $i); print $2, $3, $4, $5, $6, $7, $8 }' \
+    >"$work/committed-axis"
+  [ -s "$work/committed-axis" ] || { echo "stale: $doc has no window_unit_axis iCE40 table"; status=1; }
+  for row in "${axis_rows[@]}"; do
+    set -- $row; size="$1"; b="$2"; n="$3"
+    log "check: window_unit_axis synth_ice40 ${size}, $b bits, $n windows"
+    asynth ice40 "${size%x*}" "${size#*x}" "$b" "$n" "$work/a"
+    got="$(count "$work/a.stat" SB_LUT4) $(count "$work/a.stat" SB_CARRY) $(count "$work/a.stat" 'SB_DFF[A-Z]*') $(count "$work/a.stat" 'SB_RAM40_4K[A-Z]*')"
+    want="$(awk -v s="$size" -v b="$b" -v n="$n" '$1 == s && $2 == b && $3 == n { print $4, $5, $6, $7 }' "$work/committed-axis")"
+    if [ -z "$want" ]; then
+      echo "stale: $doc has no window_unit_axis iCE40 row for $size, $b bits, $n windows (synthesis gives LUT/carry/FF/BRAM $got)"; status=1
+    elif [ "$got" != "$want" ]; then
+      echo "stale: window_unit_axis $size, $b bits, $n windows: LUT/carry/FF/BRAM in $doc are $want, synthesis gives $got"; status=1
+    fi
+  done
   if [ "$status" = 0 ]; then
-    echo "docs/synthesis.md: iCE40 cell counts match synthesis ($(wc -l <"$work/committed") rows)"
+    echo "docs/synthesis.md: iCE40 cell counts match synthesis ($(wc -l <"$work/committed") window_unit rows, $(wc -l <"$work/committed-axis") window_unit_axis rows)"
   else
-    echo "regenerate with scripts/synth-report.sh"
+    echo "regenerate with scripts/synth-report.sh (window_unit_axis: scripts/synth-report.sh --axis)"
   fi
   exit "$status"
 fi
 
 seed_list="$(seq 1 "$seeds" | tr '\n' ' ')"
-# The wrapper's section of the report, between these markers.
-axis_begin="<!-- window_unit_axis: scripts/synth-report.sh --axis -->"
-axis_end="<!-- end of window_unit_axis -->"
 
 # ------------------------------------------------------------------------------------------
 # --axis: the AXI4-Stream wrapper, one row per (size, pixel bits, windows), FIFO_DEPTH 32.
 # ------------------------------------------------------------------------------------------
 if [ "$axis" = 1 ]; then
-  axis_rtl="$root/hdl/verilog/window_unit_axis.v"
   [ -f "$axis_rtl" ] && [ -f "$doc" ] || { echo "error: $axis_rtl or $doc not found" >&2; exit 1; }
   grep -qF "$axis_begin" "$doc" || printf '\n%s\n%s\n' "$axis_begin" "$axis_end" >>"$doc"
-  asynth() { # family width height bits windows out [json]
-    local js=""
-    [ -n "${7:-}" ] && js="-json $6.json"
-    yosys -p "read_verilog $axis_rtl;
-              chparam -set WIDTH $2 -set HEIGHT $3 -set PIXEL_BITS $4 -set WINDOWS $5 window_unit_axis;
-              synth_$1 -top window_unit_axis $js; tee -q -o $6.stat stat" >"$6.ylog" 2>&1 \
-      || { echo "error: yosys synth_$1 of window_unit_axis failed, log:" >&2; tail -20 "$6.ylog" >&2; exit 1; }
-  }
   rows_ice40=""; rows_ecp5=""; rows_xilinx=""
-  for row in "256x256 8 1" "256x256 8 4" "1920x1080 10 4"; do
+  for row in "${axis_rows[@]}"; do
     set -- $row; size="$1"; b="$2"; n="$3"; w="${size%x*}"; h="${size#*x}"
     out="$work/axis_${size}_${b}_$n"
     log "window_unit_axis ${size}, $b bits, $n windows: synth_ice40"
@@ -279,7 +306,7 @@ if [ "$axis" = 1 ]; then
     !skip { print }' "$doc" >"$work/doc.md"
   cp "$work/doc.md" "$doc"
   log "rewrote the window_unit_axis section of $doc"
-  sed -n "/^$axis_begin\$/,/^$axis_end\$/p" "$doc"
+  axis_section
   exit 0
 fi
 
@@ -373,7 +400,8 @@ if [ "$ffs_differ" = 0 ]; then ff_note="The flip-flop count is the same either w
 # Synthesis report: window_unit on iCE40 HX8K and ECP5
 
 Generated by \`scripts/synth-report.sh\` on $(date -u +%Y-%m-%d); \`scripts/synth-report.sh --check\`
-re-runs the iCE40 synthesis and fails if the iCE40 cell counts below are stale.
+re-runs the iCE40 synthesis and fails if the iCE40 cell counts below are stale, the
+wrapper's (\`window_unit_axis\`, its own section) included.
 One \`window_unit\` (\`hdl/verilog/window_unit.v\`) per row, its parameters set with
 \`chparam -set WIDTH .. -set HEIGHT .. -set PIXEL_BITS .. window_unit\`.
 
@@ -440,7 +468,7 @@ EOF
   # The wrapper's section (scripts/synth-report.sh --axis), kept as it is.
   if [ -f "$doc" ] && grep -qF "$axis_begin" "$doc"; then
     echo
-    sed -n "/^$axis_begin\$/,/^$axis_end\$/p" "$doc"
+    axis_section
   fi
 } >"$work/full.md"
 mv "$work/full.md" "$doc"

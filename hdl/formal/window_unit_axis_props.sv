@@ -21,9 +21,15 @@
 //                 without an overflow count
 //   P_frames      at an idle read with OVERFLOWS 0: as many tuser beats came out as windows
 //                 started (one tuser per window frame) and as many tlast beats as window rows
+//   P_conserve    (define PROBES) on every clock: the window's beats accepted by the wrapper's
+//                 window test, minus those out, minus OVERFLOWS, lie in 0..FIFO_DEPTH+1
+//   P_drained     (define PROBES) and are 0 when no beat was offered for two clocks and none
+//                 accepted before this one. Per clock and mod 2^NB, so that PDR proves them
+//                 unbounded (P_accounted's counts and snapshots are for bounded checks)
 // Cover C_rows: two window rows delivered and read back idle.
 //
 // Defines: COVER_BAD  the covers become assertions of their negation, for ABC's bmc3
+//          PROBES     P_conserve, P_drained and their probes into the wrapper (see there)
 `default_nettype none
 
 module window_unit_axis_props #(
@@ -205,6 +211,35 @@ module window_unit_axis_props #(
                 P_frames: assert (s_user == s_first && s_tlast == s_last);
         end
     end
+
+`ifdef PROBES
+    // Per clock, for an unbounded proof: every beat the wrapper's window test accepts is in its
+    // FIFO or output register, out, or counted in OVERFLOWS. Two probes into the wrapper, tied
+    // by scripts/formal.sh after flattening (yosys `connect`): its window test's verdict on the
+    // beat in its b_ registers, and its overflow counter. (Which beats are the window's is
+    // P_order's and the cocotb bench's business.) Counts are mod 2^NB: only differences matter.
+    // The same for tuser and tlast marks (while nothing was dropped) kept PDR running over
+    // 10 minutes, so those stay with P_frames, bounded.
+    wire          probe_hit;            // dut.win[0].hit
+    wire   [31:0] probe_drops;          // dut.win[0].drops (OVERFLOWS)
+    reg  [NB-1:0] c_hit = 0, c_out = 0;
+    reg           q_valid1 = 1'b0, q_hit1 = 1'b0;
+    always @(posedge aclk) begin
+        q_valid1 <= m_axis_tvalid; q_hit1 <= probe_hit && !reset;
+        if (reset) begin c_hit <= 0; c_out <= 0; end
+        else begin c_hit <= c_hit + probe_hit; c_out <= c_out + take; end
+    end
+    wire [NB-1:0] bal = c_hit - c_out - probe_drops[NB-1:0];   // beats held inside
+    // OVERFLOWS saturates at 2^32-1 (the RTL's header); past that drops are not counted, so the
+    // claim is for runs before it.
+    always @(*) A_unsaturated: assume (probe_drops != 32'hFFFF_FFFF);
+    always @(*)
+        if (!reset && !rs1) begin
+            P_conserve: assert (bal <= FIFO_DEPTH + 1);
+            // No beat offered for two clocks and none accepted before this one: nothing held.
+            if (!m_axis_tvalid && !q_valid1 && !q_hit1) P_drained: assert (bal == 0);
+        end
+`endif
 
     wire c_rows = s_ok && s_axil_rvalid && idle && s_tlast >= 2 && s_user >= 1;
 `ifdef COVER_BAD

@@ -3,7 +3,9 @@
 //! both the design and a reference model written from the contract (hdl/cocotb/model.py), with
 //! the functional coverage goal of every listed situation (`hdl/cocotb/run.py --axis`); and its
 //! formal properties of the AXI4-Stream rules, with mutants each a property must catch
-//! (`scripts/formal.sh --axis`). The scripts exit non-zero when a check fails.
+//! (`scripts/formal.sh --axis`); and its example integration on the iCE40 board, simulated end
+//! to end against the camera model's pixels and built to a bitstream, with mutants the bench
+//! must catch (`scripts/board-fpga.sh --axis`). The scripts exit non-zero when a check fails.
 //! Without their tools these tests fail, or skip visibly with COOPWIN_ALLOW_MISSING_EDA=1.
 mod common;
 use common::{have_tool, run, scratch};
@@ -38,4 +40,59 @@ fn axis_formal_properties_hold_and_catch_the_mutants() {
     let mutants = std::fs::read_dir(repo().join("hdl/formal/broken-axis")).unwrap().count();
     assert!(mutants >= 2, "hdl/formal/broken-axis has {mutants} mutants");
     assert_eq!(log.matches(" CAUGHT ").count(), mutants, "{log}");
+}
+
+/// The example integration (hdl/board/coopwin_ice40_axis_top.v): the board's camera pins through
+/// coopwin_dvp_axis into window_unit_axis, simulated end to end with the OV7670 model and a host
+/// on the UART (hdl/board/tb/coopwin_ice40_axis_tb.v, which checks every delivered pixel against
+/// the camera model's pixel function), then built to an iCE40 bitstream.
+#[test]
+fn axis_board_top_simulates_end_to_end_and_packs_to_a_bitstream() {
+    if !["iverilog", "yosys", "nextpnr-ice40", "icepack"].iter().all(|t| have_tool(t)) {
+        return;
+    }
+    let out = scratch("board_fpga_axis");
+    run(Command::new("bash").arg(repo().join("scripts/board-fpga.sh")).arg("--axis").arg("--out").arg(&out));
+    let log = std::fs::read_to_string(out.join("sim-axis-640x480.log")).unwrap();
+    // Pixels checked, by hand from the bench's windows: 16x10 + 10x5 (decimated), twice
+    // (without and with tready gaps), 80x1 + 1x60, 10x5 (decimated), 40x10 = 1010, plus the 429
+    // delivered in the run made to overflow (the bench checks delivered + OVERFLOWS = 80x8).
+    assert!(log.contains("9 windows, 1439 pixels checked, "), "{log}");
+    assert!(log.contains(" 0 errors, UART framing errors 0,"), "{log}");
+    assert_eq!(log.lines().last(), Some("PASS"), "{log}");
+    // An iCE40 HX8K bitstream is 135,100 bytes.
+    assert_eq!(std::fs::metadata(out.join("coopwin_ice40_axis_hx8k.bin")).unwrap().len(), 135_100);
+}
+
+/// The end-to-end bench fails on a one-line mutant of each block it covers: the IP not counting
+/// a dropped beat (a silent loss) and the camera adapter sending the wrong clock's byte.
+#[test]
+fn axis_board_bench_catches_mutants() {
+    if !have_tool("iverilog") {
+        return;
+    }
+    let mutants = [
+        ("hdl/verilog/window_unit_axis.v", "if (drops != 32'hFFFF_FFFF) drops <= drops + 32'd1;", "drops <= drops;",
+         "delivered + overflows is not the window's size"),
+        ("hdl/board/coopwin_dvp_axis.v", "m_axis_tdata <= held;", "m_axis_tdata <= data;",
+         "pixels are not the window of the first or second frame after the commit"),
+    ];
+    for (i, (file, from, to, message)) in mutants.iter().enumerate() {
+        let source = std::fs::read_to_string(repo().join(file)).unwrap();
+        assert_eq!(source.matches(from).count(), 1, "{file} no longer has `{from}` once");
+        let dir = scratch(&format!("board_axis_mutant{i}"));
+        let mutant = dir.join("mutant.v");
+        std::fs::write(&mutant, source.replace(from, to)).unwrap();
+        let out = Command::new("bash")
+            .arg(repo().join("scripts/board-fpga.sh"))
+            .args(["--axis", "--sim-only", "--out"])
+            .arg(&dir)
+            .arg("--with")
+            .arg(format!("{file}={}", mutant.display()))
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && text.contains("simulation sim-axis-640x480 failed"), "mutant of {file} passed:\n{text}");
+        assert!(text.contains(message), "mutant of {file} failed otherwise:\n{text}");
+    }
 }

@@ -211,8 +211,9 @@ fn yosys_fits_a_unit_in_200_luts() {
     assert!(luts <= 200, "{luts} LUTs");
 }
 
-/// docs/synthesis.md's iCE40 cell counts are what Yosys gives for the committed unit today
-/// (`scripts/synth-report.sh --check`; regenerate with `scripts/synth-report.sh`).
+/// docs/synthesis.md's iCE40 cell counts are what Yosys gives for the committed unit and
+/// AXI4-Stream wrapper today (`scripts/synth-report.sh --check`; regenerate with
+/// `scripts/synth-report.sh`, the wrapper's section with `--axis`).
 #[test]
 fn synthesis_table_is_current() {
     if !have_tool("yosys") {
