@@ -2,10 +2,11 @@
 //! run by `scripts/opencv_footage.py` on the same objects of Debian's opencv-doc clips
 //! (`fixtures/opencv/footage/`, objects in `fixtures/footage/objects.csv`).
 //!
-//! The bounds are the figures measured when the evaluation was introduced (`coopwin experiment
-//! real-footage`, docs/results.md): positions at least half the measured count, and on the
+//! The bounds are the figures last measured (`coopwin experiment real-footage`,
+//! docs/results.md): positions at least half the measured count, and on the
 //! objects COOP holds as CSRT does, issue 21's 95 % of the frames CSRT reports, with at least
-//! 97.5 % of the reports within 5 px of CSRT's (measured 98.9-100: 2x margin on the rest).
+//! 97.5 % of the reports within 5 px of CSRT's (measured 98.9-100: 2x margin on the rest);
+//! on every object, reports within 10 px of CSRT's on average (no false re-lock).
 mod common;
 
 use coopwin_testbench::experiments::real_footage::{figures, objects, opencv_runs, Clip, DEFAULT_CLIPS};
@@ -14,14 +15,17 @@ use std::path::Path;
 /// (object, measured positions of its frames).
 const MEASURED: [(&str, usize); 8] = [
     ("Megamind-eye", 26),
-    ("Megamind-earring", 69),
-    ("Megamind-hinge", 28),
-    ("Megamind_bugy-eye", 4),
+    ("Megamind-earring", 74),
+    ("Megamind-hinge", 70),
+    ("Megamind_bugy-eye", 26),
     ("Megamind_bugy-candle", 94),
     ("Megamind_bugy-bridge", 56),
-    ("tree-gap", 2),
+    ("tree-gap", 33),
     ("tree-frame", 68),
 ];
+
+/// Largest mean distance, px, of an object's reports from CSRT's.
+const STRAY_PX: f64 = 10.0;
 
 /// Objects COOP holds as CSRT does (rigid, or nearly).
 const HELD: [&str; 3] = ["Megamind_bugy-candle", "Megamind_bugy-bridge", "tree-frame"];
@@ -54,6 +58,11 @@ fn coop_on_the_opencv_doc_clips_holds_the_rigid_objects_as_csrt_does() {
         let (_, measured) = MEASURED.iter().copied().find(|m| m.0 == o.id()).expect("a measured figure");
         eprintln!("{}: {f:?}", o.id());
         assert!(f.positions * 2 >= measured, "{}: {} positions of {}, measured {measured}", o.id(), f.positions, f.frames);
+        // Never lying: a report is on the object CSRT follows, give or take a face's drift
+        // (measured at most 6.9 px on average; a false re-lock measured 21.5 and 44.8).
+        if let Some((mean, _)) = f.to_csrt {
+            assert!(mean <= STRAY_PX, "{}: reports {mean:.1} px from CSRT's on average", o.id());
+        }
         if HELD.contains(&o.id().as_str()) {
             assert!(f.where_csrt * 100 >= 95 * f.csrt_frames, "{}: {} of CSRT's {} frames", o.id(), f.where_csrt, f.csrt_frames);
             let (_, within) = f.to_csrt.expect("reports beside CSRT's");

@@ -48,6 +48,7 @@ pub struct VerilogArgs {
     /// Window units in window_network (1..64)
     #[arg(long, default_value_t = coopwin_hdl::verilog::DEFAULT_UNITS)]
     pub units: usize,
+    /// The sensor's geometry (--width, --height, --pixel-bits)
     #[command(flatten)]
     pub sensor: SensorArgs,
     /// Which window_unit to write

@@ -28,6 +28,7 @@ pub struct WavesArgs {
     /// Frames to acquire, one coordinate set written before each
     #[arg(long, default_value_t = 1)]
     pub frames: usize,
+    /// The sensor's geometry (--width, --height, --pixel-bits)
     #[command(flatten)]
     pub sensor: SensorArgs,
 }
