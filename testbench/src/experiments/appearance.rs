@@ -4,9 +4,12 @@
 //! frames/s as real clips are, and scored as the real-image evaluation scores
 //! ([`super::real_images::score`]) against the renderer's exact ground truth and OpenCV's
 //! trackers (`scripts/opencv_real.py` on the same sequences).
-use super::real_images::{chart_of, confidence_frames, run_configured, score_log, score_table, simulate_configured, write_scores, Condition, Score, Tracked, OPENCV};
+use super::real_images::{chart_of, judge_frames, run_configured, score_log, score_table, simulate_configured, write_scores, Condition, Score, Tracked, OPENCV};
 use super::ExperimentError;
 use crate::analysis::metrics::auroc;
+use crate::analysis::psr::{psr, Gray};
+use crate::frames::prerendered::Prerendered;
+use crate::frames::FrameSource;
 use coopwin_firmware::processors::Params;
 use std::fmt::Write as _;
 use crate::frames::scene::{Appearance, PathKind, SceneConfig};
@@ -51,23 +54,59 @@ pub fn run(c: &Condition, frames: &mut crate::frames::prerendered::Prerendered, 
 /// A frame whose row is over this many pixels from the truth is one the confidence should flag.
 pub const BAD_PX: f64 = 2.0;
 
-/// Writes `appearance-confidence.csv` (`condition,frames,bad_frames,auroc`, and `all` for the
-/// frames of every condition together) and returns it as markdown: how well `track`'s
-/// `confidence` column (with `ok` 0 as the lowest) tells the frames over [`BAD_PX`] from the rest.
-fn confidence_table(dir: &Path, conds: &[Condition], judged: &[Vec<(f64, bool)>]) -> Result<String, ExperimentError> {
-    let all: Vec<(f64, bool)> = judged.iter().flatten().copied().collect();
-    let rows = conds.iter().map(|c| c.name.as_str()).zip(judged.iter().map(Vec::as_slice)).chain([("all", all.as_slice())]);
-    let mut csv = String::from("condition,frames,bad_frames,auroc\n");
+/// Placements on each side of a row's position over which the PSR baseline's surface is taken.
+pub const PSR_RADIUS: usize = 8;
+
+/// A run's visible frames as `(score, over BAD_PX)`, by `track`'s `confidence` and by the
+/// PSR baseline: the first frame's template (the thesis's 20x20, cut at the true point) at the
+/// row's position ([`crate::analysis::psr`]; -1 where the row has no position).
+struct Judgement {
+    confidence: Vec<(f64, bool)>,
+    psr: Vec<(f64, bool)>,
+}
+
+fn judge(c: &Condition, log: &crate::system::RunLog, frames: &mut Prerendered, acceptance: f32) -> Judgement {
+    let judged = judge_frames(c, log, &frames.truth, acceptance, BAD_PX);
+    let side = usize::from(Params::default().template);
+    let (width, height) = frames.size();
+    let first = frames.truth.first().map(|t| c.tracked.of(t));
+    let tpl = first.zip(frames.frame(0).ok()).and_then(|(p, f)| Gray { pixels: f, width, height }.patch_at(p, side));
+    let psr = judged
+        .iter()
+        .map(|j| {
+            let tpl = tpl.as_deref();
+            let value = tpl.zip(j.at).zip(frames.frame(j.frame).ok()).and_then(|((t, at), f)| psr(&Gray { pixels: f, width, height }, t, side, at, PSR_RADIUS));
+            (value.unwrap_or(-1.0), j.bad)
+        })
+        .collect();
+    Judgement { confidence: judged.iter().map(|j| (j.confidence, j.bad)).collect(), psr }
+}
+
+/// Writes `appearance-confidence.csv` (`condition,tracker,frames,bad_frames,auroc,auroc_psr`,
+/// and `all` for the frames of every condition together) and returns it as markdown: how well
+/// `track`'s `confidence` column (with `ok` 0 as the lowest), and the PSR baseline, tell the
+/// frames over [`BAD_PX`] from the rest, for each of [`OURS`].
+fn confidence_table(dir: &Path, conds: &[Condition], judged: &[Vec<Judgement>]) -> Result<String, ExperimentError> {
+    let area = |v: &[(f64, bool)]| auroc(v).map_or(String::new(), |a| format!("{a:.3}"));
+    let mut csv = String::from("condition,tracker,frames,bad_frames,auroc,auroc_psr\n");
     let mut md = format!(
         "\nConfidence: the area under the ROC curve of `track`'s `confidence` (rows with `ok` 0 lowest) for telling the frames \
-         whose row is over {BAD_PX} px from the truth (or has no position) from the rest; `-` where no frame is over.\n\n\
-         | condition | frames | over {BAD_PX} px | AUROC |\n|---|---|---|---|\n"
+         whose row is over {BAD_PX} px from the truth (or has no position) from the rest, beside the same for the \
+         peak-to-sidelobe ratio (PSR) of the first frame's template's zero-mean NCC surface at the row's position; `-` where \
+         no frame is over.\n\n\
+         | condition | tracker | frames | over {BAD_PX} px | AUROC confidence | AUROC PSR |\n|---|---|---|---|---|---|\n"
     );
-    for (name, frames) in rows {
-        let bad = frames.iter().filter(|f| f.1).count();
-        let area = auroc(frames);
-        let _ = writeln!(csv, "{name},{},{bad},{}", frames.len(), area.map_or(String::new(), |a| format!("{a:.3}")));
-        let _ = writeln!(md, "| {name} | {} | {bad} | {} |", frames.len(), area.map_or("-".into(), |a| format!("{a:.3}")));
+    for (t, (tracker, _)) in OURS.iter().enumerate() {
+        let pooled = |f: fn(&Judgement) -> &Vec<(f64, bool)>| -> Vec<(f64, bool)> { judged.iter().flat_map(|j| f(&j[t]).iter().copied()).collect() };
+        let all = (pooled(|j| &j.confidence), pooled(|j| &j.psr));
+        let rows = conds.iter().map(|c| c.name.as_str()).zip(judged.iter().map(|j| (j[t].confidence.clone(), j[t].psr.clone()))).chain([("all", all)]);
+        for (name, (conf, psr)) in rows {
+            let bad = conf.iter().filter(|f| f.1).count();
+            let (a, p) = (area(&conf), area(&psr));
+            let _ = writeln!(csv, "{name},{tracker},{},{bad},{a},{p}", conf.len());
+            let dash = |s: String| if s.is_empty() { "-".to_string() } else { s };
+            let _ = writeln!(md, "| {name} | {tracker} | {} | {bad} | {} | {} |", conf.len(), dash(a), dash(p));
+        }
     }
     let path = dir.join("appearance-confidence.csv");
     std::fs::write(&path, csv).map_err(|source| ExperimentError::Io { action: "write", path, source })?;
@@ -79,19 +118,21 @@ fn confidence_table(dir: &Path, conds: &[Condition], judged: &[Vec<(f64, bool)>]
 pub fn evaluate(dir: &Path, progress: &mut dyn FnMut(&str)) -> Result<String, ExperimentError> {
     let conds = conditions();
     let labels: Vec<&str> = OURS.iter().map(|o| o.0).chain(OPENCV.iter().map(|o| o.0)).collect();
-    // The adapting run's frames as (confidence, over BAD_PX), per condition.
-    let mut judged: Vec<Vec<(f64, bool)>> = Vec::new();
-    let acceptance = Params::default().correlation(true).1;
+    // Each of OURS' frames judged, per condition.
+    let mut judged: Vec<Vec<Judgement>> = Vec::new();
     let table = score_table(&conds, progress, &mut |c, frames| {
-        OURS.iter()
+        let mut runs = Vec::new();
+        let scores = OURS
+            .iter()
             .map(|&(_, adapt)| {
                 let log = simulate_configured(c, frames, Strategy::Coop, CoopPolicy::Guarded, adapt)?;
-                if adapt {
-                    judged.push(confidence_frames(c, &log, &frames.truth, acceptance, BAD_PX));
-                }
+                let acceptance = Params::default().correlation(adapt).1;
+                runs.push(judge(c, &log, frames, acceptance));
                 Ok(score_log(c, &log, &frames.truth))
             })
-            .collect()
+            .collect();
+        judged.push(runs);
+        scores
     })?;
     let mut md = String::from(
         "## appearance (native profile)\n\nThe object turns (+-30 degrees), scales (0.8-1.25x), tilts out of plane (+-15 degrees), \

@@ -34,7 +34,8 @@ pub enum Tracked {
 }
 
 impl Tracked {
-    fn of(self, t: &Truth) -> (f64, f64) {
+    /// Where the tracked point truly is in `t`'s frame.
+    pub fn of(self, t: &Truth) -> (f64, f64) {
         match self {
             Tracked::Centre => t.centre,
             Tracked::Corner => t.corner,
@@ -184,13 +185,25 @@ pub fn score_log(c: &Condition, log: &RunLog, truth: &[Truth]) -> Score {
     score(&positions, truth, c.tracked)
 }
 
-/// Each visible frame of a run as `(confidence, bad)` for [`crate::analysis::metrics::auroc`]:
-/// the confidence is the CSV's (`track`'s `confidence` column, [`csv::confidence`] of NCC's
-/// score with acceptance level `acceptance`, or [`csv::CD_CONFIDENCE`]) for a row with `ok`
-/// 1, and -1 for every other row (predicted, searching, lost: not trusted); the frame is bad
-/// when the row's position (the measurement, or else the prediction or last position it
-/// carries) is over `bad_px` from the truth, or it has none.
-pub fn confidence_frames(c: &Condition, log: &RunLog, truth: &[Truth], acceptance: f32, bad_px: f64) -> Vec<(f64, bool)> {
+/// A visible frame of a run, judged against the truth (see [`judge_frames`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Judged {
+    /// The frame's index.
+    pub frame: usize,
+    /// `track`'s `confidence` for a row with `ok` 1, -1 for every other row.
+    pub confidence: f64,
+    /// The row's position: the measurement, or else the prediction or last position it carries.
+    pub at: Option<(f64, f64)>,
+    /// The position is over the distance judged bad from the truth, or there is none.
+    pub bad: bool,
+}
+
+/// Each visible frame of a run, for [`crate::analysis::metrics::auroc`]: the confidence is the
+/// CSV's (`track`'s `confidence` column, [`csv::confidence`] of NCC's score with acceptance
+/// level `acceptance`, or [`csv::CD_CONFIDENCE`]) for a row with `ok` 1, and -1 for every other
+/// row (predicted, searching, lost: not trusted); the frame is bad when the row's position is
+/// over `bad_px` from the truth, or it has none.
+pub fn judge_frames(c: &Condition, log: &RunLog, truth: &[Truth], acceptance: f32, bad_px: f64) -> Vec<Judged> {
     let err = |p: (f64, f64), k: usize| truth.get(k).map(|t| (p.0 - c.tracked.of(t).0).hypot(p.1 - c.tracked.of(t).1));
     log.frames
         .iter()
@@ -198,12 +211,15 @@ pub fn confidence_frames(c: &Condition, log: &RunLog, truth: &[Truth], acceptanc
         .filter(|(k, _)| truth.get(*k).is_some_and(|t| t.visible))
         .map(|(k, r)| {
             let fresh = r.point.zip(r.measured_frame).filter(|(_, m)| *m <= k && k - m <= MAX_AGE);
-            let (e, confidence) = match (fresh, r.score) {
-                (Some((p, m)), Some(s)) => (err(p, m), csv::confidence(s, acceptance)),
-                (Some((p, m)), None) => (err(p, m), csv::CD_CONFIDENCE),
-                (None, _) => (r.point.or(r.estimate).and_then(|p| err(p, k)), -1.0),
+            let (at, e, confidence) = match (fresh, r.score) {
+                (Some((p, m)), Some(s)) => (Some(p), err(p, m), csv::confidence(s, acceptance)),
+                (Some((p, m)), None) => (Some(p), err(p, m), csv::CD_CONFIDENCE),
+                (None, _) => {
+                    let p = r.point.or(r.estimate);
+                    (p, p.and_then(|p| err(p, k)), -1.0)
+                }
             };
-            (confidence, e.is_none_or(|e| e > bad_px))
+            Judged { frame: k, confidence, at, bad: e.is_none_or(|e| e > bad_px) }
         })
         .collect()
 }
