@@ -7,7 +7,9 @@
 //! warp (`coopwin experiment appearance`, docs/results.md), with at most 2x margin on RMS and
 //! one point plus 2x on loss, and never above issue 21's targets (0.3 px, 2 %): a change that
 //! loses the object more often, or drifts further, fails.
-use coopwin_testbench::experiments::appearance::{conditions, run};
+use coopwin_firmware::processors::Params;
+use coopwin_testbench::analysis::metrics::auroc;
+use coopwin_testbench::experiments::appearance::{conditions, judge, run};
 use coopwin_testbench::experiments::real_images::{opencv_score, simulate_configured, OPENCV};
 use coopwin_testbench::system::{CoopPolicy, Strategy};
 
@@ -78,4 +80,25 @@ fn the_adapting_track_reports_the_objects_turn_and_scale() {
         assert!(shaped >= 270, "{name}: {shaped} of 300 frames report a shape");
         assert!(worst_angle <= angle_max && worst_scale <= scale_max, "{name}: angle {worst_angle:.3} deg, scale {worst_scale:.4}");
     }
+}
+
+#[test]
+fn confidence_tells_the_bad_frames_better_than_the_psr_baseline() {
+    // Issue 21 aims at an AUROC of 0.9 for "over 2 px". The adapting track has bad frames on
+    // the cover set only (measured 1.000), so the measure is judged where the thesis's fixed
+    // template loses the object on most frames (measured 0.977-1.000 a set, PSR 0.696-0.969,
+    // pooled 0.960 against 0.871): at least 0.9 on each set and ahead of the PSR pooled.
+    let (mut conf, mut psr) = (Vec::new(), Vec::new());
+    for c in conditions() {
+        let mut frames = c.render();
+        let log = simulate_configured(&c, &mut frames, Strategy::Coop, CoopPolicy::Guarded, false).expect("runs");
+        let j = judge(&c, &log, &mut frames, Params::default().correlation(false).1);
+        let area = auroc(&j.confidence).expect("good and bad frames");
+        eprintln!("{}: confidence {area:.3}, PSR {:?}", c.name, auroc(&j.psr));
+        assert!(area >= 0.9, "{}: AUROC {area:.3}", c.name);
+        conf.extend(j.confidence);
+        psr.extend(j.psr);
+    }
+    let (a, p) = (auroc(&conf).unwrap(), auroc(&psr).unwrap());
+    assert!(a > p, "pooled: confidence {a:.3}, PSR {p:.3}");
 }

@@ -125,31 +125,31 @@ mod tests {
             }
         }
         assert!((psr_of(&s, 7).unwrap() - 10.0).abs() < 1e-9);
-        assert_eq!(psr_of(&s[..25], 5), None, "no sidelobe");
+        let mut small = vec![Some(0.0); 25];
+        small[12] = Some(1.0);
+        assert_eq!(psr_of(&small, 5), None, "5x5 around its peak: no sidelobe");
     }
 
     #[test]
-    fn a_unique_match_has_a_higher_psr_than_a_repeated_one() {
-        // A frame of pseudo-random texture, then the same with the template's patch copied
-        // 6 px to the right of itself: a second peak in the sidelobe lowers the PSR.
+    fn a_unique_match_has_a_higher_psr_than_a_periodic_one() {
+        // Pseudo-random texture: one peak of 1 over a sidelobe of about N(0, 1/8) for an 8x8
+        // template, PSR near 8. Vertical stripes of period 4: a peak of 1 every 4 columns,
+        // the sidelobe swinging between -1 and 1, PSR near 1.
         let (w, h) = (48usize, 48usize);
         let mut seed = 7u32;
-        let mut pixels: Vec<u8> = (0..w * h)
+        let random: Vec<u8> = (0..w * h)
             .map(|_| {
                 seed = seed.wrapping_mul(1_103_515_245).wrapping_add(12_345);
                 (seed >> 24) as u8
             })
             .collect();
-        let g = Gray { pixels: &pixels, width: w, height: h };
+        let stripes: Vec<u8> = (0..w * h).map(|i| [0, 80, 200, 80][i % w % 4]).collect();
         let c = (20.0, 24.0);
-        let tpl = g.patch_at(c, 8).unwrap();
-        let unique = psr(&g, &tpl, 8, c, 8).unwrap();
-        // The patch's top-left pixel: round(20 - 3.5) = 17, round(24 - 3.5) = 21.
-        for (i, v) in tpl.iter().enumerate() {
-            pixels[(21 + i / 8) * w + 17 + 6 + i % 8] = *v as u8;
-        }
-        let g = Gray { pixels: &pixels, width: w, height: h };
-        let repeated = psr(&g, &tpl, 8, c, 8).unwrap();
-        assert!(unique > 8.0 && repeated < unique / 2.0, "unique {unique:.1}, repeated {repeated:.1}");
+        let at = |pixels: &[u8]| {
+            let g = Gray { pixels, width: w, height: h };
+            psr(&g, &g.patch_at(c, 8).unwrap(), 8, c, 8).unwrap()
+        };
+        let (unique, periodic) = (at(&random), at(&stripes));
+        assert!(unique > 6.0 && periodic < 3.0, "unique {unique:.1}, periodic {periodic:.1}");
     }
 }

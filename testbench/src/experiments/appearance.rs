@@ -60,12 +60,15 @@ pub const PSR_RADIUS: usize = 8;
 /// A run's visible frames as `(score, over BAD_PX)`, by `track`'s `confidence` and by the
 /// PSR baseline: the first frame's template (the thesis's 20x20, cut at the true point) at the
 /// row's position ([`crate::analysis::psr`]; -1 where the row has no position).
-struct Judgement {
-    confidence: Vec<(f64, bool)>,
-    psr: Vec<(f64, bool)>,
+pub struct Judgement {
+    /// By `track`'s `confidence`.
+    pub confidence: Vec<(f64, bool)>,
+    /// By the PSR baseline.
+    pub psr: Vec<(f64, bool)>,
 }
 
-fn judge(c: &Condition, log: &crate::system::RunLog, frames: &mut Prerendered, acceptance: f32) -> Judgement {
+/// A run's [`Judgement`] (`log`, made from `frames` with the acceptance level `acceptance`).
+pub fn judge(c: &Condition, log: &crate::system::RunLog, frames: &mut Prerendered, acceptance: f32) -> Judgement {
     let judged = judge_frames(c, log, &frames.truth, acceptance, BAD_PX);
     let side = usize::from(Params::default().template);
     let (width, height) = frames.size();
