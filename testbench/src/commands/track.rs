@@ -47,7 +47,8 @@ pub struct TrackArgs {
     #[arg(long, value_parser = args::parse_fps)]
     pub fps: Option<f64>,
     /// Foveal search margin R: the Foveal window is the template plus R pixels on each side
-    /// (1..16), so the target may move R pixels between two of its windows
+    /// (1..16), so the target may move R pixels between two of its windows (the adapting
+    /// template's window also grows with the measured motion, up to 14 px more a side)
     #[arg(long, value_name = "R", default_value_t = 2, value_parser = args::parse_in::<u16>(1, 16, "a search margin"))]
     pub search: u16,
     /// Keep the template cut at the start, as the thesis does (by default the Foveal template
