@@ -10,7 +10,8 @@ use coopwin_firmware::kernels::fmath::sqrtf;
 use coopwin_firmware::kernels::info::{corner_information, edge_information, edge_information_with_prior};
 use coopwin_firmware::kernels::matching::{best_match, best_match_decimated, Match, MatchError, Method};
 use coopwin_firmware::kernels::motion::detect_motion;
-use coopwin_firmware::processors::{CornerPartner, Dest, Foveal, FovealKind, Msg, Params, Step, Template, Work};
+use coopwin_firmware::processors::coop::guard::{Guard, GuardParams};
+use coopwin_firmware::processors::{CornerPartner, Dest, Foveal, FovealKind, Msg, Params, Policy, Step, Template, Work};
 use coopwin_firmware::kernels::view::WindowView;
 use coopwin_firmware::types::{Point, Source, WindowRequest};
 use core::fmt::{self, Write};
@@ -35,6 +36,8 @@ pub mod inputs {
     pub const CORNER_24: &[u8] = include_bytes!("../../../fixtures/bench/corner_24.pgm");
     /// The COOP pair's windows recorded from the testbench (`fixtures/board/README.md`).
     pub const WINDOWS: &[u8] = include_bytes!("../../../fixtures/board/windows.bin");
+    /// The adapting COOP pair's windows, recorded alike (`fixtures/board/README.md`).
+    pub const WINDOWS_ADAPTIVE: &[u8] = include_bytes!("../../../fixtures/board/windows_adaptive.bin");
 }
 
 /// Brackets each measured piece of work. The board counts instructions; the host runs it.
@@ -118,7 +121,8 @@ fn match_line(out: &mut dyn Write, id: &str, m: Result<Match, MatchError>) -> fm
 /// Runs the whole suite, writing its lines to `out`.
 pub fn run<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
     run_kernels(out, meter)?;
-    tracker(out, meter, inputs::WINDOWS)
+    tracker(out, meter, &Replay::THESIS)?;
+    tracker(out, meter, &Replay::ADAPTIVE)
 }
 
 /// The suite before the COOP pair's replay (the lines before the first `tracker` line): every
@@ -306,13 +310,15 @@ pub const MASTER_SIDE: usize = 24;
 /// Used pixels the COOP master's Lucas-Kanade template holds: the interior of the thesis's
 /// 20x20 template (a larger template is tracked without the refinement).
 pub const MASTER_LK: usize = 18 * 18;
-/// Side of the COOP partner's corner detector: the Foveal window (24) and a coasting track's,
-/// 12 px wider (`COAST_MARGIN`), rounded up to a multiple of 8.
-pub const PARTNER_SIDE: usize = 40;
+/// Side of the COOP partner's corner detector: the Foveal window, which it asks for wherever
+/// its master sends it (a coasting or adapting master's own window is wider).
+pub const PARTNER_SIDE: usize = 24;
 
 /// The COOP Foveal pair (4.2): a master running NCC and the decision, a partner running the
 /// corner detector on the same coordinates, wired to each other as their link would be.
-/// The testbench's recorder and the replay below drive it alike. It keeps the processors'
+/// The testbench's recorder and the replay below drive it alike. The replay records the
+/// master's window; the partner's (the Foveal window where the master sends it, as the
+/// testbench's own unit cuts it) lies within it. It keeps the processors'
 /// answers ([`Step`], over 4 KiB each) and has them filled in place, as a board loop would:
 /// the master's decision and one answer at a time from either processor. Built empty in its
 /// owner's slot ([`CoopPair::new`]) and started in place ([`CoopPair::start`]), so no copy of
@@ -320,6 +326,8 @@ pub const PARTNER_SIDE: usize = 40;
 pub struct CoopPair {
     master: Foveal<MASTER_SIDE, MASTER_LK>,
     partner: CornerPartner<PARTNER_SIDE>,
+    /// The window the partner asked for last (`None` once it stopped).
+    partner_window: Option<WindowRequest>,
     /// The master's answer to the partner's result (its decision).
     decision: Step,
     /// The answer being passed on: the master's to its window, then the partner's to the same
@@ -327,22 +335,18 @@ pub struct CoopPair {
     scratch: Step,
 }
 
-impl Default for CoopPair {
-    fn default() -> Self {
-        Self::new()
-    }
-}
-
 impl CoopPair {
-    /// An idle pair (default thesis parameters, no template), returned into the caller's slot.
-    /// Never inlined: whatever temporaries the compiler builds it through are in this frame,
-    /// which ends before the replay's deepest calls, not in its caller's.
+    /// An idle pair (no template) with `params`, returned into the caller's slot; an adapting
+    /// pair's ([`Params::adapt`]) master guards with the adapting track's parameters, as the
+    /// testbench's does. Never inlined: whatever temporaries the compiler builds it through
+    /// are in this frame, which ends before the replay's deepest calls, not in its caller's.
     #[inline(never)]
-    pub fn new() -> Self {
-        let params = Params::default();
+    pub fn new(params: Params) -> Self {
+        let guard = if params.adapt { GuardParams::adapting() } else { GuardParams::default() };
         CoopPair {
-            master: Foveal::sized(FovealKind::CoopMaster, params),
+            master: Foveal::sized(FovealKind::CoopMaster, params).with_policy(Policy::Guarded(Guard::new(guard))),
             partner: CornerPartner::sized(params),
+            partner_window: None,
             decision: Step::new(Work::None),
             scratch: Step::new(Work::None),
         }
@@ -352,30 +356,43 @@ impl CoopPair {
     /// template's preparation does not add to the replay's stack.
     #[inline(never)]
     pub fn start(&mut self, template: Template, start: Point) {
-        let CoopPair { master, partner, decision, scratch } = self;
+        let CoopPair { master, decision, .. } = self;
         master.set_template(template);
         master.start_at_into(start, decision);
+        self.tell_partner();
+    }
+
+    /// The decision's messages for the partner go to it; it keeps the window it asks for.
+    fn tell_partner(&mut self) {
+        let CoopPair { partner, partner_window, decision, scratch, .. } = self;
         for m in to_partner(decision) {
             partner.on_message_into(m, scratch);
+            *partner_window = scratch.request;
         }
     }
 
-    /// The window the pair wants next (both processors' window; `None` once lost).
+    /// The window the pair wants next (the master's, which holds the partner's; `None` once
+    /// lost).
     pub fn want(&self) -> Option<WindowRequest> {
         self.decision.request
     }
 
-    /// One COOP frame: the window goes to both, the partner's result to the master, which
-    /// decides; returns the master's decision step (`None` if the partner sent no result).
-    /// Metered as `coop_frame`: both Foveal kernels and the decision. Never inlined, so a
+    /// One COOP frame: the window goes to the master and its part the partner asked for to
+    /// the partner, whose result goes to the master, which decides; returns the master's
+    /// decision step (`None` if the partner had no window in it or sent no result).
+    /// Metered as `id`: both Foveal kernels and the decision. Never inlined, so a
     /// profile finds its frames (`scripts/board_profile.py`).
     #[inline(never)]
-    pub fn frame<M: Meter>(&mut self, meter: &mut M, view: &WindowView<'_>, t: f64) -> Option<&Step> {
-        let CoopPair { master, partner, decision, scratch } = self;
-        meter.once("coop_frame", &mut || {
+    pub fn frame<M: Meter>(&mut self, meter: &mut M, id: &str, view: &WindowView<'_>, t: f64) -> Option<&Step> {
+        let r = self.partner_window?;
+        let (ox, oy) = view.origin();
+        let (dx, dy) = (usize::from(r.x0).checked_sub(ox as usize)?, usize::from(r.y0).checked_sub(oy as usize)?);
+        let own = view.sub(dx, dy, usize::from(r.width), usize::from(r.height))?;
+        let CoopPair { master, partner, decision, scratch, .. } = self;
+        meter.once(id, &mut || {
             // The master's own answer only records its NCC result until the partner's comes.
             master.on_window_into(view, t, scratch);
-            partner.on_window_into(view, scratch);
+            partner.on_window_into(&own, scratch);
             let mut answered = false;
             for (_, m) in scratch.sends.iter().filter(|(d, _)| *d == Dest::Foveal) {
                 master.on_message_into(m, t, decision);
@@ -383,23 +400,45 @@ impl CoopPair {
             }
             answered.then_some(())
         })?;
-        for m in to_partner(decision) {
-            partner.on_message_into(m, scratch);
-        }
+        self.tell_partner();
         Some(&self.decision)
     }
 }
 
-/// Replays `bytes` through a [`CoopPair`]. Each frame the master must ask for the window
-/// recorded next, or the replay has left the recorded run.
+/// A replay of the COOP pair: its recorded window stream and the pair's parameters.
+#[derive(Clone, Copy, Debug)]
+pub struct Replay<'a> {
+    /// Its lines' first word (`{name} K ...`, `{name}_total ...`).
+    pub name: &'static str,
+    /// The meter id of its frames.
+    pub meter: &'static str,
+    /// The pair adapts its template ([`Params::adaptive`]); otherwise the thesis's defaults.
+    pub adapt: bool,
+    /// The recorded stream (`fixtures/board/README.md`).
+    pub windows: &'a [u8],
+}
+
+impl Replay<'static> {
+    /// The thesis's pair (fixed template, 4.2-4.3) on `windows.bin`.
+    pub const THESIS: Replay<'static> = Replay { name: "tracker", meter: "coop_frame", adapt: false, windows: inputs::WINDOWS };
+    /// The adapting pair (`track`'s default, issue 21: [`Params::adaptive`]) on
+    /// `windows_adaptive.bin`.
+    pub const ADAPTIVE: Replay<'static> =
+        Replay { name: "adaptive", meter: "coop_frame_adaptive", adapt: true, windows: inputs::WINDOWS_ADAPTIVE };
+}
+
+/// Replays `replay`'s stream through a [`CoopPair`]. Each frame the master must ask for the
+/// window recorded next, or the replay has left the recorded run.
 #[inline(never)]
-pub fn tracker<W: Write, M: Meter>(out: &mut W, meter: &mut M, bytes: &[u8]) -> Result<(), SuiteError> {
-    let s = Stream::parse(bytes).map_err(SuiteError::Stream)?;
+pub fn tracker<W: Write, M: Meter>(out: &mut W, meter: &mut M, replay: &Replay<'_>) -> Result<(), SuiteError> {
+    let s = Stream::parse(replay.windows).map_err(SuiteError::Stream)?;
     let anchor = Point { x: s.anchor.0, y: s.anchor.1 };
     let tpl = Template::from_parts(usize::from(s.side), anchor, s.template).ok_or(SuiteError::Template)?;
-    let mut pair = CoopPair::new();
+    let params = if replay.adapt { Params::default().adaptive() } else { Params::default() };
+    let mut pair = CoopPair::new(params);
     pair.start(tpl, Point { x: s.start.0, y: s.start.1 });
     let (mut reports, mut cd) = (0u32, 0u32);
+    let name = replay.name;
     for (k, f) in s.frames().enumerate() {
         let k = k as u16;
         let r = pair.want().ok_or(SuiteError::Diverged(k))?;
@@ -408,19 +447,26 @@ pub fn tracker<W: Write, M: Meter>(out: &mut W, meter: &mut M, bytes: &[u8]) -> 
         }
         let (w, h) = (usize::from(f.w), usize::from(f.h));
         let view = WindowView::new(f.pixels, w, h, w, u32::from(f.x0), u32::from(f.y0)).map_err(|_| SuiteError::View("window"))?;
-        let step = pair.frame(meter, &view, f.t).ok_or(SuiteError::Diverged(k))?;
-        write!(out, "tracker {k} win={},{}", f.x0, f.y0)?;
+        let step = pair.frame(meter, replay.meter, &view, f.t).ok_or(SuiteError::Diverged(k))?;
+        write!(out, "{name} {k} win={},{}", f.x0, f.y0)?;
+        if (f.w, f.h) != (24, 24) {
+            write!(out, " size={}x{}", f.w, f.h)?;
+        }
         match (step.report, step.lost) {
             (Some((p, algo)), _) => {
                 reports += 1;
                 cd += u32::from(algo == Source::Cd);
-                writeln!(out, " x={:08x} y={:08x} algo={algo:?}", p.x.to_bits(), p.y.to_bits())?
+                write!(out, " x={:08x} y={:08x} algo={algo:?}", p.x.to_bits(), p.y.to_bits())?;
+                if let Some(sh) = step.shape {
+                    write!(out, " scale={:08x} angle={:08x}", sh.scale.to_bits(), sh.angle_deg.to_bits())?;
+                }
+                writeln!(out)?
             }
             (None, Some(p)) => writeln!(out, " lost={:08x},{:08x}", p.x.to_bits(), p.y.to_bits())?,
             (None, None) => writeln!(out, " none")?,
         }
     }
-    writeln!(out, "tracker_total frames={} reports={reports} cd={cd}", s.count)?;
+    writeln!(out, "{name}_total frames={} reports={reports} cd={cd}", s.count)?;
     Ok(())
 }
 

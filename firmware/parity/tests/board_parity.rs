@@ -3,7 +3,7 @@
 //! `fixtures/board/expected.txt`, which `scripts/board.sh` diffs against the QEMU run.
 //! `COOPWIN_BLESS=1` rewrites the file instead. The kernel lines are also checked against
 //! OpenCV's answers on the same inputs (`fixtures/bench/README.md`).
-use coopwin_parity::suite::{self, NoMeter};
+use coopwin_parity::suite::{self, NoMeter, Replay};
 use coopwin_parity::stream::{Stream, StreamError};
 
 fn lines() -> String {
@@ -67,9 +67,9 @@ fn kernel_lines_agree_with_opencv() {
 fn a_damaged_stream_is_an_error_not_a_panic() {
     let mut w = suite::inputs::WINDOWS.to_vec();
     let last = w.len() - 1;
-    assert_eq!(suite::tracker(&mut String::new(), &mut NoMeter, &w[..last]), Err(suite::SuiteError::Stream(StreamError::Truncated)));
+    assert_eq!(suite::tracker(&mut String::new(), &mut NoMeter, &Replay { windows: &w[..last], ..Replay::THESIS }), Err(suite::SuiteError::Stream(StreamError::Truncated)));
     // A different recorded window position: the replay notices it has left the recording.
     let header = 4 + 1 + 8 + 400 + 8 + 2;
     w[header + 8] ^= 1;
-    assert_eq!(suite::tracker(&mut String::new(), &mut NoMeter, &w), Err(suite::SuiteError::Diverged(0)));
+    assert_eq!(suite::tracker(&mut String::new(), &mut NoMeter, &Replay { windows: &w, ..Replay::THESIS }), Err(suite::SuiteError::Diverged(0)));
 }
