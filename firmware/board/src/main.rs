@@ -16,6 +16,7 @@ use core::fmt::{self, Write};
 use cortex_m::peripheral::{syst::SystClkSource, SYST};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hio};
+use coopwin_firmware::processors::adapt::Adaptive;
 use coopwin_firmware::processors::{CornerPartner, Foveal, Step};
 use coopwin_parity::suite::{self, Meter};
 use core::mem::size_of;
@@ -200,9 +201,10 @@ fn main() -> ! {
     // What the replay holds on the stack: the pair, its processors and one of its answers.
     let _ = writeln!(
         out,
-        "# size pair={} master={} partner={} step={}",
+        "# size pair={} master={} adapt={} partner={} step={}",
         size_of::<suite::CoopPair>(),
         size_of::<Foveal<{ suite::MASTER_SIDE }, { suite::MASTER_LK }>>(),
+        size_of::<Adaptive<{ suite::MASTER_LK }>>(),
         size_of::<CornerPartner<{ suite::PARTNER_SIDE }>>(),
         size_of::<Step>()
     );
