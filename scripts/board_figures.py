@@ -3,7 +3,8 @@
 Cortex-M4F instead of the TMS320C40) from a board run, `arm-none-eabi-size -A` and the
 disassembly. Called by `scripts/board.sh --figures`; standard library only.
 
-usage: board_figures.py RUN.txt SIZE.txt DISASM.txt PROFILE.md [ELF] > docs/firmware-target.md
+usage: board_figures.py RUN.txt SIZE.txt DISASM.txt PROFILE.md [ELF [STM32 RUN SIZE DISASM ELF
+       [PARTNER RUN SIZE DISASM ELF]]] > docs/firmware-target.md
 
 PROFILE.md is scripts/board_profile.py's table of a COOP frame's instructions.
 
@@ -138,6 +139,55 @@ def stm32(p, argv):
     p()
 
 
+def partner_image(p, argv):
+    """The "Per-processor images" section: the COOP partner's own image and its figures."""
+    run, size, disasm = (open(f).read() for f in argv[:3])
+    try:
+        sb = stack_bound.analyse(argv[3], disasm, run)
+        stack_bound.check(sb)
+    except stack_bound.Error as e:
+        sys.exit(f"board_figures.py: stack bound (partner image): {e}")
+    flash, ram, stack, _ = memory(run, size)
+    bound = sb["models"]["address-taken", sb["times"]]["total"]
+    lines = sum(1 for line in run.splitlines() if line and not line.startswith("#"))
+    frames = [int(m[1]) for m in re.finditer(r"^# icount partner_frame (\d+)", run, re.M)]
+    p("## Per-processor images")
+    p()
+    p("Issue 22 asks for one image a processor, as the thesis places them, each in at most 64 KiB")
+    p("of RAM (static plus the static stack bound) and 256 KiB of flash. `scripts/board.sh`")
+    p("builds the **COOP partner**'s (`--features stm32f405,partner`: `memory-stm32f405-64k.x`, 64")
+    p("KiB of the part's SRAM) and runs it on `netduinoplus2`: the corner kernels and the partner")
+    p("alone on both replays' recorded windows (`suite::run_partner`), its own window the Foveal")
+    p("window centred in the master's, where the master's `Follow` puts it. Its")
+    p(f"{lines} result lines equal the matching lines of `expected.txt` (the pairs' `*_cd` lines, the")
+    p("partner's corner each frame, and the corner kernels'), bit for bit; `coopwin-parity`'s")
+    p("`the_partner_alone_answers_as_in_the_pair` holds the host to the same.")
+    p()
+    p("| | bytes |")
+    p("|---|---:|")
+    p(f"| flash | {flash:,} of 262,144 |")
+    p(f"| RAM, static | {ram:,} |")
+    p(f"| stack, measured high-water | {stack:,} |")
+    p(f"| stack, static bound (`scripts/stack_bound.py`) | {bound:,} |")
+    p(f"| **RAM, static + bound** | **{ram + bound:,}** of 65,536 |")
+    p()
+    if frames:
+        p(f"On its own core the partner's frame (its window to its answer) takes at most {max(frames):,}")
+        p(f"instructions over the {len(frames)} frames of both replays (mean {sum(frames) / len(frames):,.0f}): a")
+        p(f"{FRAME / (max(frames) / HZ):.1f}x margin on the 8.8 ms period at one cycle per instruction.")
+        p()
+    p("Not yet built: the NCC master's image. Its master (`Foveal<24, 324>`, the `# size` line's")
+    p("`master`) with two `Step`s (a message carries a 1 KB template inline) and the NCC path's")
+    p("stack (`matching::packed` and `best_match`'s score cache and packing buffers, the deepest")
+    p("path above) come to more than 64 KiB; it needs the matcher's buffers sized by the")
+    p("placements they hold, templates passed by handle in `Msg`, and a replay that feeds it the")
+    p("partner's `*_cd` results. The Peripheral (SSD at 25 %, windows up to 64x64) is estimated")
+    p("from its types at about 45 KB, to be measured in an image of its own. The Watch cannot hold")
+    p("a 256x256 previous frame (64 KiB) beside anything else in 64 KiB: it would difference at")
+    p("25 % (a 128x128 frame, 16 KiB) or in strips (as MPDF's Watch windows do).")
+    p()
+
+
 def main():
     run, size, disasm, prof = (open(p).read() for p in sys.argv[1:5])
     elf = sys.argv[5] if len(sys.argv) > 5 else stack_bound.ELF
@@ -188,9 +238,11 @@ def main():
     p(f"  metered from the master's window to its decision, the step it returns included, the")
     p(f"  harness's copies of that step (4 KiB: four template-sized messages) not. QEMU's DWT has")
     p(f"  no cycle counter and it ships no TCG plugins here, hence SysTick.")
-    p("* **Time at 168 MHz** is instructions / 168 MHz, i.e. one cycle per instruction. QEMU is")
-    p("  not cycle-accurate: on a real M4 loads, taken branches, divisions and flash wait states")
-    p("  add cycles, so the margin is also given at 2 cycles per instruction.")
+    p("* **Time at 168 MHz** is instructions / 168 MHz, i.e. one cycle per instruction, the rule")
+    p("  the margins are held to. QEMU is not cycle-accurate: on a real M4 loads, taken branches,")
+    p("  divisions and flash wait states add cycles, so the COOP frames are also given at the")
+    p("  cycles per instruction estimated from the Cortex-M4's instruction timings (\"Cycles\",")
+    p("  below).")
     p("* **C40** times are the testbench's C40 cost model (`testbench/src/system/cost.rs`), calibrated")
     p("  to the thesis's measured 18 ms Foveal update with a 20x20 template (2.6); the thesis")
     p("  gives no per-kernel table.")
@@ -258,6 +310,8 @@ def main():
     static_bound(p, sb, stack)
     if len(sys.argv) > 9:
         stm32(p, sys.argv[6:10])
+    if len(sys.argv) > 13:
+        partner_image(p, sys.argv[10:14])
     p("## Instructions per kernel")
     p()
     p("| kernel | instructions | Cortex-M4 at 168 MHz | C40 (model) | C40 / M4 |")

@@ -158,6 +158,12 @@ fn kernels<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteEr
         other => writeln!(out, "watch_motion_256 none={other:?}")?,
     }
 
+    corner_kernels(out, meter)
+}
+
+/// The corner detector's kernels (ch. 3) and the information measures (3.4.1): what the COOP
+/// partner's image runs besides its replays.
+fn corner_kernels<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
     // Sized for the benchmark's largest corner window, as a Foveal processor's.
     let mut det = CornerDetector::<24>::sized();
     let params = CornerParams::new(50);
@@ -328,6 +334,8 @@ pub struct CoopPair {
     partner: CornerPartner<PARTNER_SIDE>,
     /// The window the partner asked for last (`None` once it stopped).
     partner_window: Option<WindowRequest>,
+    /// The partner's result in the last frame, and its window's origin.
+    corner: (Option<Point>, (u32, u32)),
     /// The master's answer to the partner's result (its decision).
     decision: Step,
     /// The answer being passed on: the master's to its window, then the partner's to the same
@@ -347,6 +355,7 @@ impl CoopPair {
             master: Foveal::sized(FovealKind::CoopMaster, params).with_policy(Policy::Guarded(Guard::new(guard))),
             partner: CornerPartner::sized(params),
             partner_window: None,
+            corner: (None, (0, 0)),
             decision: Step::new(Work::None),
             scratch: Step::new(Work::None),
         }
@@ -388,21 +397,67 @@ impl CoopPair {
         let (ox, oy) = view.origin();
         let (dx, dy) = (usize::from(r.x0).checked_sub(ox as usize)?, usize::from(r.y0).checked_sub(oy as usize)?);
         let own = view.sub(dx, dy, usize::from(r.width), usize::from(r.height))?;
-        let CoopPair { master, partner, decision, scratch, .. } = self;
+        let CoopPair { master, partner, decision, scratch, corner, .. } = self;
         meter.once(id, &mut || {
             // The master's own answer only records its NCC result until the partner's comes.
             master.on_window_into(view, t, scratch);
             partner.on_window_into(&own, scratch);
-            let mut answered = false;
-            for (_, m) in scratch.sends.iter().filter(|(d, _)| *d == Dest::Foveal) {
-                master.on_message_into(m, t, decision);
-                answered = true;
-            }
-            answered.then_some(())
+            *corner = (result(scratch)?, own.origin());
+            master.on_message_into(&Msg::Result(corner.0), t, decision);
+            Some(())
         })?;
         self.tell_partner();
         Some(&self.decision)
     }
+}
+
+/// The corner the partner's answer sends its master, if it sent one.
+fn result(step: &Step) -> Option<Option<Point>> {
+    step.sends.iter().find_map(|(d, m)| match m {
+        Msg::Result(r) if *d == Dest::Foveal => Some(*r),
+        _ => None,
+    })
+}
+
+/// The line `{name}_cd K win=X0,Y0 x=.. y=..` (or `none`): the partner's corner in frame `k`
+/// from its window at `(x0, y0)`, as the pair's replay and the partner's own image print it.
+fn corner_line<W: Write>(out: &mut W, name: &str, k: u16, (x0, y0): (u32, u32), corner: Option<Point>) -> fmt::Result {
+    write!(out, "{name}_cd {k} win={x0},{y0}")?;
+    match corner {
+        Some(p) => writeln!(out, " x={:08x} y={:08x}", p.x.to_bits(), p.y.to_bits()),
+        None => writeln!(out, " none"),
+    }
+}
+
+/// The COOP partner's image (issue 22: one image a processor): the corner kernels, and the
+/// partner alone on each replay's windows, its own the Foveal window centred in the master's
+/// recorded one (where the master's `Follow` puts it), printing the pair's `{name}_cd` lines.
+pub fn run_partner<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
+    corner_kernels(out, meter)?;
+    partner(out, meter, &Replay::THESIS)?;
+    partner(out, meter, &Replay::ADAPTIVE)
+}
+
+/// The partner alone on `replay`'s windows (see [`run_partner`]), metered as `partner_frame`.
+#[inline(never)]
+fn partner<W: Write, M: Meter>(out: &mut W, meter: &mut M, replay: &Replay<'_>) -> Result<(), SuiteError> {
+    let s = Stream::parse(replay.windows).map_err(SuiteError::Stream)?;
+    let params = Params::default();
+    let mut partner = CornerPartner::<PARTNER_SIDE>::sized(params);
+    let mut step = Step::new(Work::None);
+    let side = usize::from(params.foveal);
+    for (k, f) in s.frames().enumerate() {
+        let k = k as u16;
+        let (w, h) = (usize::from(f.w), usize::from(f.h));
+        let view = WindowView::new(f.pixels, w, h, w, u32::from(f.x0), u32::from(f.y0)).map_err(|_| SuiteError::View("window"))?;
+        let own = view.sub(w.saturating_sub(side) / 2, h.saturating_sub(side) / 2, side, side).ok_or(SuiteError::Diverged(k))?;
+        let corner = meter.once("partner_frame", &mut || {
+            partner.on_window_into(&own, &mut step);
+            result(&step)
+        });
+        corner_line(out, replay.name, k, own.origin(), corner.ok_or(SuiteError::Diverged(k))?)?;
+    }
+    Ok(())
 }
 
 /// A replay of the COOP pair: its recorded window stream and the pair's parameters.
@@ -465,6 +520,7 @@ pub fn tracker<W: Write, M: Meter>(out: &mut W, meter: &mut M, replay: &Replay<'
             (None, Some(p)) => writeln!(out, " lost={:08x},{:08x}", p.x.to_bits(), p.y.to_bits())?,
             (None, None) => writeln!(out, " none")?,
         }
+        corner_line(out, name, k, pair.corner.1, pair.corner.0)?;
     }
     writeln!(out, "{name}_total frames={} reports={reports} cd={cd}", s.count)?;
     Ok(())
