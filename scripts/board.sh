@@ -5,8 +5,10 @@
 # its result lines equal fixtures/board/expected.txt, which the host computes
 # (firmware/parity/tests/board_parity.rs). Then the same for an image linked for an STM32F405
 # (QEMU netduinoplus2: flash at 0x08000000, 128 KB of SRAM), which runs the same suite, the COOP
-# pair's replay included: its lines must equal expected.txt's too, and its static RAM plus its
-# static stack bound (scripts/stack_bound.py) must fit the 128 KiB.
+# pairs' replays included: its lines must equal expected.txt's too, and its static RAM plus its
+# static stack bound (scripts/stack_bound.py) must fit the 128 KiB. Then the COOP partner's own
+# image (`partner`), linked into 64 KiB: its lines of expected.txt, RAM <= 64 KiB, flash
+# <= 256 KiB.
 #
 #   scripts/board.sh             build, run, compare
 #   scripts/board.sh --profile   also profile the COOP frames (QEMU's execution trace, through
@@ -71,41 +73,61 @@ if ! grep -v '^#' "$run" | diff -u "$root/fixtures/board/expected.txt" - >"$out/
 fi
 echo "board.sh: $(grep -vc '^#' "$run") result lines bit-identical to the host's; $(grep '^# pins' "$run" | sed 's/^# //')"
 
-# The STM32F405 image (`stm32f405` feature: its memory map, the same suite).
+# An STM32F405 image: built with `features` into `dir`, run on netduinoplus2, its result lines
+# compared with `expected` (a file), and its static RAM plus its static stack bound
+# (scripts/stack_bound.py, with the exceptions) held to `ram` bytes, its flash to `flash`.
+stm32_image() {
+  local name=$1 dir=$2 features=$3 expected=$4 ram=$5 flash=$6
+  local elf="$dir/thumbv7em-none-eabihf/release/coopwin-board" run="$dir/run.txt" status=0
+  (cd "$root/firmware/board" &&
+    CARGO_TARGET_DIR="$dir" RUSTC=/usr/bin/rustc RUSTC_BOOTSTRAP=1 /usr/bin/cargo build --release --locked -q --features "$features")
+  timeout 600 qemu-system-arm -machine netduinoplus2 -nographic -semihosting-config enable=on,target=native \
+    -icount shift=0 -kernel "$elf" >"$run" 2>&1 || status=$?
+  if [ "$status" != 0 ]; then
+    echo "board.sh: the $name run failed or timed out; its output:" >&2
+    tail -20 "$run" >&2
+    exit 1
+  fi
+  if ! grep -v '^#' "$run" | diff -u "$expected" - >"$dir/diff.txt"; then
+    echo "board.sh: the $name output differs from the host's (fixtures/board/expected.txt):" >&2
+    head -40 "$dir/diff.txt" >&2
+    exit 1
+  fi
+  local static bound size
+  static=$(arm-none-eabi-size -A "$elf" | awk '$1 ~ /^\.(data|bss|uninit)$/ { s += $2 } END { print s + 0 }')
+  size=$(arm-none-eabi-size -A "$elf" | awk '$1 ~ /^\.(vector_table|text|rodata|data)$/ { s += $2 } END { print s + 0 }')
+  bound=$(python3 "$root/scripts/stack_bound.py" "$elf" --run "$run" | sed -n 's/.*; with exceptions \([0-9,]*\)$/\1/p' | tr -d ,)
+  if [ -z "$bound" ] || [ $((static + bound)) -gt "$ram" ]; then
+    echo "board.sh: the $name image's RAM (static ${static} + stack bound ${bound:-?}) exceeds its $ram bytes" >&2
+    exit 1
+  fi
+  if [ "$size" -gt "$flash" ]; then
+    echo "board.sh: the $name image's flash ($size bytes) exceeds its $flash" >&2
+    exit 1
+  fi
+  echo "board.sh: $name: $(grep -vc '^#' "$run") result lines bit-identical to the host's; $(grep '^# stack' "$run" | sed 's/^# //'); RAM static + stack bound $((static + bound)) of $ram; flash $size of $flash"
+}
+
+# The STM32F405 image (`stm32f405` feature: its memory map, the same suite, 128 KiB of SRAM).
 stm="$root/target/board-stm32"
 stm_elf="$stm/thumbv7em-none-eabihf/release/coopwin-board"
-(cd "$root/firmware/board" &&
-  CARGO_TARGET_DIR="$stm" RUSTC=/usr/bin/rustc RUSTC_BOOTSTRAP=1 /usr/bin/cargo build --release --locked -q --features stm32f405)
-stm_run="$stm/run.txt"
-status=0
-timeout 600 qemu-system-arm -machine netduinoplus2 -nographic -semihosting-config enable=on,target=native \
-  -icount shift=0 -kernel "$stm_elf" >"$stm_run" 2>&1 || status=$?
-if [ "$status" != 0 ]; then
-  echo "board.sh: the STM32F405 run failed or timed out; its output:" >&2
-  tail -20 "$stm_run" >&2
-  exit 1
-fi
-if ! grep -v '^#' "$stm_run" | diff -u "$root/fixtures/board/expected.txt" - >"$stm/diff.txt"; then
-  echo "board.sh: the STM32F405 output differs from the host's (fixtures/board/expected.txt):" >&2
-  head -40 "$stm/diff.txt" >&2
-  exit 1
-fi
-# Its RAM: the static sections and the static stack bound (scripts/stack_bound.py, with the
-# exceptions) must fit the part's 128 KiB, not only this run's stack.
-stm_static=$(arm-none-eabi-size -A "$stm_elf" | awk '$1 ~ /^\.(data|bss|uninit)$/ { s += $2 } END { print s + 0 }')
-stm_bound=$(python3 "$root/scripts/stack_bound.py" "$stm_elf" --run "$stm_run" | sed -n 's/.*; with exceptions \([0-9,]*\)$/\1/p' | tr -d ,)
-if [ -z "$stm_bound" ] || [ $((stm_static + stm_bound)) -gt 131072 ]; then
-  echo "board.sh: the STM32F405 image's RAM (static ${stm_static} + stack bound ${stm_bound:-?}) exceeds its 131072 bytes" >&2
-  exit 1
-fi
-echo "board.sh: STM32F405: $(grep -vc '^#' "$stm_run") result lines bit-identical to the host's; $(grep '^# stack' "$stm_run" | sed 's/^# //'); RAM static + stack bound $((stm_static + stm_bound)) of 131072"
+stm32_image STM32F405 "$stm" stm32f405 "$root/fixtures/board/expected.txt" 131072 1048576
+# The COOP partner's own image (issue 22): its lines of expected.txt (the corner kernels and
+# the partner's corner each frame), in 64 KiB of RAM and 256 KiB of flash.
+part="$root/target/board-partner"
+part_elf="$part/thumbv7em-none-eabihf/release/coopwin-board"
+grep -E '^(corner_20|corner_24|corner_24_literal|info|tracker_cd|adaptive_cd) ' "$root/fixtures/board/expected.txt" >"$out/expected-partner.txt"
+stm32_image "COOP partner image" "$part" stm32f405,partner "$out/expected-partner.txt" 65536 262144
 
 if [ "$figures" = 1 ]; then
   arm-none-eabi-size -A "$elf" >"$out/size.txt"
   arm-none-eabi-objdump -d --no-show-raw-insn -C "$elf" >"$out/disasm.txt"
-  arm-none-eabi-size -A "$stm_elf" >"$stm/size.txt"
-  arm-none-eabi-objdump -d --no-show-raw-insn -C "$stm_elf" >"$stm/disasm.txt"
+  for d in "$stm" "$part"; do
+    arm-none-eabi-size -A "$d/thumbv7em-none-eabihf/release/coopwin-board" >"$d/size.txt"
+    arm-none-eabi-objdump -d --no-show-raw-insn -C "$d/thumbv7em-none-eabihf/release/coopwin-board" >"$d/disasm.txt"
+  done
   python3 "$root/scripts/board_figures.py" "$run" "$out/size.txt" "$out/disasm.txt" "$out/profile.md" "$elf" \
-    "$stm_run" "$stm/size.txt" "$stm/disasm.txt" "$stm_elf" >"$root/docs/firmware-target.md"
+    "$stm/run.txt" "$stm/size.txt" "$stm/disasm.txt" "$stm_elf" \
+    "$part/run.txt" "$part/size.txt" "$part/disasm.txt" "$part_elf" >"$root/docs/firmware-target.md"
   echo "board.sh: wrote docs/firmware-target.md"
 fi

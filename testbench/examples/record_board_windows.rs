@@ -1,16 +1,16 @@
-//! Writes `fixtures/board/windows.bin`, the COOP window stream the Cortex-M4 board replays
-//! (thesis 4.2; see `coopwin_testbench::board_stream`).
-use coopwin_testbench::board_stream::{record, scene, RecordError};
+//! Writes `fixtures/board/windows.bin` and `windows_adaptive.bin`, the COOP window streams the
+//! Cortex-M4 board replays (thesis 4.2; see `coopwin_testbench::board_stream`).
+use coopwin_testbench::board_stream::{adaptive, record, thesis, RecordError};
 
-/// The fixture's path.
-const PATH: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../fixtures/board/windows.bin");
+/// The fixtures' directory.
+const DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../fixtures/board");
 
 /// Why the fixture was not written.
 enum Failure {
     /// The stream could not be recorded.
     Record(RecordError),
     /// The file could not be written.
-    Write(std::io::Error),
+    Write(String, std::io::Error),
 }
 
 /// The reason, as `main` prints it on failure.
@@ -18,14 +18,17 @@ impl std::fmt::Debug for Failure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Failure::Record(e) => write!(f, "{e}"),
-            Failure::Write(e) => write!(f, "{PATH}: {e}"),
+            Failure::Write(path, e) => write!(f, "{path}: {e}"),
         }
     }
 }
 
 fn main() -> Result<(), Failure> {
-    let bytes = record(&scene()).map_err(Failure::Record)?;
-    std::fs::write(PATH, &bytes).map_err(Failure::Write)?;
-    println!("{PATH}: {} bytes", bytes.len());
+    for (file, rec) in [("windows.bin", thesis()), ("windows_adaptive.bin", adaptive())] {
+        let bytes = record(&rec).map_err(Failure::Record)?;
+        let path = format!("{DIR}/{file}");
+        std::fs::write(&path, &bytes).map_err(|e| Failure::Write(path.clone(), e))?;
+        println!("{path}: {} bytes", bytes.len());
+    }
     Ok(())
 }

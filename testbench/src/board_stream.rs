@@ -1,20 +1,59 @@
-//! Records the COOP Foveal pair's window stream (thesis 4.2) for the Cortex-M4 replay
+//! Records the COOP Foveal pair's window streams (thesis 4.2) for the Cortex-M4 replay
 //! (`firmware/board`): the testbench's scene is rendered frame by frame, the pair's
 //! requested window is cut from it, and the pair runs on it to choose the next window.
-//! The file is `fixtures/board/windows.bin`; `tests/board_windows.rs` checks it is current.
+//! The files are `fixtures/board/windows.bin` (the thesis's pair, [`thesis`]) and
+//! `windows_adaptive.bin` (the adapting pair, [`adaptive`]); `tests/board_windows.rs` checks
+//! they are current.
+use crate::experiments::appearance;
 use crate::frames::scene::{PathKind, Scene, SceneConfig};
 use crate::units::window_of;
 use coopwin_firmware::types::WindowRequest;
 use coopwin_firmware::types::Point;
-use coopwin_firmware::processors::Template;
+use coopwin_firmware::processors::{Params, Template};
 use coopwin_firmware::kernels::view::{ViewError, WindowView};
 use coopwin_parity::stream::{encode, Frame};
 use coopwin_parity::suite::{CoopPair, NoMeter};
 
-/// The recorded run: the triangle path at 150 px/s under the lamp change, with noise, so both
-/// the NCC and the corner detector are chosen (the lamp's middle third) within 48 frames.
-pub fn scene() -> SceneConfig {
-    SceneConfig { path: PathKind::Triangle, speed: 150.0, frames: 48, lighting_ramp: true, noise: 2.0, seed: 7, ..SceneConfig::default() }
+/// A recorded run: the scene, the point tracked, the pair's parameters and how many frames.
+#[derive(Clone, Debug)]
+pub struct Recording {
+    /// The scene rendered.
+    pub scene: SceneConfig,
+    /// The object's centre (a textured template) rather than its corner.
+    pub centre: bool,
+    /// The pair adapts its template ([`Params::adaptive`]).
+    pub adapt: bool,
+    /// Frames recorded (from the first).
+    pub frames: usize,
+}
+
+impl Recording {
+    /// The tracked point's truth in frame `k`.
+    pub fn truth(&self, scene: &Scene, k: usize) -> (f64, f64) {
+        let t = scene.truth(k);
+        if self.centre {
+            t.centre
+        } else {
+            t.corner
+        }
+    }
+}
+
+/// `windows.bin`: the thesis's pair on the triangle path at 150 px/s under the lamp change,
+/// with noise, tracking the corner, so both the NCC and the corner detector are chosen (the
+/// lamp's middle third) within 48 frames.
+pub fn thesis() -> Recording {
+    let scene = SceneConfig { path: PathKind::Triangle, speed: 150.0, frames: 48, lighting_ramp: true, noise: 2.0, seed: 7, ..SceneConfig::default() };
+    Recording { scene, centre: false, adapt: false, frames: 48 }
+}
+
+/// `windows_adaptive.bin`: the adapting pair (`track`'s default) on the first 60 frames of the
+/// appearance evaluation's combined condition (the object's centre on a photograph turning,
+/// scaling, tilting, blurring and under a shadow, 30 frames/s; `coopwin experiment
+/// appearance`), so its template is replaced and its window grows with the motion.
+pub fn adaptive() -> Recording {
+    let scene = appearance::conditions().into_iter().find(|c| c.name == "centre-combined").map(|c| c.scene).unwrap_or_default();
+    Recording { scene, centre: true, adapt: true, frames: 60 }
 }
 
 /// Why the stream cannot be recorded.
@@ -36,7 +75,7 @@ pub enum RecordError {
         /// The window.
         req: WindowRequest,
     },
-    /// The pair's partner sent no result.
+    /// The pair's partner sent no result (or its window is not in the master's).
     NoResult(usize),
     /// The template's side does not fit the stream's byte.
     TemplateTooLarge,
@@ -57,19 +96,22 @@ impl std::fmt::Display for RecordError {
 impl std::error::Error for RecordError {}
 
 /// The stream's bytes; it ends early if the pair loses the target.
-pub fn record(cfg: &SceneConfig) -> Result<Vec<u8>, RecordError> {
+pub fn record(rec: &Recording) -> Result<Vec<u8>, RecordError> {
+    let cfg = &rec.scene;
     let scene = Scene::new(cfg.clone());
     let (w, h) = (cfg.width, cfg.height);
-    let (frame0, truth) = scene.render(0);
-    let start = Point { x: truth.corner.0 as f32, y: truth.corner.1 as f32 };
+    let (frame0, _) = scene.render(0);
+    let at = rec.truth(&scene, 0);
+    let start = Point { x: at.0 as f32, y: at.1 as f32 };
     let view = WindowView::packed(&frame0, w, h).map_err(|error| RecordError::View { frame: 0, error })?;
     let tpl = Template::capture(&view, start, 20).ok_or(RecordError::TemplateDoesNotFit)?;
-    let mut pair = CoopPair::new();
+    let params = if rec.adapt { Params::default().adaptive() } else { Params::default() };
+    let mut pair = CoopPair::new(params);
     pair.start(tpl.clone(), start);
     let mut windows: Vec<(f64, WindowRequest, Vec<u8>)> = Vec::new();
-    for k in 0..cfg.frames {
+    for k in 0..rec.frames.min(cfg.frames) {
         let Some(r) = pair.want() else { break };
-        let (img, _) = if k == 0 { (frame0.clone(), truth) } else { scene.render(k) };
+        let img = if k == 0 { frame0.clone() } else { scene.render(k).0 };
         let (x0, y0, ww, wh) = (usize::from(r.x0), usize::from(r.y0), usize::from(r.width), usize::from(r.height));
         if ww == 0 || wh == 0 || x0 + ww > w || y0 + wh > h {
             return Err(RecordError::WindowOutside { frame: k, req: r });
@@ -77,7 +119,7 @@ pub fn record(cfg: &SceneConfig) -> Result<Vec<u8>, RecordError> {
         let px = window_of(&r).crop(&img, w, false);
         let t = k as f64 / cfg.fps;
         let v = WindowView::new(&px, ww, wh, ww, r.x0.into(), r.y0.into()).map_err(|error| RecordError::View { frame: k, error })?;
-        pair.frame(&mut NoMeter, &v, t).ok_or(RecordError::NoResult(k))?;
+        pair.frame(&mut NoMeter, "", &v, t).ok_or(RecordError::NoResult(k))?;
         windows.push((t, r, px));
     }
     let frames: Vec<Frame<'_>> =

@@ -1,5 +1,6 @@
 //! The tracking firmware on a Cortex-M4F (QEMU `mps2-an386`, or `netduinoplus2`'s STM32F405 with
-//! the `stm32f405` feature), thesis 2.6: the window
+//! the `stm32f405` feature; with `partner` too, the COOP partner's own image in 64 KiB of its
+//! SRAM, running its part of the suite, `suite::run_partner`), thesis 2.6: the window
 //! processors' code on a real embedded target. It prints the parity suite's lines
 //! (`coopwin_parity::suite`: every kernel on the benchmark inputs, and the COOP Foveal pair on
 //! the recorded window stream), which `scripts/board.sh` diffs against the host's
@@ -16,9 +17,7 @@ use core::fmt::{self, Write};
 use cortex_m::peripheral::{syst::SystClkSource, SYST};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hio};
-use coopwin_firmware::processors::{CornerPartner, Foveal, Step};
 use coopwin_parity::suite::{self, Meter};
-use core::mem::size_of;
 
 /// Semihosting stdout, one host call per line (a call per `fmt` piece would be slow).
 struct Out {
@@ -184,7 +183,12 @@ fn main() -> ! {
     } else {
         let _ = writeln!(meter.out, "# calibration instructions_per_tick={}/{}", per.0, per.1);
     }
-    if let Err(e) = suite::run(&mut out, &mut meter) {
+    // The COOP partner's image (`partner`) runs its processor's part of the suite only.
+    #[cfg(feature = "partner")]
+    let result = suite::run_partner(&mut out, &mut meter);
+    #[cfg(not(feature = "partner"))]
+    let result = suite::run(&mut out, &mut meter);
+    if let Err(e) = result {
         let _ = writeln!(out, "error {e:?}");
         fail("suite");
     }
@@ -197,21 +201,31 @@ fn main() -> ! {
             fail("pins");
         }
     }
-    // What the replay holds on the stack: the pair, its processors and one of its answers.
-    let _ = writeln!(
-        out,
-        "# size pair={} master={} partner={} step={}",
-        size_of::<suite::CoopPair>(),
-        size_of::<Foveal<{ suite::MASTER_SIDE }, { suite::MASTER_LK }>>(),
-        size_of::<CornerPartner<{ suite::PARTNER_SIDE }>>(),
-        size_of::<Step>()
-    );
+    #[cfg(not(feature = "partner"))]
+    sizes(&mut out);
     let top = core::ptr::addr_of!(_stack_start) as usize;
     let _ = writeln!(out, "# stack used={} painted_from={bottom:#x} top={top:#x}", stack_used(bottom));
     debug::exit(debug::EXIT_SUCCESS);
     loop {
         cortex_m::asm::wfi();
     }
+}
+
+/// What the replay holds on the stack: the pair, its processors and one of its answers.
+#[cfg(not(feature = "partner"))]
+fn sizes(out: &mut Out) {
+    use coopwin_firmware::processors::adapt::Adaptive;
+    use coopwin_firmware::processors::{CornerPartner, Foveal, Step};
+    use core::mem::size_of;
+    let _ = writeln!(
+        out,
+        "# size pair={} master={} adapt={} partner={} step={}",
+        size_of::<suite::CoopPair>(),
+        size_of::<Foveal<{ suite::MASTER_SIDE }, { suite::MASTER_LK }>>(),
+        size_of::<Adaptive<{ suite::MASTER_LK }>>(),
+        size_of::<CornerPartner<{ suite::PARTNER_SIDE }>>(),
+        size_of::<Step>()
+    );
 }
 
 fn fail(why: &str) -> ! {

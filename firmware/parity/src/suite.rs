@@ -10,7 +10,8 @@ use coopwin_firmware::kernels::fmath::sqrtf;
 use coopwin_firmware::kernels::info::{corner_information, edge_information, edge_information_with_prior};
 use coopwin_firmware::kernels::matching::{best_match, best_match_decimated, Match, MatchError, Method};
 use coopwin_firmware::kernels::motion::detect_motion;
-use coopwin_firmware::processors::{CornerPartner, Dest, Foveal, FovealKind, Msg, Params, Step, Template, Work};
+use coopwin_firmware::processors::coop::guard::{Guard, GuardParams};
+use coopwin_firmware::processors::{CornerPartner, Dest, Foveal, FovealKind, Msg, Params, Policy, Step, Template, Work};
 use coopwin_firmware::kernels::view::WindowView;
 use coopwin_firmware::types::{Point, Source, WindowRequest};
 use core::fmt::{self, Write};
@@ -35,6 +36,8 @@ pub mod inputs {
     pub const CORNER_24: &[u8] = include_bytes!("../../../fixtures/bench/corner_24.pgm");
     /// The COOP pair's windows recorded from the testbench (`fixtures/board/README.md`).
     pub const WINDOWS: &[u8] = include_bytes!("../../../fixtures/board/windows.bin");
+    /// The adapting COOP pair's windows, recorded alike (`fixtures/board/README.md`).
+    pub const WINDOWS_ADAPTIVE: &[u8] = include_bytes!("../../../fixtures/board/windows_adaptive.bin");
 }
 
 /// Brackets each measured piece of work. The board counts instructions; the host runs it.
@@ -118,7 +121,8 @@ fn match_line(out: &mut dyn Write, id: &str, m: Result<Match, MatchError>) -> fm
 /// Runs the whole suite, writing its lines to `out`.
 pub fn run<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
     run_kernels(out, meter)?;
-    tracker(out, meter, inputs::WINDOWS)
+    tracker(out, meter, &Replay::THESIS)?;
+    tracker(out, meter, &Replay::ADAPTIVE)
 }
 
 /// The suite before the COOP pair's replay (the lines before the first `tracker` line): every
@@ -154,6 +158,12 @@ fn kernels<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteEr
         other => writeln!(out, "watch_motion_256 none={other:?}")?,
     }
 
+    corner_kernels(out, meter)
+}
+
+/// The corner detector's kernels (ch. 3) and the information measures (3.4.1): what the COOP
+/// partner's image runs besides its replays.
+fn corner_kernels<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
     // Sized for the benchmark's largest corner window, as a Foveal processor's.
     let mut det = CornerDetector::<24>::sized();
     let params = CornerParams::new(50);
@@ -306,13 +316,15 @@ pub const MASTER_SIDE: usize = 24;
 /// Used pixels the COOP master's Lucas-Kanade template holds: the interior of the thesis's
 /// 20x20 template (a larger template is tracked without the refinement).
 pub const MASTER_LK: usize = 18 * 18;
-/// Side of the COOP partner's corner detector: the Foveal window (24) and a coasting track's,
-/// 12 px wider (`COAST_MARGIN`), rounded up to a multiple of 8.
-pub const PARTNER_SIDE: usize = 40;
+/// Side of the COOP partner's corner detector: the Foveal window, which it asks for wherever
+/// its master sends it (a coasting or adapting master's own window is wider).
+pub const PARTNER_SIDE: usize = 24;
 
 /// The COOP Foveal pair (4.2): a master running NCC and the decision, a partner running the
 /// corner detector on the same coordinates, wired to each other as their link would be.
-/// The testbench's recorder and the replay below drive it alike. It keeps the processors'
+/// The testbench's recorder and the replay below drive it alike. The replay records the
+/// master's window; the partner's (the Foveal window where the master sends it, as the
+/// testbench's own unit cuts it) lies within it. It keeps the processors'
 /// answers ([`Step`], over 4 KiB each) and has them filled in place, as a board loop would:
 /// the master's decision and one answer at a time from either processor. Built empty in its
 /// owner's slot ([`CoopPair::new`]) and started in place ([`CoopPair::start`]), so no copy of
@@ -320,6 +332,10 @@ pub const PARTNER_SIDE: usize = 40;
 pub struct CoopPair {
     master: Foveal<MASTER_SIDE, MASTER_LK>,
     partner: CornerPartner<PARTNER_SIDE>,
+    /// The window the partner asked for last (`None` once it stopped).
+    partner_window: Option<WindowRequest>,
+    /// The partner's result in the last frame, and its window's origin.
+    corner: (Option<Point>, (u32, u32)),
     /// The master's answer to the partner's result (its decision).
     decision: Step,
     /// The answer being passed on: the master's to its window, then the partner's to the same
@@ -327,22 +343,19 @@ pub struct CoopPair {
     scratch: Step,
 }
 
-impl Default for CoopPair {
-    fn default() -> Self {
-        Self::new()
-    }
-}
-
 impl CoopPair {
-    /// An idle pair (default thesis parameters, no template), returned into the caller's slot.
-    /// Never inlined: whatever temporaries the compiler builds it through are in this frame,
-    /// which ends before the replay's deepest calls, not in its caller's.
+    /// An idle pair (no template) with `params`, returned into the caller's slot; an adapting
+    /// pair's ([`Params::adapt`]) master guards with the adapting track's parameters, as the
+    /// testbench's does. Never inlined: whatever temporaries the compiler builds it through
+    /// are in this frame, which ends before the replay's deepest calls, not in its caller's.
     #[inline(never)]
-    pub fn new() -> Self {
-        let params = Params::default();
+    pub fn new(params: Params) -> Self {
+        let guard = if params.adapt { GuardParams::adapting() } else { GuardParams::default() };
         CoopPair {
-            master: Foveal::sized(FovealKind::CoopMaster, params),
+            master: Foveal::sized(FovealKind::CoopMaster, params).with_policy(Policy::Guarded(Guard::new(guard))),
             partner: CornerPartner::sized(params),
+            partner_window: None,
+            corner: (None, (0, 0)),
             decision: Step::new(Work::None),
             scratch: Step::new(Work::None),
         }
@@ -352,54 +365,135 @@ impl CoopPair {
     /// template's preparation does not add to the replay's stack.
     #[inline(never)]
     pub fn start(&mut self, template: Template, start: Point) {
-        let CoopPair { master, partner, decision, scratch } = self;
+        let CoopPair { master, decision, .. } = self;
         master.set_template(template);
         master.start_at_into(start, decision);
+        self.tell_partner();
+    }
+
+    /// The decision's messages for the partner go to it; it keeps the window it asks for.
+    fn tell_partner(&mut self) {
+        let CoopPair { partner, partner_window, decision, scratch, .. } = self;
         for m in to_partner(decision) {
             partner.on_message_into(m, scratch);
+            *partner_window = scratch.request;
         }
     }
 
-    /// The window the pair wants next (both processors' window; `None` once lost).
+    /// The window the pair wants next (the master's, which holds the partner's; `None` once
+    /// lost).
     pub fn want(&self) -> Option<WindowRequest> {
         self.decision.request
     }
 
-    /// One COOP frame: the window goes to both, the partner's result to the master, which
-    /// decides; returns the master's decision step (`None` if the partner sent no result).
-    /// Metered as `coop_frame`: both Foveal kernels and the decision. Never inlined, so a
+    /// One COOP frame: the window goes to the master and its part the partner asked for to
+    /// the partner, whose result goes to the master, which decides; returns the master's
+    /// decision step (`None` if the partner had no window in it or sent no result).
+    /// Metered as `id`: both Foveal kernels and the decision. Never inlined, so a
     /// profile finds its frames (`scripts/board_profile.py`).
     #[inline(never)]
-    pub fn frame<M: Meter>(&mut self, meter: &mut M, view: &WindowView<'_>, t: f64) -> Option<&Step> {
-        let CoopPair { master, partner, decision, scratch } = self;
-        meter.once("coop_frame", &mut || {
+    pub fn frame<M: Meter>(&mut self, meter: &mut M, id: &str, view: &WindowView<'_>, t: f64) -> Option<&Step> {
+        let r = self.partner_window?;
+        let (ox, oy) = view.origin();
+        let (dx, dy) = (usize::from(r.x0).checked_sub(ox as usize)?, usize::from(r.y0).checked_sub(oy as usize)?);
+        let own = view.sub(dx, dy, usize::from(r.width), usize::from(r.height))?;
+        let CoopPair { master, partner, decision, scratch, corner, .. } = self;
+        meter.once(id, &mut || {
             // The master's own answer only records its NCC result until the partner's comes.
             master.on_window_into(view, t, scratch);
-            partner.on_window_into(view, scratch);
-            let mut answered = false;
-            for (_, m) in scratch.sends.iter().filter(|(d, _)| *d == Dest::Foveal) {
-                master.on_message_into(m, t, decision);
-                answered = true;
-            }
-            answered.then_some(())
+            partner.on_window_into(&own, scratch);
+            *corner = (result(scratch)?, own.origin());
+            master.on_message_into(&Msg::Result(corner.0), t, decision);
+            Some(())
         })?;
-        for m in to_partner(decision) {
-            partner.on_message_into(m, scratch);
-        }
+        self.tell_partner();
         Some(&self.decision)
     }
 }
 
-/// Replays `bytes` through a [`CoopPair`]. Each frame the master must ask for the window
-/// recorded next, or the replay has left the recorded run.
+/// The corner the partner's answer sends its master, if it sent one.
+fn result(step: &Step) -> Option<Option<Point>> {
+    step.sends.iter().find_map(|(d, m)| match m {
+        Msg::Result(r) if *d == Dest::Foveal => Some(*r),
+        _ => None,
+    })
+}
+
+/// The line `{name}_cd K win=X0,Y0 x=.. y=..` (or `none`): the partner's corner in frame `k`
+/// from its window at `(x0, y0)`, as the pair's replay and the partner's own image print it.
+fn corner_line<W: Write>(out: &mut W, name: &str, k: u16, (x0, y0): (u32, u32), corner: Option<Point>) -> fmt::Result {
+    write!(out, "{name}_cd {k} win={x0},{y0}")?;
+    match corner {
+        Some(p) => writeln!(out, " x={:08x} y={:08x}", p.x.to_bits(), p.y.to_bits()),
+        None => writeln!(out, " none"),
+    }
+}
+
+/// The COOP partner's image (issue 22: one image a processor): the corner kernels, and the
+/// partner alone on each replay's windows, its own the Foveal window centred in the master's
+/// recorded one (where the master's `Follow` puts it), printing the pair's `{name}_cd` lines.
+pub fn run_partner<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
+    corner_kernels(out, meter)?;
+    partner(out, meter, &Replay::THESIS)?;
+    partner(out, meter, &Replay::ADAPTIVE)
+}
+
+/// The partner alone on `replay`'s windows (see [`run_partner`]), metered as `partner_frame`.
 #[inline(never)]
-pub fn tracker<W: Write, M: Meter>(out: &mut W, meter: &mut M, bytes: &[u8]) -> Result<(), SuiteError> {
-    let s = Stream::parse(bytes).map_err(SuiteError::Stream)?;
+fn partner<W: Write, M: Meter>(out: &mut W, meter: &mut M, replay: &Replay<'_>) -> Result<(), SuiteError> {
+    let s = Stream::parse(replay.windows).map_err(SuiteError::Stream)?;
+    let params = Params::default();
+    let mut partner = CornerPartner::<PARTNER_SIDE>::sized(params);
+    let mut step = Step::new(Work::None);
+    let side = usize::from(params.foveal);
+    for (k, f) in s.frames().enumerate() {
+        let k = k as u16;
+        let (w, h) = (usize::from(f.w), usize::from(f.h));
+        let view = WindowView::new(f.pixels, w, h, w, u32::from(f.x0), u32::from(f.y0)).map_err(|_| SuiteError::View("window"))?;
+        let own = view.sub(w.saturating_sub(side) / 2, h.saturating_sub(side) / 2, side, side).ok_or(SuiteError::Diverged(k))?;
+        let corner = meter.once("partner_frame", &mut || {
+            partner.on_window_into(&own, &mut step);
+            result(&step)
+        });
+        corner_line(out, replay.name, k, own.origin(), corner.ok_or(SuiteError::Diverged(k))?)?;
+    }
+    Ok(())
+}
+
+/// A replay of the COOP pair: its recorded window stream and the pair's parameters.
+#[derive(Clone, Copy, Debug)]
+pub struct Replay<'a> {
+    /// Its lines' first word (`{name} K ...`, `{name}_total ...`).
+    pub name: &'static str,
+    /// The meter id of its frames.
+    pub meter: &'static str,
+    /// The pair adapts its template ([`Params::adaptive`]); otherwise the thesis's defaults.
+    pub adapt: bool,
+    /// The recorded stream (`fixtures/board/README.md`).
+    pub windows: &'a [u8],
+}
+
+impl Replay<'static> {
+    /// The thesis's pair (fixed template, 4.2-4.3) on `windows.bin`.
+    pub const THESIS: Replay<'static> = Replay { name: "tracker", meter: "coop_frame", adapt: false, windows: inputs::WINDOWS };
+    /// The adapting pair (`track`'s default, issue 21: [`Params::adaptive`]) on
+    /// `windows_adaptive.bin`.
+    pub const ADAPTIVE: Replay<'static> =
+        Replay { name: "adaptive", meter: "coop_frame_adaptive", adapt: true, windows: inputs::WINDOWS_ADAPTIVE };
+}
+
+/// Replays `replay`'s stream through a [`CoopPair`]. Each frame the master must ask for the
+/// window recorded next, or the replay has left the recorded run.
+#[inline(never)]
+pub fn tracker<W: Write, M: Meter>(out: &mut W, meter: &mut M, replay: &Replay<'_>) -> Result<(), SuiteError> {
+    let s = Stream::parse(replay.windows).map_err(SuiteError::Stream)?;
     let anchor = Point { x: s.anchor.0, y: s.anchor.1 };
     let tpl = Template::from_parts(usize::from(s.side), anchor, s.template).ok_or(SuiteError::Template)?;
-    let mut pair = CoopPair::new();
+    let params = if replay.adapt { Params::default().adaptive() } else { Params::default() };
+    let mut pair = CoopPair::new(params);
     pair.start(tpl, Point { x: s.start.0, y: s.start.1 });
     let (mut reports, mut cd) = (0u32, 0u32);
+    let name = replay.name;
     for (k, f) in s.frames().enumerate() {
         let k = k as u16;
         let r = pair.want().ok_or(SuiteError::Diverged(k))?;
@@ -408,19 +502,27 @@ pub fn tracker<W: Write, M: Meter>(out: &mut W, meter: &mut M, bytes: &[u8]) -> 
         }
         let (w, h) = (usize::from(f.w), usize::from(f.h));
         let view = WindowView::new(f.pixels, w, h, w, u32::from(f.x0), u32::from(f.y0)).map_err(|_| SuiteError::View("window"))?;
-        let step = pair.frame(meter, &view, f.t).ok_or(SuiteError::Diverged(k))?;
-        write!(out, "tracker {k} win={},{}", f.x0, f.y0)?;
+        let step = pair.frame(meter, replay.meter, &view, f.t).ok_or(SuiteError::Diverged(k))?;
+        write!(out, "{name} {k} win={},{}", f.x0, f.y0)?;
+        if (f.w, f.h) != (24, 24) {
+            write!(out, " size={}x{}", f.w, f.h)?;
+        }
         match (step.report, step.lost) {
             (Some((p, algo)), _) => {
                 reports += 1;
                 cd += u32::from(algo == Source::Cd);
-                writeln!(out, " x={:08x} y={:08x} algo={algo:?}", p.x.to_bits(), p.y.to_bits())?
+                write!(out, " x={:08x} y={:08x} algo={algo:?}", p.x.to_bits(), p.y.to_bits())?;
+                if let Some(sh) = step.shape {
+                    write!(out, " scale={:08x} angle={:08x}", sh.scale.to_bits(), sh.angle_deg.to_bits())?;
+                }
+                writeln!(out)?
             }
             (None, Some(p)) => writeln!(out, " lost={:08x},{:08x}", p.x.to_bits(), p.y.to_bits())?,
             (None, None) => writeln!(out, " none")?,
         }
+        corner_line(out, name, k, pair.corner.1, pair.corner.0)?;
     }
-    writeln!(out, "tracker_total frames={} reports={reports} cd={cd}", s.count)?;
+    writeln!(out, "{name}_total frames={} reports={reports} cd={cd}", s.count)?;
     Ok(())
 }
 

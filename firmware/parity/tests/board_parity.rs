@@ -3,7 +3,7 @@
 //! `fixtures/board/expected.txt`, which `scripts/board.sh` diffs against the QEMU run.
 //! `COOPWIN_BLESS=1` rewrites the file instead. The kernel lines are also checked against
 //! OpenCV's answers on the same inputs (`fixtures/bench/README.md`).
-use coopwin_parity::suite::{self, NoMeter};
+use coopwin_parity::suite::{self, NoMeter, Replay};
 use coopwin_parity::stream::{Stream, StreamError};
 
 fn lines() -> String {
@@ -67,9 +67,29 @@ fn kernel_lines_agree_with_opencv() {
 fn a_damaged_stream_is_an_error_not_a_panic() {
     let mut w = suite::inputs::WINDOWS.to_vec();
     let last = w.len() - 1;
-    assert_eq!(suite::tracker(&mut String::new(), &mut NoMeter, &w[..last]), Err(suite::SuiteError::Stream(StreamError::Truncated)));
+    assert_eq!(suite::tracker(&mut String::new(), &mut NoMeter, &Replay { windows: &w[..last], ..Replay::THESIS }), Err(suite::SuiteError::Stream(StreamError::Truncated)));
     // A different recorded window position: the replay notices it has left the recording.
     let header = 4 + 1 + 8 + 400 + 8 + 2;
     w[header + 8] ^= 1;
-    assert_eq!(suite::tracker(&mut String::new(), &mut NoMeter, &w), Err(suite::SuiteError::Diverged(0)));
+    assert_eq!(suite::tracker(&mut String::new(), &mut NoMeter, &Replay { windows: &w, ..Replay::THESIS }), Err(suite::SuiteError::Diverged(0)));
+}
+
+/// The lines of `expected.txt` the COOP partner's image prints (`scripts/board.sh` compares
+/// them alike): the corner kernels and the partner's corner in each replayed frame.
+fn partner_lines(text: &str) -> String {
+    let ids = ["corner_20", "corner_24", "corner_24_literal", "info", "tracker_cd", "adaptive_cd"];
+    text.lines().filter(|l| ids.contains(&l.split(' ').next().unwrap_or(""))).map(|l| format!("{l}\n")).collect()
+}
+
+#[test]
+fn the_partner_alone_answers_as_in_the_pair() {
+    // The partner's image replays the master's recorded windows without the master, cutting
+    // its own window where the master's Follow puts it: its lines must be the pair's own.
+    let mut alone = String::new();
+    suite::run_partner(&mut alone, &mut NoMeter).unwrap();
+    let want = partner_lines(&lines());
+    assert_eq!(alone, want);
+    // Both replays, every frame: one line each.
+    let frames = |b: &[u8]| usize::from(Stream::parse(b).unwrap().count);
+    assert_eq!(alone.lines().filter(|l| l.contains("_cd ")).count(), frames(suite::inputs::WINDOWS) + frames(suite::inputs::WINDOWS_ADAPTIVE));
 }

@@ -178,7 +178,7 @@ fn solve4(h: &[f32; 10], b: [f32; 4]) -> Option<[f32; 4]> {
     d.iter().all(|v| v.is_finite()).then_some(d)
 }
 
-impl LkTemplate {
+impl<const P: usize> LkTemplate<P> {
     /// The similarity pose of the prepared template in `win` (a full-resolution view),
     /// starting from `start`; `None` when nothing is prepared, the window is not full
     /// resolution, fewer than [`MIN_INSIDE`] of the pixels sample inside it, the window is

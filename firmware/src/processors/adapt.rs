@@ -28,7 +28,7 @@
 use super::coop::guard::dist;
 use super::template::Template;
 use crate::kernels::matching::{best_match, Method};
-use crate::kernels::refine::LkTemplate;
+use crate::kernels::refine::{LkTemplate, INTERIOR};
 use crate::kernels::view::WindowView;
 use crate::kernels::warp::Pose;
 use crate::types::Point;
@@ -49,10 +49,12 @@ pub const ALIGN: f32 = 0.5;
 /// as it did at lock-on again, and whatever the updates accumulated is dropped.
 pub const RECLAIM: f32 = 0.95;
 
-/// The first template, prepared for alignment, and the template proposed by the last window.
-pub struct Adaptive {
+/// The first template, prepared for alignment for up to `P` used pixels (as its tracker's
+/// [`LkTemplate`]: `(n - 2)²` for an `n x n` template), and the template proposed by the last
+/// window.
+pub struct Adaptive<const P: usize = INTERIOR> {
     first: Template,
-    first_lk: LkTemplate,
+    first_lk: LkTemplate<P>,
     pending: Option<Template>,
     /// The template proposed last is the first one.
     on_first: bool,
@@ -61,10 +63,10 @@ pub struct Adaptive {
     shape: (f32, f32),
 }
 
-impl Adaptive {
+impl<const P: usize> Adaptive<P> {
     /// Adaptation anchored on `first` (the template cut at lock-on).
     pub fn new(first: &Template) -> Self {
-        let mut first_lk = LkTemplate::new();
+        let mut first_lk = LkTemplate::sized();
         if let Some(v) = first.view() {
             first_lk.prepare(&v, None);
         }
@@ -150,7 +152,7 @@ mod tests {
 
     #[test]
     fn a_perfect_match_proposes_nothing_and_a_changed_one_is_cut_where_the_first_template_lands() {
-        let mut a = Adaptive::new(&template());
+        let mut a = Adaptive::<INTERIOR>::new(&template());
         let win = square(24, 14, 16, Decimation::Full);
         // Score 1 >= REFRESH: the template is kept.
         a.propose(&cut(&frame(Some((30, 20))), &win), TARGET, 1.0, 8);
@@ -174,7 +176,7 @@ mod tests {
 
     #[test]
     fn where_the_first_template_lands_too_far_away_the_cut_is_at_the_current_point() {
-        let mut a = Adaptive::new(&template());
+        let mut a = Adaptive::<INTERIOR>::new(&template());
         let win = square(24, 14, 16, Decimation::Full);
         // The block moved by (3, 2) and a bright pixel changed its look: the first template
         // matches 3.6 px from the point given, over DRIFT, with NCC under RECLAIM, so it

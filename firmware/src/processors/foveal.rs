@@ -117,7 +117,7 @@ pub struct Foveal<const N: usize = MAX_DIM, const P: usize = INTERIOR> {
     own: Option<Option<(Point, f32)>>,
     partner: Option<Option<Point>>,
     /// With [`Params::adapt`]: the template's adaptation ([`super::adapt`]).
-    adapt: Option<Adaptive>,
+    adapt: Option<Adaptive<P>>,
     /// The last NCC placement sat on the window's edge: the next window is wider.
     pinned: bool,
     /// Adapting tracks: where the last window was aimed (the motion's prediction).
