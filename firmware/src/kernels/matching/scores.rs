@@ -71,12 +71,7 @@ impl Scorer {
                 Some((x.a as f64 / q).min(1.0))
             }
             Method::Zncc => {
-                let n = i128::from(t.n);
-                let (num, vw) = self.zncc_parts(x);
-                let vt = n * i128::from(t.energy) - i128::from(t.sum) * i128::from(t.sum);
-                if vw <= 0 || vt <= 0 {
-                    return None;
-                }
+                let (num, vw, vt) = self.zncc_defined(x)?;
                 let q = libm::sqrt(vt as f64 * vw as f64);
                 Some((num as f64 / q).clamp(-1.0, 1.0))
             }
@@ -88,7 +83,8 @@ impl Scorer {
         match self.method {
             Method::Sad | Method::Ssd => true,
             Method::Ncc => x.e != 0,
-            Method::Zncc => self.score(x).is_some(),
+            // In integers: a library f64 square root a placement on the M4F, otherwise.
+            Method::Zncc => self.zncc_defined(x).is_some(),
         }
     }
 
@@ -120,6 +116,15 @@ impl Scorer {
                 }
             }
         }
+    }
+
+    /// ZNCC's numerator, window variance and template variance (`n Σ R² - (Σ R)²`), when both
+    /// variances are positive (the score is defined).
+    fn zncc_defined(&self, x: &Sums) -> Option<(i128, i128, i128)> {
+        let t = &self.t;
+        let (num, vw) = self.zncc_parts(x);
+        let vt = i128::from(t.n) * i128::from(t.energy) - i128::from(t.sum) * i128::from(t.sum);
+        (vw > 0 && vt > 0).then_some((num, vw, vt))
     }
 
     /// ZNCC's numerator `n Σ R·I - Σ R Σ I` and window variance `n Σ I² - (Σ I)²`.
