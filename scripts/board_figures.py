@@ -108,17 +108,24 @@ def sizes(run):
     sys.exit("board_figures.py: the run has no `# size` line")
 
 
-def stm32(p, argv):
-    """The "On an STM32F405" section: the image linked for the part, and its figures."""
+def image(argv, name):
+    """An extra image's figures from its run, size, disassembly and ELF (`argv`): the run, its
+    flash, static RAM, measured stack, sections, static stack bound and result lines."""
     run, size, disasm = (open(f).read() for f in argv[:3])
     try:
         sb = stack_bound.analyse(argv[3], disasm, run)
         stack_bound.check(sb)
     except stack_bound.Error as e:
-        sys.exit(f"board_figures.py: stack bound (STM32F405): {e}")
+        sys.exit(f"board_figures.py: stack bound ({name}): {e}")
     flash, ram, stack, sections = memory(run, size)
     bound = sb["models"]["address-taken", sb["times"]]["total"]
     lines = sum(1 for line in run.splitlines() if line and not line.startswith("#"))
+    return run, flash, ram, stack, sections, bound, lines
+
+
+def stm32(p, argv):
+    """The "On an STM32F405" section: the image linked for the part, and its figures."""
+    _, flash, ram, stack, sections, bound, lines = image(argv, "STM32F405")
     p("## On an STM32F405")
     p()
     p("`scripts/board.sh` also links the board for an STM32F405 (`--features stm32f405`,")
@@ -141,15 +148,7 @@ def stm32(p, argv):
 
 def partner_image(p, argv):
     """The "Per-processor images" section: the COOP partner's own image and its figures."""
-    run, size, disasm = (open(f).read() for f in argv[:3])
-    try:
-        sb = stack_bound.analyse(argv[3], disasm, run)
-        stack_bound.check(sb)
-    except stack_bound.Error as e:
-        sys.exit(f"board_figures.py: stack bound (partner image): {e}")
-    flash, ram, stack, _ = memory(run, size)
-    bound = sb["models"]["address-taken", sb["times"]]["total"]
-    lines = sum(1 for line in run.splitlines() if line and not line.startswith("#"))
+    run, flash, ram, stack, _, bound, lines = image(argv, "partner image")
     frames = [int(m[1]) for m in re.finditer(r"^# icount partner_frame (\d+)", run, re.M)]
     p("## Per-processor images")
     p()
