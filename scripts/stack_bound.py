@@ -227,7 +227,9 @@ def analyse_function(f, funcs, secs):
             if cond:
                 raise Error(f"{where(ins)}: a conditional sp adjustment")
             nd = d + n if base.startswith("sub") else d - n
-        elif (re.match(r"^[a-z.]+\tsp\b", f"{op}\t{a}") and not re.match(r"^(stm|str|cmp|cmn|tst|vst)", op)) \
+        elif (re.match(r"^[a-z.]+\tsp\b", f"{op}\t{a}") and not re.match(r"^(stm|str|cmp|cmn|tst|vst)", op)
+              # A load-multiple from sp without writeback, sp not in its list, only reads.
+              and not (re.match(r"^v?ldm", op) and "!" not in a and not re.search(r"\{[^}]*\bsp\b", a))) \
                 or "sp!" in a or re.search(r"\[sp(, #-?\d+)?\]!|\[sp\], #", a) \
                 or (op.startswith("msr") and "SP" in a.upper()):
             raise Error(f"{where(ins)}: writes sp in a way not understood")

@@ -86,7 +86,7 @@ pub struct Aligned {
 
 /// The sums of one iteration over the interior pixels sampled inside the window, offsets
 /// subtracted (window samples and template values less the template's mean: small sums).
-#[derive(Default)]
+#[derive(Clone, Default)]
 struct Sums {
     m: f32,
     w: f32,
@@ -103,16 +103,15 @@ struct Sums {
 }
 
 impl Sums {
-    fn add(&mut self, w: f32, t: f32, s: [f32; 4]) {
+    const ZERO: Sums = Sums { m: 0.0, w: 0.0, ww: 0.0, t: 0.0, tt: 0.0, wt: 0.0, sw: [0.0; 4], s: [0.0; 4], st: [0.0; 4], h: [0.0; 10] };
+
+    /// The template's side of a pixel's terms: `m`, `t`, `tt`, `s`, `st` and `H`.
+    fn add_fixed(&mut self, t: f32, s: [f32; 4]) {
         self.m += 1.0;
-        self.w += w;
-        self.ww += w * w;
         self.t += t;
         self.tt += t * t;
-        self.wt += w * t;
         let mut k = 0;
         for i in 0..4 {
-            self.sw[i] += s[i] * w;
             self.s[i] += s[i];
             self.st[i] += s[i] * t;
             for j in i..4 {
@@ -121,7 +120,24 @@ impl Sums {
             }
         }
     }
+
+    /// The window's side: `w`, `ww`, `wt` and `sw`.
+    fn add_window(&mut self, w: f32, t: f32, s: [f32; 4]) {
+        self.w += w;
+        self.ww += w * w;
+        self.wt += w * t;
+        for i in 0..4 {
+            self.sw[i] += s[i] * w;
+        }
+    }
 }
+
+/// The template's side of an iteration's sums over every used pixel, in the iterations'
+/// order ([`LkTemplate::fixed_sums`]): what an iteration whose samples all fall inside the
+/// window adds up, to the bit, so such an iteration sums only the window's side. Each field
+/// is summed on its own, so splitting a pixel's terms changes no sum.
+#[derive(Clone, Default)]
+pub struct FixedSums(Sums);
 
 /// `v` sampled bilinearly at `(x, y)` of `win` (`data` from its top-left, row pitch
 /// `stride`), or `None` outside `[0, w - 1] x [0, h - 1]`.
@@ -129,9 +145,9 @@ fn bilinear(data: &[u8], stride: usize, w: usize, h: usize, x: f32, y: f32) -> O
     if !(x >= 0.0 && y >= 0.0 && x <= (w - 1) as f32 && y <= (h - 1) as f32) {
         return None;
     }
-    let (fx, fy) = (libm::floorf(x), libm::floorf(y));
-    let (ax, ay) = (x - fx, y - fy);
-    let (x0, y0) = (fx as usize, fy as usize);
+    // Truncation is the floor here (x, y >= 0), exactly as `floorf` (a library call on the M4).
+    let (x0, y0) = (x as usize, y as usize);
+    let (ax, ay) = (x - x0 as f32, y - y0 as f32);
     // On the last column or row the weight of the next is zero: read the same one.
     let (x1, y1) = ((x0 + 1).min(w - 1), (y0 + 1).min(h - 1));
     let p = |x: usize, y: usize| data.get(y * stride + x).map(|&v| f32::from(v));
@@ -178,16 +194,47 @@ fn solve4(h: &[f32; 10], b: [f32; 4]) -> Option<[f32; 4]> {
     d.iter().all(|v| v.is_finite()).then_some(d)
 }
 
-impl<const P: usize> LkTemplate<P> {
+/// A template prepared for [`SimilarityTemplate::align`]: its Lucas-Kanade side
+/// ([`LkTemplate`], which also refines translations) and the template's side of every
+/// iteration's sums ([`FixedSums`]), both computed once per template.
+#[derive(Clone, Default)]
+pub struct SimilarityTemplate<const P: usize> {
+    lk: LkTemplate<P>,
+    fixed: FixedSums,
+}
+
+impl<const P: usize> SimilarityTemplate<P> {
+    /// Nothing prepared: aligns nothing.
+    pub const fn sized() -> Self {
+        SimilarityTemplate { lk: LkTemplate::sized(), fixed: FixedSums(Sums::ZERO) }
+    }
+
+    /// Prepares `tpl` (as [`LkTemplate::prepare`] over all its pixels); `false` when that fails.
+    pub fn prepare(&mut self, tpl: &WindowView<'_>) -> bool {
+        self.fixed = FixedSums::default();
+        if !self.lk.prepare(tpl, None) {
+            return false;
+        }
+        let mut sums = Sums::default();
+        let ok = self.lk.each_used(|_, _, t, s| sums.add_fixed(t, s)).is_some();
+        self.fixed = FixedSums(sums);
+        ok
+    }
+
+    /// The prepared template's Lucas-Kanade side (translation refinement).
+    pub fn lk(&self) -> &LkTemplate<P> {
+        &self.lk
+    }
+
     /// The similarity pose of the prepared template in `win` (a full-resolution view),
     /// starting from `start`; `None` when nothing is prepared, the window is not full
     /// resolution, fewer than [`MIN_INSIDE`] of the pixels sample inside it, the window is
     /// flat there, `H` is singular, or the iteration walks over [`MAX_WALK`] px or out of
     /// the scales [`MAX_SCALE`] allows.
-    pub fn align_similarity(&self, win: &WindowView<'_>, start: Pose) -> Option<Aligned> {
+    pub fn align(&self, win: &WindowView<'_>, start: Pose) -> Option<Aligned> {
         let (data, stride) = win.raw()?;
         let (w, h) = (win.width(), win.height());
-        let (iw, used, tg, t_mean) = self.interior()?;
+        let (iw, used, tg, t_mean) = self.lk.interior()?;
         if w == 0 || h == 0 || ![start.x, start.y, start.a, start.b].iter().all(|v| v.is_finite()) {
             return None;
         }
@@ -195,27 +242,31 @@ impl<const P: usize> LkTemplate<P> {
         let c = (iw as f32 - 1.0) / 2.0;
         let reach = sqrtf(2.0) * (c + 1.0);
         let need = MIN_INSIDE * tg.len() as f32;
+        // The interior's corners, from its centre: every pixel's sample lies within theirs,
+        // as each rounding in `Pose::map` is monotonic in `u` and in `v`.
+        let corners = [(-c, -c), (c, -c), (-c, used.len() as f32 - 1.0 - c), (c, used.len() as f32 - 1.0 - c)];
         let mut pose = start;
         let mut score = 0.0;
         for _ in 0..ITERATIONS {
-            let mut sums = Sums::default();
-            let mut k = 0;
-            for (j, &bits) in used.iter().enumerate() {
-                let v = j as f32 - c;
-                for i in 0..iw {
-                    if bits >> i & 1 == 0 {
-                        continue;
+            let all_inside = corners.iter().all(|&(u, v)| {
+                let (x, y) = pose.map(u, v);
+                x >= 0.0 && y >= 0.0 && x <= (w - 1) as f32 && y <= (h - 1) as f32
+            });
+            let mut sums = if all_inside { self.fixed.0.clone() } else { Sums::default() };
+            let mut missed = false;
+            self.lk.each_used(|u, v, t, s| {
+                let (x, y) = pose.map(u, v);
+                match bilinear(data, stride, w, h, x, y) {
+                    Some(sample) => {
+                        if !all_inside {
+                            sums.add_fixed(t, s);
+                        }
+                        sums.add_window(sample - t_mean, t, s);
                     }
-                    let [t, gx, gy] = *tg.get(k)?;
-                    k += 1;
-                    let u = i as f32 - c;
-                    let (x, y) = pose.map(u, v);
-                    if let Some(s) = bilinear(data, stride, w, h, x, y) {
-                        sums.add(s - t_mean, t - t_mean, [gx * u + gy * v, gy * u - gx * v, gx, gy]);
-                    }
+                    None => missed = true,
                 }
-            }
-            if sums.m < need {
+            })?;
+            if sums.m < need || (all_inside && missed) {
                 return None;
             }
             let (w_mean, t_mean_in) = (sums.w / sums.m, sums.t / sums.m);
@@ -250,9 +301,34 @@ impl<const P: usize> LkTemplate<P> {
     }
 }
 
+impl<const P: usize> LkTemplate<P> {
+    /// Visits the used interior pixels in order with their offset `(u, v)` from the
+    /// interior's centre, `T - mean T` and the steepest-descent images
+    /// `(gx u + gy v, gy u - gx v, gx, gy)`; `None` when nothing is prepared.
+    fn each_used(&self, mut f: impl FnMut(f32, f32, f32, [f32; 4])) -> Option<()> {
+        let (iw, used, tg, t_mean) = self.interior()?;
+        let c = (iw as f32 - 1.0) / 2.0;
+        let mut k = 0;
+        for (j, &bits) in used.iter().enumerate() {
+            let v = j as f32 - c;
+            for i in 0..iw {
+                if bits >> i & 1 == 0 {
+                    continue;
+                }
+                let [t, gx, gy] = *tg.get(k)?;
+                k += 1;
+                let u = i as f32 - c;
+                f(u, v, t - t_mean, [gx * u + gy * v, gy * u - gx * v, gx, gy]);
+            }
+        }
+        Some(())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::kernels::refine::INTERIOR;
     use std::vec::Vec;
 
     /// A smooth texture with detail in both directions, sampled at any real point.
@@ -275,9 +351,9 @@ mod tests {
             .collect()
     }
 
-    fn prepared(tpl: &[u8], n: usize) -> LkTemplate {
-        let mut lk = LkTemplate::new();
-        assert!(lk.prepare(&WindowView::packed(tpl, n, n).unwrap(), None));
+    fn prepared(tpl: &[u8], n: usize) -> SimilarityTemplate<INTERIOR> {
+        let mut lk = SimilarityTemplate::sized();
+        assert!(lk.prepare(&WindowView::packed(tpl, n, n).unwrap()));
         lk
     }
 
@@ -292,7 +368,7 @@ mod tests {
         let px = render(36, 36, 17.3, 16.6, scale, angle);
         let win = WindowView::packed(&px, 36, 36).unwrap();
         // Started as a translation-only tracker leaves it: 1 px off, no turn, no scale.
-        let found = lk.align_similarity(&win, Pose::new(16.5, 17.2, 1.0, 0.0)).expect("converges");
+        let found = lk.align(&win, Pose::new(16.5, 17.2, 1.0, 0.0)).expect("converges");
         let p = found.pose;
         assert!((p.x - 17.3).abs() < 0.03 && (p.y - 16.6).abs() < 0.03, "{p:?}");
         assert!((p.angle() - angle).abs() < 0.3f32.to_radians(), "{}", p.angle().to_degrees());
@@ -308,7 +384,7 @@ mod tests {
         let angle = -20f32.to_radians();
         let px = render(24, 24, 11.8, 11.2, 1.0, angle);
         let win = WindowView::packed(&px, 24, 24).unwrap();
-        let p = lk.align_similarity(&win, Pose::new(11.5, 11.5, 1.0, 0.0)).expect("converges").pose;
+        let p = lk.align(&win, Pose::new(11.5, 11.5, 1.0, 0.0)).expect("converges").pose;
         assert!((p.x - 11.8).abs() < 0.03 && (p.y - 11.2).abs() < 0.03, "{p:?}");
         assert!((p.angle() - angle).abs() < 0.3f32.to_radians(), "{}", p.angle().to_degrees());
     }
@@ -319,13 +395,13 @@ mod tests {
         let lk = prepared(&tpl, 20);
         let flat = [90u8; 36 * 36];
         let win = WindowView::packed(&flat, 36, 36).unwrap();
-        assert_eq!(lk.align_similarity(&win, Pose::new(17.0, 17.0, 1.0, 0.0)), None);
+        assert_eq!(lk.align(&win, Pose::new(17.0, 17.0, 1.0, 0.0)), None);
         let px = render(36, 36, 17.0, 17.0, 1.0, 0.0);
         let win = WindowView::packed(&px, 36, 36).unwrap();
         // Centred on the window's corner: a quarter of the pixels inside.
-        assert_eq!(lk.align_similarity(&win, Pose::new(0.0, 0.0, 1.0, 0.0)), None);
-        assert_eq!(lk.align_similarity(&win, Pose::new(f32::NAN, 17.0, 1.0, 0.0)), None);
-        assert_eq!(LkTemplate::new().align_similarity(&win, Pose::new(17.0, 17.0, 1.0, 0.0)), None);
+        assert_eq!(lk.align(&win, Pose::new(0.0, 0.0, 1.0, 0.0)), None);
+        assert_eq!(lk.align(&win, Pose::new(f32::NAN, 17.0, 1.0, 0.0)), None);
+        assert_eq!(SimilarityTemplate::<INTERIOR>::sized().align(&win, Pose::new(17.0, 17.0, 1.0, 0.0)), None);
     }
 
     #[test]

@@ -27,10 +27,10 @@
 //! ([`Adaptive::take`]); a frame in which the COOP decision followed something else discards it.
 use super::coop::guard::dist;
 use super::template::Template;
-use crate::kernels::matching::{best_match, Method};
-use crate::kernels::refine::{LkTemplate, INTERIOR};
+use crate::kernels::matching::{best_match_pyramid, Method};
+use crate::kernels::refine::INTERIOR;
 use crate::kernels::view::WindowView;
-use crate::kernels::warp::Pose;
+use crate::kernels::warp::{Pose, SimilarityTemplate};
 use crate::types::Point;
 
 /// Score against the current template under which a new template is proposed.
@@ -50,11 +50,11 @@ pub const ALIGN: f32 = 0.5;
 pub const RECLAIM: f32 = 0.95;
 
 /// The first template, prepared for alignment for up to `P` used pixels (as its tracker's
-/// [`LkTemplate`]: `(n - 2)²` for an `n x n` template), and the template proposed by the last
-/// window.
+/// [`crate::kernels::refine::LkTemplate`]: `(n - 2)²` for an `n x n` template), and the
+/// template proposed by the last window.
 pub struct Adaptive<const P: usize = INTERIOR> {
     first: Template,
-    first_lk: LkTemplate<P>,
+    first_sim: SimilarityTemplate<P>,
     pending: Option<Template>,
     /// The template proposed last is the first one.
     on_first: bool,
@@ -66,11 +66,11 @@ pub struct Adaptive<const P: usize = INTERIOR> {
 impl<const P: usize> Adaptive<P> {
     /// Adaptation anchored on `first` (the template cut at lock-on).
     pub fn new(first: &Template) -> Self {
-        let mut first_lk = LkTemplate::sized();
+        let mut first_sim = SimilarityTemplate::sized();
         if let Some(v) = first.view() {
-            first_lk.prepare(&v, None);
+            first_sim.prepare(&v);
         }
-        Adaptive { first: first.clone(), first_lk, pending: None, on_first: true, shape: (1.0, 0.0) }
+        Adaptive { first: first.clone(), first_sim, pending: None, on_first: true, shape: (1.0, 0.0) }
     }
 
     /// The point the current template measured `at` in `win`, refined by aligning the first
@@ -89,7 +89,7 @@ impl<const P: usize> Adaptive<P> {
         let (du, dv) = (self.first.anchor().x - c, self.first.anchor().y - c);
         let (a, b) = self.shape;
         let start = Pose { x: at.x - ox - (a * du - b * dv), y: at.y - oy - (b * du + a * dv), a, b };
-        let found = self.first_lk.align_similarity(win, start).filter(|f| f.score >= ALIGN)?;
+        let found = self.first_sim.align(win, start).filter(|f| f.score >= ALIGN)?;
         self.shape = (found.pose.a, found.pose.b);
         let (x, y) = found.pose.map(du, dv);
         let pose = Pose { x: found.pose.x + ox, y: found.pose.y + oy, ..found.pose };
@@ -123,13 +123,13 @@ impl<const P: usize> Adaptive<P> {
     /// [`CONFIRM`]).
     fn first_point(&self, win: &WindowView<'_>) -> Option<(Point, f32)> {
         let tv = self.first.view()?;
-        let m = best_match(Method::Zncc, win, &tv).ok()?;
+        let m = best_match_pyramid(Method::Zncc, win, &tv).ok()?;
         let score = m.score as f32;
         if score < CONFIRM {
             return None;
         }
         let (ox, oy) = win.origin();
-        let (x, y) = self.first_lk.refine(win, m.sub_x, m.sub_y).map_or((m.frame_x, m.frame_y), |(x, y)| (x + ox as f32, y + oy as f32));
+        let (x, y) = self.first_sim.lk().refine(win, m.sub_x, m.sub_y).map_or((m.frame_x, m.frame_y), |(x, y)| (x + ox as f32, y + oy as f32));
         Some((self.first.point_at(x, y), score))
     }
 

@@ -239,6 +239,69 @@ pub fn best_match(
     })
 }
 
+/// Windows with more placements than this are searched coarse to fine by
+/// [`best_match_pyramid`]: a 20x20 template's in windows over 30x30 (121), where the full
+/// search's cost passes what the coarse and fine searches cost together.
+pub const PYRAMID_FROM: usize = 128;
+
+/// Full-resolution placements searched on each side of the coarse match's two.
+const FINE_REACH: usize = 2;
+
+/// Capacity of [`best_match_pyramid`]'s half-resolution views: a 64x64 window (the adapting
+/// Foveal's widest is 52x52); a larger window is searched in full.
+const HALF_PIXELS: usize = 1024;
+
+/// [`best_match`] with a bounded cost (beyond the thesis, issue 21): a window with more than
+/// [`PYRAMID_FROM`] placements is searched at half resolution first (window and template
+/// [`halve`]d), then at full resolution within [`FINE_REACH`] px of the two placements the
+/// coarse one stands for, and as far around the window's centre, where a tracker's
+/// prediction puts the target (a repeating texture's near-copy can win the coarse search);
+/// the better of the two fine matches (the centre's on a tie). A 20x20 template in a 52x52
+/// window costs 289 placements of 100 pixels and 72 of 400 instead of 1,089 of 400. The
+/// result is in `win`'s pixels, as [`best_match`]'s; a smaller window (or one too large to
+/// halve) is [`best_match`] itself.
+pub fn best_match_pyramid(method: Method, win: &WindowView<'_>, tpl: &WindowView<'_>) -> Result<Match, MatchError> {
+    let (nx, ny) = placements(win, tpl)?;
+    let (mut wbuf, mut tbuf) = ([0u8; HALF_PIXELS], [0u8; HALF_PIXELS]);
+    let halves = (nx * ny > PYRAMID_FROM).then(|| Some((halve(win, &mut wbuf)?, halve(tpl, &mut tbuf)?))).flatten();
+    let Some((half_win, half_tpl)) = halves else { return best_match(method, win, tpl) };
+    let coarse = best_match(method, &half_win, &half_tpl)?;
+    // Full-resolution placements `lo..=hi` around `c..=c + 1`, within `0..n`.
+    let near = |c: usize, n: usize| (c.saturating_sub(FINE_REACH), (c + 1 + FINE_REACH).min(n - 1));
+    let fine = |x: usize, y: usize| -> Result<Match, MatchError> {
+        let ((x0, x1), (y0, y1)) = (near(x, nx), near(y, ny));
+        let sub = win.sub(x0, y0, x1 - x0 + tpl.width(), y1 - y0 + tpl.height()).ok_or(MatchError::TooLarge)?;
+        let m = best_match(method, &sub, tpl)?;
+        Ok(Match { x: m.x + x0, y: m.y + y0, sub_x: m.sub_x + x0 as f32, sub_y: m.sub_y + y0 as f32, ..m })
+    };
+    let centre = fine((nx - 1) / 2, (ny - 1) / 2);
+    let found = fine(2 * coarse.x, 2 * coarse.y);
+    match (centre, found) {
+        (Ok(c), Ok(f)) => Ok(if (method.maximises() && f.score > c.score) || (!method.maximises() && f.score < c.score) { f } else { c }),
+        (Ok(m), Err(_)) | (Err(_), Ok(m)) => Ok(m),
+        (Err(e), Err(_)) => Err(e),
+    }
+}
+
+/// `view` (full resolution) at half resolution in `buf`, each pixel the rounded mean of a
+/// 2x2 block: a pyramid level, which unlike every other pixel does not alias texture finer
+/// than 2 px into false matches. `None` when it has no pixel or does not fit `buf`.
+fn halve<'b>(view: &WindowView<'_>, buf: &'b mut [u8]) -> Option<WindowView<'b>> {
+    let (w, h) = (view.width() / 2, view.height() / 2);
+    if w == 0 || h == 0 {
+        return None;
+    }
+    let out = buf.get_mut(..w * h)?;
+    for (j, dst) in out.chunks_exact_mut(w).enumerate() {
+        let (a, b) = (view.row(2 * j)?, view.row(2 * j + 1)?);
+        for ((a, b), d) in a.chunks_exact(2).zip(b.chunks_exact(2)).zip(dst) {
+            let sum = u16::from(a[0]) + u16::from(a[1]) + u16::from(b[0]) + u16::from(b[1]);
+            *d = ((sum + 2) / 4) as u8;
+        }
+    }
+    WindowView::packed(out, w, h).ok()
+}
+
 /// The 25 %-resolution match of the Peripheral window (thesis 2.3): both views are
 /// decimated (every other pixel of every other row) and the result is in full-resolution
 /// window pixels.
