@@ -149,10 +149,12 @@ fn bilinear(data: &[u8], stride: usize, w: usize, h: usize, x: f32, y: f32) -> O
     let (x0, y0) = (x as usize, y as usize);
     let (ax, ay) = (x - x0 as f32, y - y0 as f32);
     // On the last column or row the weight of the next is zero: read the same one.
-    let (x1, y1) = ((x0 + 1).min(w - 1), (y0 + 1).min(h - 1));
-    let p = |x: usize, y: usize| data.get(y * stride + x).map(|&v| f32::from(v));
-    let top = p(x0, y0)? + ax * (p(x1, y0)? - p(x0, y0)?);
-    let bottom = p(x0, y1)? + ax * (p(x1, y1)? - p(x0, y1)?);
+    let (dx, dy) = (usize::from(x0 + 1 < w), if y0 + 1 < h { stride } else { 0 });
+    let at = y0 * stride + x0;
+    let p = |i: usize| data.get(i).map(|&v| f32::from(v));
+    let (p00, p10, p01, p11) = (p(at)?, p(at + dx)?, p(at + dy)?, p(at + dy + dx)?);
+    let top = p00 + ax * (p10 - p00);
+    let bottom = p01 + ax * (p11 - p01);
     Some(top + ay * (bottom - top))
 }
 

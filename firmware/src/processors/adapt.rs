@@ -11,13 +11,13 @@
 //! 1. Track with the current template `T_n`: the point `p_n` and its score `s_n`.
 //! 2. Only when `s_n < `[`REFRESH`] (the appearance has changed measurably) is a new template
 //!    proposed; while it holds, `T_n` is kept and nothing accumulates.
-//! 3. Drift correction: the first template `T_1` is aligned in the same window (zero-mean
-//!    NCC, as the adapting track matches, then
+//! 3. Drift correction: the first template `T_1` is aligned in the same window, near `p_n`
+//!    (zero-mean NCC within [`RECLAIM_REACH`] px, as the adapting track matches, then
 //!    Lucas-Kanade from its best placement). When it still matches (score `>=` [`CONFIRM`])
 //!    and lands within [`DRIFT`] px of `p_n`, the new template is cut at `T_1`'s point `p*`,
 //!    which carries no accumulated error.
 //!    When `T_1` matches as well as at lock-on (score `>=` [`RECLAIM`]) `T_1` itself is taken
-//!    back, whatever the distance: the object looks as it did, any drift is dropped, and a
+//!    back, wherever it lands: the object looks as it did, any drift is dropped, and a
 //!    rigid object is tracked with its first template as the thesis tracks it.
 //! 4. Otherwise (the object has turned too far for `T_1` to match) the new template is cut
 //!    at `p_n`: drift can accumulate only while the object looks unlike its first view, and
@@ -27,7 +27,7 @@
 //! ([`Adaptive::take`]); a frame in which the COOP decision followed something else discards it.
 use super::coop::guard::dist;
 use super::template::Template;
-use crate::kernels::matching::{best_match_pyramid, Method};
+use crate::kernels::matching::{best_match_near, Method};
 use crate::kernels::refine::INTERIOR;
 use crate::kernels::view::WindowView;
 use crate::kernels::warp::{Pose, SimilarityTemplate};
@@ -45,9 +45,13 @@ pub const DRIFT: f32 = 1.0;
 /// scale that a translated template's score suffers from, and what is left (blur, tilt, light)
 /// does not bias the aligned point as much as it lowers the score.
 pub const ALIGN: f32 = 0.5;
-/// Score from which the first template's point is taken at any distance: the object looks
-/// as it did at lock-on again, and whatever the updates accumulated is dropped.
+/// Score from which the first template's point is taken at any distance up to
+/// [`RECLAIM_REACH`]: the object looks as it did at lock-on again, and whatever the updates
+/// accumulated is dropped.
 pub const RECLAIM: f32 = 0.95;
+/// Farthest, in pixels a side, from the current template's point that the first template is
+/// searched (49 placements instead of the whole window's, which grows with the motion).
+pub const RECLAIM_REACH: usize = 3;
 
 /// The first template, prepared for alignment for up to `P` used pixels (as its tracker's
 /// [`crate::kernels::refine::LkTemplate`]: `(n - 2)²` for an `n x n` template), and the
@@ -103,7 +107,7 @@ impl<const P: usize> Adaptive<P> {
         if score >= REFRESH {
             return;
         }
-        let cut_at = match self.first_point(win) {
+        let cut_at = match self.first_point(win, at) {
             // The object looks as it did at lock-on: the first template itself, unchanged.
             Some((_, s)) if s >= RECLAIM => {
                 if !self.on_first {
@@ -120,15 +124,19 @@ impl<const P: usize> Adaptive<P> {
     }
 
     /// The first template's point in `win` and its score, when it still matches (score `>=`
-    /// [`CONFIRM`]).
-    fn first_point(&self, win: &WindowView<'_>) -> Option<(Point, f32)> {
+    /// [`CONFIRM`]) within [`RECLAIM_REACH`] px of `at` (where the current template put the
+    /// point: a drift of more would have been reclaimed before).
+    fn first_point(&self, win: &WindowView<'_>, at: Point) -> Option<(Point, f32)> {
         let tv = self.first.view()?;
-        let m = best_match_pyramid(Method::Zncc, win, &tv).ok()?;
+        let (ox, oy) = win.origin();
+        // The placement that puts the first template's anchor on `at`.
+        let placement = |p: f32, o: u32, anchor: f32| libm::roundf(p - o as f32 - anchor).max(0.0) as usize;
+        let (px, py) = (placement(at.x, ox, self.first.anchor().x), placement(at.y, oy, self.first.anchor().y));
+        let m = best_match_near(Method::Zncc, win, &tv, (px, py), (px, py), RECLAIM_REACH).ok()?;
         let score = m.score as f32;
         if score < CONFIRM {
             return None;
         }
-        let (ox, oy) = win.origin();
         let (x, y) = self.first_sim.lk().refine(win, m.sub_x, m.sub_y).map_or((m.frame_x, m.frame_y), |(x, y)| (x + ox as f32, y + oy as f32));
         Some((self.first.point_at(x, y), score))
     }
@@ -188,7 +196,7 @@ mod tests {
         let t = a.take().expect("a proposal");
         assert_eq!(Some(t), Template::capture(&cut(&moved, &win), at, 8));
         // Unchanged but moved, the block matches the first template exactly (NCC 1 >=
-        // RECLAIM): the first template is taken back, whatever the distance; once, as it is
+        // RECLAIM): the first template is taken back, 3.6 px away (within RECLAIM_REACH); once, as it is
         // then the template in use.
         let moved = frame(Some((33, 22)));
         a.propose(&cut(&moved, &win), at, 0.9, 8);

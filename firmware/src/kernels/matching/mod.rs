@@ -266,14 +266,8 @@ pub fn best_match_pyramid(method: Method, win: &WindowView<'_>, tpl: &WindowView
     let halves = (nx * ny > PYRAMID_FROM).then(|| Some((halve(win, &mut wbuf)?, halve(tpl, &mut tbuf)?))).flatten();
     let Some((half_win, half_tpl)) = halves else { return best_match(method, win, tpl) };
     let coarse = best_match(method, &half_win, &half_tpl)?;
-    // Full-resolution placements `lo..=hi` around `c..=c + 1`, within `0..n`.
-    let near = |c: usize, n: usize| (c.saturating_sub(FINE_REACH), (c + 1 + FINE_REACH).min(n - 1));
-    let fine = |x: usize, y: usize| -> Result<Match, MatchError> {
-        let ((x0, x1), (y0, y1)) = (near(x, nx), near(y, ny));
-        let sub = win.sub(x0, y0, x1 - x0 + tpl.width(), y1 - y0 + tpl.height()).ok_or(MatchError::TooLarge)?;
-        let m = best_match(method, &sub, tpl)?;
-        Ok(Match { x: m.x + x0, y: m.y + y0, sub_x: m.sub_x + x0 as f32, sub_y: m.sub_y + y0 as f32, ..m })
-    };
+    // A coarse placement stands for full-resolution `2c` and `2c + 1`.
+    let fine = |x: usize, y: usize| best_match_near(method, win, tpl, (x, y), (x + 1, y + 1), FINE_REACH);
     let centre = fine((nx - 1) / 2, (ny - 1) / 2);
     let found = fine(2 * coarse.x, 2 * coarse.y);
     match (centre, found) {
@@ -281,6 +275,27 @@ pub fn best_match_pyramid(method: Method, win: &WindowView<'_>, tpl: &WindowView
         (Ok(m), Err(_)) | (Err(_), Ok(m)) => Ok(m),
         (Err(e), Err(_)) => Err(e),
     }
+}
+
+/// [`best_match`] over the placements from `from - reach` to `to + reach` (top-left pixels,
+/// inclusive, clipped to the window's placements), in `win`'s pixels: a search around where
+/// the template is expected. A best placement on the range's edge is fitted with the
+/// neighbours inside it only.
+pub fn best_match_near(
+    method: Method,
+    win: &WindowView<'_>,
+    tpl: &WindowView<'_>,
+    from: (usize, usize),
+    to: (usize, usize),
+    reach: usize,
+) -> Result<Match, MatchError> {
+    let (nx, ny) = placements(win, tpl)?;
+    let range = |lo: usize, hi: usize, n: usize| (lo.saturating_sub(reach).min(n - 1), hi.saturating_add(reach).min(n - 1));
+    let ((x0, x1), (y0, y1)) = (range(from.0, to.0, nx), range(from.1, to.1, ny));
+    let (x0, y0) = (x0.min(x1), y0.min(y1));
+    let sub = win.sub(x0, y0, x1 - x0 + tpl.width(), y1 - y0 + tpl.height()).ok_or(MatchError::TooLarge)?;
+    let m = best_match(method, &sub, tpl)?;
+    Ok(Match { x: m.x + x0, y: m.y + y0, sub_x: m.sub_x + x0 as f32, sub_y: m.sub_y + y0 as f32, ..m })
 }
 
 /// `view` (full resolution) at half resolution in `buf`, each pixel the rounded mean of a
