@@ -50,7 +50,8 @@ pub const ALIGN: f32 = 0.5;
 /// accumulated is dropped.
 pub const RECLAIM: f32 = 0.95;
 /// Farthest, in pixels a side, from the current template's point that the first template is
-/// searched (49 placements instead of the whole window's, which grows with the motion).
+/// searched (49 placements instead of the whole window's, which grows with the motion): the
+/// drift that a turn away from the first view and back accumulates stays under it.
 pub const RECLAIM_REACH: usize = 3;
 
 /// The first template, prepared for alignment for up to `P` used pixels (as its tracker's
@@ -196,8 +197,8 @@ mod tests {
         let t = a.take().expect("a proposal");
         assert_eq!(Some(t), Template::capture(&cut(&moved, &win), at, 8));
         // Unchanged but moved, the block matches the first template exactly (NCC 1 >=
-        // RECLAIM): the first template is taken back, 3.6 px away (within RECLAIM_REACH); once, as it is
-        // then the template in use.
+        // RECLAIM): the first template is taken back 3.6 px away (within RECLAIM_REACH);
+        // once, as it is then the template in use.
         let moved = frame(Some((33, 22)));
         a.propose(&cut(&moved, &win), at, 0.9, 8);
         assert_eq!(a.take(), Some(template()));

@@ -240,12 +240,16 @@ pub fn best_match(
 }
 
 /// Windows with more placements than this are searched coarse to fine by
-/// [`best_match_pyramid`]: a 20x20 template's in windows over 30x30 (121), where the full
-/// search's cost passes what the coarse and fine searches cost together.
-pub const PYRAMID_FROM: usize = 128;
+/// [`best_match_pyramid`]: a 20x20 template's in windows of 28x28 (81) and more, where the
+/// full search's cost passes what the coarse and fine searches cost together.
+pub const PYRAMID_FROM: usize = 64;
 
 /// Full-resolution placements searched on each side of the coarse match's two.
 const FINE_REACH: usize = 2;
+
+/// The coarse match and the window's centre at most this many placements apart (a side) are
+/// searched as one range: 8x8 placements at most instead of two of 6x6.
+const FINE_JOIN: usize = 3;
 
 /// Capacity of [`best_match_pyramid`]'s half-resolution views: a 64x64 window (the adapting
 /// Foveal's widest is 52x52); a larger window is searched in full.
@@ -256,8 +260,10 @@ const HALF_PIXELS: usize = 1024;
 /// [`halve`]d), then at full resolution within [`FINE_REACH`] px of the two placements the
 /// coarse one stands for, and as far around the window's centre, where a tracker's
 /// prediction puts the target (a repeating texture's near-copy can win the coarse search);
-/// the better of the two fine matches (the centre's on a tie). A 20x20 template in a 52x52
-/// window costs 289 placements of 100 pixels and 72 of 400 instead of 1,089 of 400. The
+/// the better of the two fine matches (the centre's on a tie), or one search where the two
+/// are close. A 20x20 template in a 52x52 window costs 289 placements of 100 pixels and at
+/// most 72 of 400 instead of 1,089 of 400; in a 28x28 window 25 of 100 and about 40 of 400
+/// instead of 81 of 400. The
 /// result is in `win`'s pixels, as [`best_match`]'s; a smaller window (or one too large to
 /// halve) is [`best_match`] itself.
 pub fn best_match_pyramid(method: Method, win: &WindowView<'_>, tpl: &WindowView<'_>) -> Result<Match, MatchError> {
@@ -266,11 +272,15 @@ pub fn best_match_pyramid(method: Method, win: &WindowView<'_>, tpl: &WindowView
     let halves = (nx * ny > PYRAMID_FROM).then(|| Some((halve(win, &mut wbuf)?, halve(tpl, &mut tbuf)?))).flatten();
     let Some((half_win, half_tpl)) = halves else { return best_match(method, win, tpl) };
     let coarse = best_match(method, &half_win, &half_tpl)?;
-    // A coarse placement stands for full-resolution `2c` and `2c + 1`.
-    let fine = |x: usize, y: usize| best_match_near(method, win, tpl, (x, y), (x + 1, y + 1), FINE_REACH);
-    let centre = fine((nx - 1) / 2, (ny - 1) / 2);
-    let found = fine(2 * coarse.x, 2 * coarse.y);
-    match (centre, found) {
+    // A coarse placement stands for full-resolution `2c` and `2c + 1`; close to the centre's,
+    // one search covers both.
+    let (centre, found) = (((nx - 1) / 2, (ny - 1) / 2), (2 * coarse.x, 2 * coarse.y));
+    let (from, to) = ((centre.0.min(found.0), centre.1.min(found.1)), (centre.0.max(found.0) + 1, centre.1.max(found.1) + 1));
+    if to.0 - from.0 <= FINE_JOIN && to.1 - from.1 <= FINE_JOIN {
+        return best_match_near(method, win, tpl, from, to, FINE_REACH);
+    }
+    let fine = |(x, y): (usize, usize)| best_match_near(method, win, tpl, (x, y), (x + 1, y + 1), FINE_REACH);
+    match (fine(centre), fine(found)) {
         (Ok(c), Ok(f)) => Ok(if (method.maximises() && f.score > c.score) || (!method.maximises() && f.score < c.score) { f } else { c }),
         (Ok(m), Err(_)) | (Err(_), Ok(m)) => Ok(m),
         (Err(e), Err(_)) => Err(e),
