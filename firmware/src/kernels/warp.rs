@@ -84,29 +84,26 @@ pub struct Aligned {
     pub score: f32,
 }
 
-/// The sums of one iteration over the interior pixels sampled inside the window, offsets
-/// subtracted (window samples and template values less the template's mean: small sums).
+/// The template's side of one iteration's sums over the interior pixels sampled inside the
+/// window (template values less the template's mean: small sums). Summed once per template
+/// for iterations whose samples all fall inside the window ([`SimilarityTemplate`]): each
+/// field is summed on its own and in the pixels' order, so the sum is the same to the bit.
 #[derive(Clone, Default)]
-struct Sums {
+struct TemplateSums {
     m: f32,
-    w: f32,
-    ww: f32,
     t: f32,
     tt: f32,
-    wt: f32,
-    /// `Σ s W`, `Σ s`, `Σ s T` for each steepest-descent image.
-    sw: [f32; 4],
+    /// `Σ s`, `Σ s T` for each steepest-descent image.
     s: [f32; 4],
     st: [f32; 4],
     /// `H`, upper triangle row by row.
     h: [f32; 10],
 }
 
-impl Sums {
-    const ZERO: Sums = Sums { m: 0.0, w: 0.0, ww: 0.0, t: 0.0, tt: 0.0, wt: 0.0, sw: [0.0; 4], s: [0.0; 4], st: [0.0; 4], h: [0.0; 10] };
+impl TemplateSums {
+    const ZERO: TemplateSums = TemplateSums { m: 0.0, t: 0.0, tt: 0.0, s: [0.0; 4], st: [0.0; 4], h: [0.0; 10] };
 
-    /// The template's side of a pixel's terms: `m`, `t`, `tt`, `s`, `st` and `H`.
-    fn add_fixed(&mut self, t: f32, s: [f32; 4]) {
+    fn add(&mut self, t: f32, s: [f32; 4]) {
         self.m += 1.0;
         self.t += t;
         self.tt += t * t;
@@ -120,9 +117,22 @@ impl Sums {
             }
         }
     }
+}
 
-    /// The window's side: `w`, `ww`, `wt` and `sw`.
-    fn add_window(&mut self, w: f32, t: f32, s: [f32; 4]) {
+/// The window's side of one iteration's sums (samples less the template's mean): small
+/// enough to stay in registers through the pixel loop.
+#[derive(Clone, Copy, Default)]
+struct WindowSums {
+    w: f32,
+    ww: f32,
+    wt: f32,
+    /// `Σ s W` for each steepest-descent image.
+    sw: [f32; 4],
+}
+
+impl WindowSums {
+    #[inline(always)]
+    fn add(&mut self, w: f32, t: f32, s: [f32; 4]) {
         self.w += w;
         self.ww += w * w;
         self.wt += w * t;
@@ -131,13 +141,6 @@ impl Sums {
         }
     }
 }
-
-/// The template's side of an iteration's sums over every used pixel, in the iterations'
-/// order ([`LkTemplate::fixed_sums`]): what an iteration whose samples all fall inside the
-/// window adds up, to the bit, so such an iteration sums only the window's side. Each field
-/// is summed on its own, so splitting a pixel's terms changes no sum.
-#[derive(Clone, Default)]
-pub struct FixedSums(Sums);
 
 /// `v` sampled bilinearly at `(x, y)` of `win` (`data` from its top-left, row pitch
 /// `stride`), or `None` outside `[0, w - 1] x [0, h - 1]`.
@@ -198,28 +201,28 @@ fn solve4(h: &[f32; 10], b: [f32; 4]) -> Option<[f32; 4]> {
 
 /// A template prepared for [`SimilarityTemplate::align`]: its Lucas-Kanade side
 /// ([`LkTemplate`], which also refines translations) and the template's side of every
-/// iteration's sums ([`FixedSums`]), both computed once per template.
+/// iteration's sums over all its used pixels, both computed once per template.
 #[derive(Clone, Default)]
 pub struct SimilarityTemplate<const P: usize> {
     lk: LkTemplate<P>,
-    fixed: FixedSums,
+    fixed: TemplateSums,
 }
 
 impl<const P: usize> SimilarityTemplate<P> {
     /// Nothing prepared: aligns nothing.
     pub const fn sized() -> Self {
-        SimilarityTemplate { lk: LkTemplate::sized(), fixed: FixedSums(Sums::ZERO) }
+        SimilarityTemplate { lk: LkTemplate::sized(), fixed: TemplateSums::ZERO }
     }
 
     /// Prepares `tpl` (as [`LkTemplate::prepare`] over all its pixels); `false` when that fails.
     pub fn prepare(&mut self, tpl: &WindowView<'_>) -> bool {
-        self.fixed = FixedSums::default();
+        self.fixed = TemplateSums::ZERO;
         if !self.lk.prepare(tpl, None) {
             return false;
         }
-        let mut sums = Sums::default();
-        let ok = self.lk.each_used(|_, _, t, s| sums.add_fixed(t, s)).is_some();
-        self.fixed = FixedSums(sums);
+        let mut sums = TemplateSums::ZERO;
+        let ok = self.lk.each_used(|_, _, t, s| sums.add(t, s)).is_some();
+        self.fixed = sums;
         ok
     }
 
@@ -254,32 +257,33 @@ impl<const P: usize> SimilarityTemplate<P> {
                 let (x, y) = pose.map(u, v);
                 x >= 0.0 && y >= 0.0 && x <= (w - 1) as f32 && y <= (h - 1) as f32
             });
-            let mut sums = if all_inside { self.fixed.0.clone() } else { Sums::default() };
+            let mut fixed = if all_inside { self.fixed.clone() } else { TemplateSums::ZERO };
+            let mut seen = WindowSums::default();
             let mut missed = false;
             self.lk.each_used(|u, v, t, s| {
                 let (x, y) = pose.map(u, v);
                 match bilinear(data, stride, w, h, x, y) {
                     Some(sample) => {
                         if !all_inside {
-                            sums.add_fixed(t, s);
+                            fixed.add(t, s);
                         }
-                        sums.add_window(sample - t_mean, t, s);
+                        seen.add(sample - t_mean, t, s);
                     }
                     None => missed = true,
                 }
             })?;
-            if sums.m < need || (all_inside && missed) {
+            if fixed.m < need || (all_inside && missed) {
                 return None;
             }
-            let (w_mean, t_mean_in) = (sums.w / sums.m, sums.t / sums.m);
-            let (var_w, var_t) = (sums.ww - sums.w * w_mean, sums.tt - sums.t * t_mean_in);
-            if !(var_w > 1e-5 * sums.ww && var_t > 0.0) {
+            let (w_mean, t_mean_in) = (seen.w / fixed.m, fixed.t / fixed.m);
+            let (var_w, var_t) = (seen.ww - seen.w * w_mean, fixed.tt - fixed.t * t_mean_in);
+            if !(var_w > 1e-5 * seen.ww && var_t > 0.0) {
                 return None;
             }
-            score = (sums.wt - sums.w * t_mean_in) / sqrtf(var_w * var_t);
+            score = (seen.wt - seen.w * t_mean_in) / sqrtf(var_w * var_t);
             let gain = sqrtf(var_t / var_w);
-            let b = core::array::from_fn(|i| gain * (sums.sw[i] - w_mean * sums.s[i]) + t_mean_in * sums.s[i] - sums.st[i]);
-            let d = solve4(&sums.h, b)?;
+            let b = core::array::from_fn(|i| gain * (seen.sw[i] - w_mean * fixed.s[i]) + t_mean_in * fixed.s[i] - fixed.st[i]);
+            let d = solve4(&fixed.h, b)?;
             // Compose with the inverse of the step's warp (complex arithmetic).
             let (ra, rb) = (1.0 + d[0], d[1]);
             let norm = ra * ra + rb * rb;
@@ -307,6 +311,7 @@ impl<const P: usize> LkTemplate<P> {
     /// Visits the used interior pixels in order with their offset `(u, v)` from the
     /// interior's centre, `T - mean T` and the steepest-descent images
     /// `(gx u + gy v, gy u - gx v, gx, gy)`; `None` when nothing is prepared.
+    #[inline(always)]
     fn each_used(&self, mut f: impl FnMut(f32, f32, f32, [f32; 4])) -> Option<()> {
         let (iw, used, tg, t_mean) = self.interior()?;
         let c = (iw as f32 - 1.0) / 2.0;
