@@ -66,6 +66,10 @@ pub struct Adaptive<const P: usize = INTERIOR> {
     /// The first template's turn and scale in the last window it aligned in (`(a, b)` of
     /// its [`Pose`]): the next alignment starts from them.
     shape: (f32, f32),
+    /// This window's translation match of the current template when that is the first
+    /// ([`Adaptive::matched`]): the first template's own, which [`Adaptive::propose`] then
+    /// need not search for again.
+    first_match: Option<(Point, f32)>,
 }
 
 impl<const P: usize> Adaptive<P> {
@@ -75,7 +79,7 @@ impl<const P: usize> Adaptive<P> {
         if let Some(v) = first.view() {
             first_sim.prepare(&v);
         }
-        Adaptive { first: first.clone(), first_sim, pending: None, on_first: true, shape: (1.0, 0.0) }
+        Adaptive { first: first.clone(), first_sim, pending: None, on_first: true, shape: (1.0, 0.0), first_match: None }
     }
 
     /// The point the current template measured `at` in `win`, refined by aligning the first
@@ -101,14 +105,26 @@ impl<const P: usize> Adaptive<P> {
         Some((Point { x: x + ox, y: y + oy }, pose))
     }
 
+    /// The current template `tpl` matched at `point` (translation and Lucas-Kanade, before any
+    /// alignment) with `score` in this window: when `tpl` is the first template, that is the
+    /// first template's match, kept for [`Adaptive::propose`].
+    pub fn matched(&mut self, tpl: &Template, point: Point, score: f32) {
+        self.first_match = (*tpl == self.first).then_some((point, score));
+    }
+
     /// The current template measured `at` with `score` in `win`: proposes the next template
     /// (see the module documentation), replacing any earlier proposal.
     pub fn propose(&mut self, win: &WindowView<'_>, at: Point, score: f32, n: usize) {
         self.pending = None;
+        let first_match = self.first_match.take();
         if score >= REFRESH {
             return;
         }
-        let cut_at = match self.first_point(win, at) {
+        let first = match first_match {
+            Some(m) => Some(m).filter(|&(_, s)| s >= CONFIRM),
+            None => self.first_point(win, at),
+        };
+        let cut_at = match first {
             // The object looks as it did at lock-on: the first template itself, unchanged.
             Some((_, s)) if s >= RECLAIM => {
                 if !self.on_first {

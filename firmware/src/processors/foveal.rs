@@ -299,6 +299,9 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
                     None => (None, Work::None),
                 };
                 step.clear(work);
+                if let (Some(a), Some(f), Some(tpl)) = (self.adapt.as_mut(), found, self.template.as_ref()) {
+                    a.matched(tpl, f.point, f.score);
+                }
                 // An adapting track's point is the first template's, aligned under a
                 // similarity warp where it aligns.
                 let aligned = self.adapt.as_mut().zip(found).and_then(|(a, f)| a.align(win, f.point));
