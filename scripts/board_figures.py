@@ -4,7 +4,8 @@ Cortex-M4F instead of the TMS320C40) from a board run, `arm-none-eabi-size -A` a
 disassembly. Called by `scripts/board.sh --figures`; standard library only.
 
 usage: board_figures.py RUN.txt SIZE.txt DISASM.txt PROFILE.md [ELF [STM32 RUN SIZE DISASM ELF
-       [PARTNER RUN SIZE DISASM ELF]]] > docs/firmware-target.md
+       [PARTNER RUN SIZE DISASM ELF [PERIPHERAL RUN SIZE DISASM ELF [WATCH RUN SIZE DISASM ELF]]]]]
+       > docs/firmware-target.md
 
 PROFILE.md is scripts/board_profile.py's table of a COOP frame's instructions.
 
@@ -36,6 +37,7 @@ C40 = {
     "peripheral_sad_16in40": 20e-6 + 0.57e-6 * 256 * 625,
     "peripheral_ssd_16in40_dec": 20e-6 + 0.57e-6 * 64 * 169,
     "watch_motion_256": 20e-6 + 0.75e-6 * 65536,
+    "watch_strip": 20e-6 + 0.75e-6 * 16384,
     "corner_20": 20e-6 + 5e-6 * 400,
     "corner_24": 20e-6 + 5e-6 * 576,
     "corner_24_literal": 20e-6 + 5e-6 * 576,
@@ -51,6 +53,8 @@ WHAT = {
     "peripheral_sad_16in40": "SAD, same sizes",
     "peripheral_ssd_16in40_dec": "SSD at 25 % (8x8 in 20x20)",
     "watch_motion_256": "differencing, 256x256 Watch frame",
+    "watch_strip": "differencing, one 256x64 strip of it (a Watch strip processor)",
+    "peripheral_window": "a Peripheral window: the processor's step (SSD or zero-mean NCC at 25 %, 10x10 in 20x20 to 64x64)",
     "corner_20": "corner detector, 20x20 (ch. 3)",
     "corner_24": "corner detector, 24x24",
     "corner_24_literal": "the thesis's rules only (no line fit), 24x24",
@@ -146,22 +150,8 @@ def stm32(p, argv):
     p()
 
 
-def partner_image(p, argv):
-    """The "Per-processor images" section: the COOP partner's own image and its figures."""
-    run, flash, ram, stack, _, bound, lines = image(argv, "partner image")
-    frames = [int(m[1]) for m in re.finditer(r"^# icount partner_frame (\d+)", run, re.M)]
-    p("## Per-processor images")
-    p()
-    p("Issue 22 asks for one image a processor, as the thesis places them, each in at most 64 KiB")
-    p("of RAM (static plus the static stack bound) and 256 KiB of flash. `scripts/board.sh`")
-    p("builds the **COOP partner**'s (`--features stm32f405,partner`: `memory-stm32f405-64k.x`, 64")
-    p("KiB of the part's SRAM) and runs it on `netduinoplus2`: the corner kernels and the partner")
-    p("alone on both replays' recorded windows (`suite::run_partner`), its own window the Foveal")
-    p("window centred in the master's, where the master's `Follow` puts it. Its")
-    p(f"{lines} result lines equal the matching lines of `expected.txt` (the pairs' `*_cd` lines, the")
-    p("partner's corner each frame, and the corner kernels'), bit for bit; `coopwin-parity`'s")
-    p("`the_partner_alone_answers_as_in_the_pair` holds the host to the same.")
-    p()
+def image_table(p, flash, ram, stack, bound):
+    """A one-processor image's memory table: flash, static RAM, stack, and their budget."""
     p("| | bytes |")
     p("|---|---:|")
     p(f"| flash | {flash:,} of 262,144 |")
@@ -170,20 +160,96 @@ def partner_image(p, argv):
     p(f"| stack, static bound (`scripts/stack_bound.py`) | {bound:,} |")
     p(f"| **RAM, static + bound** | **{ram + bound:,}** of 65,536 |")
     p()
-    if frames:
-        p(f"On its own core the partner's frame (its window to its answer) takes at most {max(frames):,}")
-        p(f"instructions over the {len(frames)} frames of both replays (mean {sum(frames) / len(frames):,.0f}): a")
-        p(f"{FRAME / (max(frames) / HZ):.1f}x margin on the 8.8 ms period at one cycle per instruction.")
+
+
+def metered(run, key):
+    """The instruction counts of `key`'s metered steps in a run."""
+    return [int(m[1]) for m in re.finditer(rf"^# icount {key} (\d+)", run, re.M)]
+
+
+def per_processor(p, partner, peripheral, watch):
+    """The "Per-processor images" section: each processor's own image (its run, size,
+    disassembly and ELF, or None when not given) and its figures."""
+    p("## Per-processor images")
+    p()
+    p("Issue 22 asks for one image a processor, as the thesis places them, each in at most 64 KiB")
+    p("of RAM (static plus the static stack bound) and 256 KiB of flash. `scripts/board.sh`")
+    p("builds one a processor with `--features stm32f405,PROCESSOR` (`memory-stm32f405-64k.x`: 64")
+    p("KiB of the part's SRAM), runs it on `netduinoplus2` and compares its result lines with the")
+    p("matching lines of `expected.txt`, bit for bit; `coopwin-parity`'s `board_parity.rs` holds")
+    p("the host to the same selection. An image reads its inputs (the recorded or benchmark")
+    p("windows) from flash, where the partner's replay already did; what a processor keeps between")
+    p("windows (its state, a Watch's previous strip) and what a kernel packs a window into is RAM.")
+    p()
+    if partner:
+        run, flash, ram, stack, _, bound, lines = image(partner, "partner image")
+        frames = metered(run, "partner_frame")
+        p("**The COOP partner** (`partner`): the corner kernels and the partner alone on both")
+        p("replays' recorded windows (`suite::run_partner`), its own window the Foveal window centred")
+        p("in the master's, where the master's `Follow` puts it. Its")
+        p(f"{lines} result lines equal the matching lines of `expected.txt` (the pairs' `*_cd` lines, the")
+        p("partner's corner each frame, and the corner kernels'); `the_partner_alone_answers_as_in_the_pair`")
+        p("holds the host to the same.")
         p()
+        image_table(p, flash, ram, stack, bound)
+        if frames:
+            p(f"On its own core the partner's frame (its window to its answer) takes at most {max(frames):,}")
+            p(f"instructions over the {len(frames)} frames of both replays (mean {sum(frames) / len(frames):,.0f}): a")
+            p(f"{FRAME / (max(frames) / HZ):.1f}x margin on the 8.8 ms period at one cycle per instruction.")
+            p()
+    if peripheral:
+        run, flash, ram, stack, _, bound, lines = image(peripheral, "Peripheral image")
+        wins = metered(run, "peripheral_window")
+        p("**The Peripheral** (`peripheral`, `suite::run_peripheral`): its kernels (SSD and SAD of the")
+        p("16x16 template in the 40x40 window, SSD at 25 %) and the `Peripheral` processor on the Watch")
+        p("benchmark's frame, its template captured there at the centre of the Watch's motion as")
+        p("`Watch` captures it: the thesis's lock-on (`peripheral_lockon`: the motion area to a location")
+        p("for the Foveal window), its Detection mode after a loss far from the object")
+        p("(`peripheral_lost`: 40x40, then 64x64, then back to waiting for motion), and an adapting")
+        p("track's re-detection after the same loss (`peripheral_sweep`: zero-mean NCC, the two")
+        p("sizes, then the frame's 128x128 tiles, 64x64 samples each, the largest window it matches,")
+        p(f"until it finds the object). Its {lines} result lines equal `expected.txt`'s;")
+        p("`the_peripheral_alone_answers_as_in_the_suite_and_finds_the_object` holds the host to the")
+        p("same and checks each location it hands over against a brute-force search of the decimated")
+        p("template and against the motion area.")
+        p()
+        image_table(p, flash, ram, stack, bound)
+        if wins:
+            p(f"A Peripheral window (its arrival to its answer) takes at most {max(wins):,} instructions")
+            p(f"over the scenarios' {len(wins)} windows (mean {sum(wins) / len(wins):,.0f}), the largest a sweep's")
+            p(f"64x64 samples: a {FRAME / (max(wins) / HZ):.1f}x margin on the 8.8 ms period at one cycle per")
+            p("instruction.")
+            p()
+    if watch:
+        run, flash, ram, stack, _, bound, lines = image(watch, "Watch image")
+        strips = metered(run, "watch_strip")
+        p("**The Watch** (`watch`, `suite::run_watch`). A 256x256 previous frame is 64 KiB: one Watch")
+        p("processor cannot hold it beside anything else in 64 KiB. As MPDF places several Watch")
+        p("windows, each on its own processor (2.3.3, Table 2.2: two 256x20 strips), the frame is")
+        p("split into four 256x64 strips (`processors::watch::strip`), a Watch processor each, holding")
+        p("its previous strip and the window the unit delivers (16 KiB each). Their motion areas")
+        p("merge (`watch::merge`: the union of the boxes, the sum of the counts) into exactly the")
+        p("whole frame's: the image prints each strip's line and the merged `watch_motion_256` line,")
+        p("which must equal the one the host computes over the whole frame. `coopwin-firmware`'s")
+        p("`tests/watch_strips.rs` proves the merge equal to the whole-frame detector for any frame,")
+        p("threshold and split (proptest), and `the_watch_strips_merge_into_the_whole_frames_motion`")
+        p("for 1 to 20 strips of the benchmark pair. The Watch's rule on the merged area (its least")
+        p("count, the template captured at its centre) then applies as to one Watch's: the strips")
+        p(f"send their areas, counts included, to whichever processor merges them. Its {lines} result")
+        p("lines equal `expected.txt`'s.")
+        p()
+        image_table(p, flash, ram, stack, bound)
+        if strips:
+            p(f"A strip's differencing takes {max(strips):,} instructions at most (mean {sum(strips) / len(strips):,.0f}),")
+            p(f"a {FRAME / (max(strips) / HZ):.1f}x margin on the 8.8 ms period at one cycle per instruction, each")
+            p("strip on its own core.")
+            p()
     p("Not yet built: the NCC master's image. Its master (`Foveal<24, 324>`, the `# size` line's")
     p("`master`) with two `Step`s (a message carries a 1 KB template inline) and the NCC path's")
     p("stack (`matching::packed` and `best_match`'s score cache and packing buffers, the deepest")
     p("path above) come to more than 64 KiB; it needs the matcher's buffers sized by the")
     p("placements they hold, templates passed by handle in `Msg`, and a replay that feeds it the")
-    p("partner's `*_cd` results. The Peripheral (SSD at 25 %, windows up to 64x64) is estimated")
-    p("from its types at about 45 KB, to be measured in an image of its own. The Watch cannot hold")
-    p("a 256x256 previous frame (64 KiB) beside anything else in 64 KiB: it would difference at")
-    p("25 % (a 128x128 frame, 16 KiB) or in strips (as MPDF's Watch windows do).")
+    p("partner's `*_cd` results.")
     p()
 
 
@@ -309,8 +375,9 @@ def main():
     static_bound(p, sb, stack)
     if len(sys.argv) > 9:
         stm32(p, sys.argv[6:10])
-    if len(sys.argv) > 13:
-        partner_image(p, sys.argv[10:14])
+    extra = [sys.argv[k:k + 4] if len(sys.argv) >= k + 4 else None for k in (10, 14, 18)]
+    if any(extra):
+        per_processor(p, *extra)
     p("## Instructions per kernel")
     p()
     p("| kernel | instructions | Cortex-M4 at 168 MHz | C40 (model) | C40 / M4 |")
