@@ -272,8 +272,8 @@ fn peripheral_steps<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<()
 
 /// Runs `p` from the message `start` on the windows it asks for, cut from `frame` as the unit
 /// delivers them, until it hands a location to the Foveal processor or asks for none; a line a
-/// window: `{name} K win=X0,Y0,WxH placements=N approx=X,Y` (or `approx=none`). Metered as
-/// `peripheral_window`.
+/// window: `{name} K win=X0,Y0,WxH placements=N approx=X,Y` (or `approx=none`). Each window is
+/// metered as `name`.
 #[inline(never)]
 fn peripheral_run<W: Write, M: Meter>(
     out: &mut W,
@@ -288,7 +288,7 @@ fn peripheral_run<W: Write, M: Meter>(
         let Some(r) = want else { break };
         let full = frame.sub(usize::from(r.x0), usize::from(r.y0), usize::from(r.width), usize::from(r.height));
         let view = full.map(|v| if r.decimation == Decimation::Quarter { v.decimated() } else { v }).ok_or(SuiteError::Diverged(k))?;
-        let step = meter.once("peripheral_window", &mut || p.on_window(&view));
+        let step = meter.once(name, &mut || p.on_window(&view));
         write!(out, "{name} {k} win={},{},{}x{}", r.x0, r.y0, r.width, r.height)?;
         if let Work::Match { placements, .. } = step.work {
             write!(out, " placements={placements}")?;
