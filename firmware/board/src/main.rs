@@ -197,7 +197,7 @@ fn main() -> ! {
             fail("pins");
         }
     }
-    #[cfg(not(any(feature = "partner", feature = "peripheral", feature = "watch")))]
+    #[cfg(not(any(feature = "partner", feature = "peripheral", feature = "watch", feature = "master")))]
     sizes(&mut out);
     let top = core::ptr::addr_of!(_stack_start) as usize;
     let _ = writeln!(out, "# stack used={} painted_from={bottom:#x} top={top:#x}", stack_used(bottom));
@@ -208,11 +208,11 @@ fn main() -> ! {
 }
 
 #[cfg(any(
-    all(feature = "partner", feature = "peripheral"),
-    all(feature = "partner", feature = "watch"),
-    all(feature = "peripheral", feature = "watch")
+    all(feature = "partner", any(feature = "peripheral", feature = "watch", feature = "master")),
+    all(feature = "peripheral", any(feature = "watch", feature = "master")),
+    all(feature = "watch", feature = "master")
 ))]
-compile_error!("one processor's image at a time: `partner`, `peripheral` or `watch`");
+compile_error!("one processor's image at a time: `partner`, `peripheral`, `watch` or `master`");
 
 /// The suite this image runs: a processor's part of it (`partner`, `peripheral`, `watch`), or
 /// all of it.
@@ -223,12 +223,14 @@ fn run(out: &mut Out, meter: &mut Icount) -> Result<(), suite::SuiteError> {
     return suite::run_peripheral(out, meter);
     #[cfg(feature = "watch")]
     return suite::run_watch(out, meter);
-    #[cfg(not(any(feature = "partner", feature = "peripheral", feature = "watch")))]
+    #[cfg(feature = "master")]
+    return suite::run_master(out, meter);
+    #[cfg(not(any(feature = "partner", feature = "peripheral", feature = "watch", feature = "master")))]
     suite::run(out, meter)
 }
 
 /// What the replay holds on the stack: the pair, its processors and one of its answers.
-#[cfg(not(any(feature = "partner", feature = "peripheral", feature = "watch")))]
+#[cfg(not(any(feature = "partner", feature = "peripheral", feature = "watch", feature = "master")))]
 fn sizes(out: &mut Out) {
     use coopwin_firmware::processors::adapt::Adaptive;
     use coopwin_firmware::processors::{CornerPartner, Foveal, Step};

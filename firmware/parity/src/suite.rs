@@ -3,7 +3,7 @@
 //! float-format comparison for the M4F's single-precision FPU, and the COOP Foveal pair
 //! (4.2) replaying a recorded window stream. One line per result; floats as IEEE bits.
 use crate::pgm::{self, PgmError};
-use crate::stream::{Stream, StreamError};
+use crate::stream::{Frame, Stream, StreamError};
 use coopwin_firmware::kernels::confidence::{ConfidencePolicy, KalmanCoop, SseCoop};
 use coopwin_firmware::kernels::corner::{CornerDetector, CornerParams};
 use coopwin_firmware::kernels::fmath::sqrtf;
@@ -505,9 +505,8 @@ impl CoopPair {
     /// are in this frame, which ends before the replay's deepest calls, not in its caller's.
     #[inline(never)]
     pub fn new(params: Params) -> Self {
-        let guard = if params.adapt { GuardParams::adapting() } else { GuardParams::default() };
         CoopPair {
-            master: Foveal::sized(FovealKind::CoopMaster, params).with_policy(Policy::Guarded(Guard::new(guard))),
+            master: coop_master(params),
             partner: CornerPartner::sized(params),
             partner_window: None,
             corner: (None, (0, 0)),
@@ -566,6 +565,14 @@ impl CoopPair {
     }
 }
 
+/// The COOP master (4.2-4.3) with `params`, idle; an adapting master ([`Params::adapt`]) guards
+/// with the adapting track's parameters, as the testbench's does.
+#[inline(always)]
+fn coop_master(params: Params) -> Foveal<MASTER_SIDE, MASTER_LK> {
+    let guard = if params.adapt { GuardParams::adapting() } else { GuardParams::default() };
+    Foveal::sized(FovealKind::CoopMaster, params).with_policy(Policy::Guarded(Guard::new(guard)))
+}
+
 /// The corner the partner's answer sends its master, if it sent one.
 fn result(step: &Step) -> Option<Option<Point>> {
     step.sends.iter().find_map(|(d, m)| match m {
@@ -622,6 +629,8 @@ pub struct Replay<'a> {
     pub name: &'static str,
     /// The meter id of its frames.
     pub meter: &'static str,
+    /// The meter id of its master's frames alone (the master's image, [`run_master`]).
+    pub master_meter: &'static str,
     /// The pair adapts its template ([`Params::adaptive`]); otherwise the thesis's defaults.
     pub adapt: bool,
     /// The recorded stream (`fixtures/board/README.md`).
@@ -630,11 +639,11 @@ pub struct Replay<'a> {
 
 impl Replay<'static> {
     /// The thesis's pair (fixed template, 4.2-4.3) on `windows.bin`.
-    pub const THESIS: Replay<'static> = Replay { name: "tracker", meter: "coop_frame", adapt: false, windows: inputs::WINDOWS };
+    pub const THESIS: Replay<'static> = Replay { name: "tracker", meter: "coop_frame", master_meter: "master_frame", adapt: false, windows: inputs::WINDOWS };
     /// The adapting pair (`track`'s default, issue 21: [`Params::adaptive`]) on
     /// `windows_adaptive.bin`.
     pub const ADAPTIVE: Replay<'static> =
-        Replay { name: "adaptive", meter: "coop_frame_adaptive", adapt: true, windows: inputs::WINDOWS_ADAPTIVE };
+        Replay { name: "adaptive", meter: "coop_frame_adaptive", master_meter: "master_frame_adaptive", adapt: true, windows: inputs::WINDOWS_ADAPTIVE };
 }
 
 /// Replays `replay`'s stream through a [`CoopPair`]. Each frame the master must ask for the
@@ -642,42 +651,117 @@ impl Replay<'static> {
 #[inline(never)]
 pub fn tracker<W: Write, M: Meter>(out: &mut W, meter: &mut M, replay: &Replay<'_>) -> Result<(), SuiteError> {
     let s = Stream::parse(replay.windows).map_err(SuiteError::Stream)?;
-    let anchor = Point { x: s.anchor.0, y: s.anchor.1 };
-    let tpl = Template::from_parts(usize::from(s.side), anchor, s.template).ok_or(SuiteError::Template)?;
-    let params = if replay.adapt { Params::default().adaptive() } else { Params::default() };
+    let (tpl, params) = start_of(&s, replay)?;
     let mut pair = CoopPair::new(params);
     pair.start(tpl, Point { x: s.start.0, y: s.start.1 });
-    let (mut reports, mut cd) = (0u32, 0u32);
+    let mut tally = (0u32, 0u32);
     let name = replay.name;
     for (k, f) in s.frames().enumerate() {
         let k = k as u16;
-        let r = pair.want().ok_or(SuiteError::Diverged(k))?;
-        if (r.x0, r.y0, r.width, r.height) != (f.x0, f.y0, f.w, f.h) {
-            return Err(SuiteError::Diverged(k));
-        }
-        let (w, h) = (usize::from(f.w), usize::from(f.h));
-        let view = WindowView::new(f.pixels, w, h, w, u32::from(f.x0), u32::from(f.y0)).map_err(|_| SuiteError::View("window"))?;
+        let view = recorded(pair.want(), &f, k)?;
         let step = pair.frame(meter, replay.meter, &view, f.t).ok_or(SuiteError::Diverged(k))?;
-        write!(out, "{name} {k} win={},{}", f.x0, f.y0)?;
-        if (f.w, f.h) != (24, 24) {
-            write!(out, " size={}x{}", f.w, f.h)?;
-        }
-        match (step.report, step.lost) {
-            (Some((p, algo)), _) => {
-                reports += 1;
-                cd += u32::from(algo == Source::Cd);
-                write!(out, " x={:08x} y={:08x} algo={algo:?}", p.x.to_bits(), p.y.to_bits())?;
-                if let Some(sh) = step.shape {
-                    write!(out, " scale={:08x} angle={:08x}", sh.scale.to_bits(), sh.angle_deg.to_bits())?;
-                }
-                writeln!(out)?
-            }
-            (None, Some(p)) => writeln!(out, " lost={:08x},{:08x}", p.x.to_bits(), p.y.to_bits())?,
-            (None, None) => writeln!(out, " none")?,
-        }
+        decision_line(out, name, k, &f, step, &mut tally)?;
         corner_line(out, name, k, pair.corner.1, pair.corner.0)?;
     }
-    writeln!(out, "{name}_total frames={} reports={reports} cd={cd}", s.count)?;
+    writeln!(out, "{name}_total frames={} reports={} cd={}", s.count, tally.0, tally.1)?;
+    Ok(())
+}
+
+/// A replay's template and the pair's parameters.
+fn start_of(s: &Stream<'_>, replay: &Replay<'_>) -> Result<(Template, Params), SuiteError> {
+    let anchor = Point { x: s.anchor.0, y: s.anchor.1 };
+    let tpl = Template::from_parts(usize::from(s.side), anchor, s.template).ok_or(SuiteError::Template)?;
+    Ok((tpl, if replay.adapt { Params::default().adaptive() } else { Params::default() }))
+}
+
+/// Frame `k`'s recorded window as a view, if the processors asked for it (`want`); otherwise the
+/// replay has left the recorded run.
+fn recorded<'a>(want: Option<WindowRequest>, f: &Frame<'a>, k: u16) -> Result<WindowView<'a>, SuiteError> {
+    let r = want.ok_or(SuiteError::Diverged(k))?;
+    if (r.x0, r.y0, r.width, r.height) != (f.x0, f.y0, f.w, f.h) {
+        return Err(SuiteError::Diverged(k));
+    }
+    let (w, h) = (usize::from(f.w), usize::from(f.h));
+    WindowView::new(f.pixels, w, h, w, u32::from(f.x0), u32::from(f.y0)).map_err(|_| SuiteError::View("window"))
+}
+
+/// The line `{name} K win=X0,Y0 [size=WxH] x=.. y=.. algo=..` (or `lost=..`, `none`): the
+/// master's decision in frame `k`; `tally` counts the reports and those from the corner.
+fn decision_line<W: Write>(out: &mut W, name: &str, k: u16, f: &Frame<'_>, step: &Step, tally: &mut (u32, u32)) -> fmt::Result {
+    write!(out, "{name} {k} win={},{}", f.x0, f.y0)?;
+    if (f.w, f.h) != (24, 24) {
+        write!(out, " size={}x{}", f.w, f.h)?;
+    }
+    match (step.report, step.lost) {
+        (Some((p, algo)), _) => {
+            tally.0 += 1;
+            tally.1 += u32::from(algo == Source::Cd);
+            write!(out, " x={:08x} y={:08x} algo={algo:?}", p.x.to_bits(), p.y.to_bits())?;
+            if let Some(sh) = step.shape {
+                write!(out, " scale={:08x} angle={:08x}", sh.scale.to_bits(), sh.angle_deg.to_bits())?;
+            }
+            writeln!(out)
+        }
+        (None, Some(p)) => writeln!(out, " lost={:08x},{:08x}", p.x.to_bits(), p.y.to_bits()),
+        (None, None) => writeln!(out, " none"),
+    }
+}
+
+/// What the NCC master's image receives from its partner over the link: the partner's corner
+/// each frame, as the partner's own image prints it (`expected.txt`'s `{name}_cd` lines, which
+/// `scripts/board.sh` holds that image to).
+pub const PARTNER_RESULTS: &str = include_str!("../../../fixtures/board/expected.txt");
+
+/// The partner's results of replay `name` in frame order, from `results` (lines as
+/// [`PARTNER_RESULTS`]'s): `None` for a malformed line.
+fn partner_results<'a>(results: &'a str, name: &'a str) -> impl Iterator<Item = Option<Option<Point>>> + 'a {
+    results.lines().filter_map(move |l| {
+        let rest = l.strip_prefix(name)?.strip_prefix("_cd ")?;
+        // "K win=X0,Y0 x=BITS y=BITS" or "K win=X0,Y0 none".
+        let mut f = rest.split(' ').skip(2);
+        let bits = |v: Option<&str>, key: &str| {
+            v?.strip_prefix(key).and_then(|h| u32::from_str_radix(h, 16).ok()).map(f32::from_bits)
+        };
+        Some(match f.next() {
+            Some("none") => Some(None),
+            x => bits(x, "x=").zip(bits(f.next(), "y=")).map(|(x, y)| Some(Point { x, y })),
+        })
+    })
+}
+
+/// The COOP master's image (issue 22: one image a processor): the master alone on both
+/// replays' recorded windows, its partner's results read as the partner's image sends them
+/// ([`PARTNER_RESULTS`]), printing the pair's decision lines and totals.
+pub fn run_master<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
+    master(out, meter, &Replay::THESIS, PARTNER_RESULTS)?;
+    master(out, meter, &Replay::ADAPTIVE, PARTNER_RESULTS)
+}
+
+/// The master alone on `replay` (see [`run_master`]) with its partner's corners from `results`
+/// (lines as [`PARTNER_RESULTS`]'s): its window, then its partner's result, into one answer
+/// (the window's own only records the NCC result, 4.2), metered as the replay's
+/// `master_meter`.
+#[inline(never)]
+pub fn master<W: Write, M: Meter>(out: &mut W, meter: &mut M, replay: &Replay<'_>, results: &str) -> Result<(), SuiteError> {
+    let s = Stream::parse(replay.windows).map_err(SuiteError::Stream)?;
+    let (tpl, params) = start_of(&s, replay)?;
+    let mut master = coop_master(params);
+    let mut step = Step::new(Work::None);
+    master.set_template(tpl);
+    master.start_at_into(Point { x: s.start.0, y: s.start.1 }, &mut step);
+    let mut results = partner_results(results, replay.name);
+    let mut tally = (0u32, 0u32);
+    for (k, f) in s.frames().enumerate() {
+        let k = k as u16;
+        let view = recorded(step.request, &f, k)?;
+        let corner = results.next().flatten().ok_or(SuiteError::Diverged(k))?;
+        meter.once(replay.master_meter, &mut || {
+            master.on_window_into(&view, f.t, &mut step);
+            master.on_message_into(&Msg::Result(corner), f.t, &mut step);
+        });
+        decision_line(out, replay.name, k, &f, &step, &mut tally)?;
+    }
+    writeln!(out, "{}_total frames={} reports={} cd={}", replay.name, s.count, tally.0, tally.1)?;
     Ok(())
 }
 

@@ -95,6 +95,8 @@ const PERIPHERAL_IDS: [&str; 6] = [
     "peripheral_lost",
     "peripheral_sweep",
 ];
+/// The COOP master image's lines: the pair's decisions each frame and their totals.
+const MASTER_IDS: [&str; 4] = ["tracker", "tracker_total", "adaptive", "adaptive_total"];
 /// The Watch image's lines: each strip's area and the merged whole frame's.
 const WATCH_IDS: [&str; 2] = ["watch_strip", "watch_motion_256"];
 
@@ -222,4 +224,34 @@ fn the_watch_strips_merge_into_the_whole_frames_motion() {
             assert_eq!(merged, whole, "{n} strips at threshold {threshold}");
         }
     }
+}
+
+#[test]
+fn the_master_alone_decides_as_in_the_pair() {
+    // The master's image replays the recorded windows without its partner, taking the
+    // partner's corners from the partner's own lines: its decisions must be the pair's.
+    let mut alone = String::new();
+    suite::run_master(&mut alone, &mut NoMeter).unwrap();
+    assert_eq!(alone, lines_of(&lines(), &MASTER_IDS));
+    let frames = |b: &[u8]| usize::from(Stream::parse(b).unwrap().count);
+    let n = frames(suite::inputs::WINDOWS) + frames(suite::inputs::WINDOWS_ADAPTIVE);
+    assert_eq!(alone.lines().filter(|l| l.contains(" win=")).count(), n);
+    // The partner's results decide: without them (every corner `none`) the master never picks
+    // the corner, which the pair does.
+    assert!(alone.lines().any(|l| l.starts_with("tracker ") && l.ends_with("algo=Cd")));
+    let blind: String = suite::PARTNER_RESULTS
+        .lines()
+        .map(|l| match l.strip_prefix("tracker_cd ") {
+            Some(r) => format!("tracker_cd {} none\n", r.split(' ').take(2).collect::<Vec<_>>().join(" ")),
+            None => format!("{l}\n"),
+        })
+        .collect();
+    let mut without = String::new();
+    let r = suite::master(&mut without, &mut NoMeter, &Replay::THESIS, &blind);
+    assert!(!without.lines().any(|l| l.ends_with("algo=Cd")), "{without}");
+    // It no longer follows the recorded run: its window leaves the recording.
+    assert!(matches!(r, Err(suite::SuiteError::Diverged(_))), "{r:?}");
+    // A missing result is an error, not a guess.
+    let cut: String = suite::PARTNER_RESULTS.lines().filter(|l| !l.starts_with("tracker_cd 5 ")).map(|l| format!("{l}\n")).collect();
+    assert!(suite::master(&mut String::new(), &mut NoMeter, &Replay::THESIS, &cut).is_err());
 }
