@@ -4,8 +4,8 @@ Cortex-M4F instead of the TMS320C40) from a board run, `arm-none-eabi-size -A` a
 disassembly. Called by `scripts/board.sh --figures`; standard library only.
 
 usage: board_figures.py RUN.txt SIZE.txt DISASM.txt PROFILE.md [ELF [STM32 RUN SIZE DISASM ELF
-       [PARTNER RUN SIZE DISASM ELF [PERIPHERAL RUN SIZE DISASM ELF [WATCH RUN SIZE DISASM ELF]]]]]
-       > docs/firmware-target.md
+       [PARTNER RUN SIZE DISASM ELF [PERIPHERAL RUN SIZE DISASM ELF [WATCH RUN SIZE DISASM ELF
+       [MASTER RUN SIZE DISASM ELF]]]]]] > docs/firmware-target.md
 
 PROFILE.md is scripts/board_profile.py's table of a COOP frame's instructions.
 
@@ -126,12 +126,12 @@ def image(argv, name):
     flash, ram, stack, sections = memory(run, size)
     bound = sb["models"]["address-taken", sb["times"]]["total"]
     lines = sum(1 for line in run.splitlines() if line and not line.startswith("#"))
-    return run, flash, ram, stack, sections, bound, lines
+    return run, flash, ram, stack, sections, bound, lines, sb
 
 
 def stm32(p, argv):
     """The "On an STM32F405" section: the image linked for the part, and its figures."""
-    _, flash, ram, stack, sections, bound, lines = image(argv, "STM32F405")
+    _, flash, ram, stack, sections, bound, lines, _ = image(argv, "STM32F405")
     p("## On an STM32F405")
     p()
     p("`scripts/board.sh` also links the board for an STM32F405 (`--features stm32f405`,")
@@ -152,7 +152,7 @@ def stm32(p, argv):
     p()
 
 
-def image_table(p, flash, ram, stack, bound):
+def image_table(p, flash, ram, stack, bound, budget=65536):
     """A one-processor image's memory table: flash, static RAM, stack, and their budget."""
     p("| | bytes |")
     p("|---|---:|")
@@ -160,7 +160,7 @@ def image_table(p, flash, ram, stack, bound):
     p(f"| RAM, static | {ram:,} |")
     p(f"| stack, measured high-water | {stack:,} |")
     p(f"| stack, static bound (`scripts/stack_bound.py`) | {bound:,} |")
-    p(f"| **RAM, static + bound** | **{ram + bound:,}** of 65,536 |")
+    p(f"| **RAM, static + bound** | **{ram + bound:,}** of {budget:,} |")
     p()
 
 
@@ -169,7 +169,7 @@ def metered(run, key):
     return [int(m[1]) for m in re.finditer(rf"^# icount {key} (\d+)", run, re.M)]
 
 
-def per_processor(p, partner, peripheral, watch):
+def per_processor(p, partner, peripheral, watch, master):
     """The "Per-processor images" section: each processor's own image (its run, size,
     disassembly and ELF, or None when not given) and its figures."""
     p("## Per-processor images")
@@ -184,7 +184,7 @@ def per_processor(p, partner, peripheral, watch):
     p("windows (its state, a Watch's previous strip) and what a kernel packs a window into is RAM.")
     p()
     if partner:
-        run, flash, ram, stack, _, bound, lines = image(partner, "partner image")
+        run, flash, ram, stack, _, bound, lines, _ = image(partner, "partner image")
         frames = metered(run, "partner_frame")
         p("**The COOP partner** (`partner`): the corner kernels and the partner alone on both")
         p("replays' recorded windows (`suite::run_partner`), its own window the Foveal window centred")
@@ -200,7 +200,7 @@ def per_processor(p, partner, peripheral, watch):
             p(f"{FRAME / (max(frames) / HZ):.1f}x margin on the 8.8 ms period at one cycle per instruction.")
             p()
     if peripheral:
-        run, flash, ram, stack, _, bound, lines = image(peripheral, "Peripheral image")
+        run, flash, ram, stack, _, bound, lines, _ = image(peripheral, "Peripheral image")
         wins = metered(run, "peripheral_lockon") + metered(run, "peripheral_lost")
         sweep = metered(run, "peripheral_sweep")
         p("**The Peripheral** (`peripheral`, `suite::run_peripheral`): its kernels (SSD and SAD of the")
@@ -226,7 +226,7 @@ def per_processor(p, partner, peripheral, watch):
             p("failed, one tile a window, and the Foveal track waits for it either way.")
             p()
     if watch:
-        run, flash, ram, stack, _, bound, lines = image(watch, "Watch image")
+        run, flash, ram, stack, _, bound, lines, _ = image(watch, "Watch image")
         strips = metered(run, "watch_strip")
         p("**The Watch** (`watch`, `suite::run_watch`). A 256x256 previous frame is 64 KiB: one Watch")
         p("processor cannot hold it beside anything else in 64 KiB. As MPDF places several Watch")
@@ -249,13 +249,43 @@ def per_processor(p, partner, peripheral, watch):
             p(f"a {FRAME / (max(strips) / HZ):.1f}x margin on the 8.8 ms period at one cycle per instruction, each")
             p("strip on its own core.")
             p()
-    p("Not yet built: the NCC master's image. Its master (`Foveal<24, 324>`, the `# size` line's")
-    p("`master`) with two `Step`s (a message carries a 1 KB template inline) and the NCC path's")
-    p("stack (`matching::packed` and `best_match`'s score cache and packing buffers, the deepest")
-    p("path above) come to more than 64 KiB; it needs the matcher's buffers sized by the")
-    p("placements they hold, templates passed by handle in `Msg`, and a replay that feeds it the")
-    p("partner's `*_cd` results.")
-    p()
+    if master:
+        run, flash, ram, stack, _, bound, lines, sb = image(master, "NCC master image")
+        frames = metered(run, "master_frame") + metered(run, "master_frame_adaptive")
+        funcs = sb["funcs"]
+        path = [(stack_bound.brief(funcs[a].name), add) for a, add, _ in sb["models"]["address-taken", sb["times"]]["path"]
+                if not isinstance(a, tuple)]
+        p("**The NCC master** (`master`, `suite::run_master`): the COOP master alone on both replays'")
+        p("recorded windows, its partner's corner each frame read from the partner's own lines of")
+        p("`expected.txt` (what that image sends it over the link), printing the pair's decision")
+        p(f"lines and totals: its {lines} result lines equal `expected.txt`'s.")
+        p("`the_master_alone_decides_as_in_the_pair` holds the host to the same, and shows the")
+        p("partner's results decide (without them the master never picks the corner and leaves the")
+        p("recorded run). Built in place (`lone_master`, never inlined) the master and its one answer")
+        p(f"take the replay's frame. Its measured stack, {stack:,} bytes, fits 64 KiB, but its static")
+        p(f"bound, {bound:,}, does not (by {ram + bound - 65536:,} bytes), so this image is still linked into")
+        p("the part's 128 KB (`memory-stm32f405.x`) and `scripts/board.sh` holds it to that:")
+        p()
+        image_table(p, flash, ram, stack, bound, 131072)
+        p("Its deepest path: " + ", ".join(f"`{n}` {v:,}" for n, v in path if v >= 512) + ".")
+        p("What stands over 64 KiB is the NCC path's fixed-capacity buffers, sized for the largest")
+        p("window and placement count any processor matches (a 128x128 Peripheral window at 25 %,")
+        p("1,024 placements): `best_match`'s frame, `row_dot_products`' strips, and")
+        p("`matching::packed`'s two 4 KiB packing buffers, which the bound counts although the")
+        p("replay's windows are packed and never go through them (the measured chain skips that")
+        p("frame). The master's windows have 25 placements (20x20 in 24x24; an adapting master's at")
+        p("most 17x17 in 36x36). Left to do: those buffers sized by the placements and window the")
+        p("caller holds (a const generic per processor), templates passed by handle instead of inline")
+        p("in `Msg` (the answer is 4 KiB for four template-sized messages), and the master's 16 KiB")
+        p("`CornerDetector<24>`, used only to find a new template's corner support, borrowed as")
+        p("scratch rather than held.")
+        p()
+        if frames:
+            p(f"The master's frame alone (its window and its partner's result to its decision) takes at")
+            p(f"most {max(frames):,} instructions over both replays' {len(frames)} frames (the adapting replay's")
+            p("alignment and zero-mean NCC; the thesis's replay at most")
+            p(f"{max(metered(run, 'master_frame')):,}).")
+            p()
 
 
 def main():
@@ -380,7 +410,7 @@ def main():
     static_bound(p, sb, stack)
     if len(sys.argv) > 9:
         stm32(p, sys.argv[6:10])
-    extra = [sys.argv[k:k + 4] if len(sys.argv) >= k + 4 else None for k in (10, 14, 18)]
+    extra = [sys.argv[k:k + 4] if len(sys.argv) >= k + 4 else None for k in (10, 14, 18, 22)]
     if any(extra):
         per_processor(p, *extra)
     p("## Instructions per kernel")

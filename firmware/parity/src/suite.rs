@@ -573,6 +573,13 @@ fn coop_master(params: Params) -> Foveal<MASTER_SIDE, MASTER_LK> {
     Foveal::sized(FovealKind::CoopMaster, params).with_policy(Policy::Guarded(Guard::new(guard)))
 }
 
+/// [`coop_master`] returned into its caller's slot: never inlined, so whatever temporaries the
+/// compiler builds it through end with this frame, as [`CoopPair::new`]'s do.
+#[inline(never)]
+fn lone_master(params: Params) -> Foveal<MASTER_SIDE, MASTER_LK> {
+    coop_master(params)
+}
+
 /// The corner the partner's answer sends its master, if it sent one.
 fn result(step: &Step) -> Option<Option<Point>> {
     step.sends.iter().find_map(|(d, m)| match m {
@@ -745,7 +752,7 @@ pub fn run_master<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), 
 pub fn master<W: Write, M: Meter>(out: &mut W, meter: &mut M, replay: &Replay<'_>, results: &str) -> Result<(), SuiteError> {
     let s = Stream::parse(replay.windows).map_err(SuiteError::Stream)?;
     let (tpl, params) = start_of(&s, replay)?;
-    let mut master = coop_master(params);
+    let mut master = lone_master(params);
     let mut step = Step::new(Work::None);
     master.set_template(tpl);
     master.start_at_into(Point { x: s.start.0, y: s.start.1 }, &mut step);
