@@ -267,7 +267,8 @@ def per_processor(p, partner, peripheral, watch, master):
         p("the part's 128 KB (`memory-stm32f405.x`) and `scripts/board.sh` holds it to that:")
         p()
         image_table(p, flash, ram, stack, bound, 131072)
-        p("Its deepest path: " + ", ".join(f"`{n}` {v:,}" for n, v in path if v >= 512) + ".")
+        p(textwrap.fill("Its deepest path (bytes each adds): " + ", ".join(f"`{n}`\0{v:,}".replace(" ", "\0") for n, v in path if v >= 512)
+                        + ".", 92, break_on_hyphens=False, break_long_words=False).replace("\0", " "))
         p("What stands over 64 KiB is the NCC path's fixed-capacity buffers, sized for the largest")
         p("window and placement count any processor matches (a 128x128 Peripheral window at 25 %,")
         p("1,024 placements): `best_match`'s frame, `row_dot_products`' strips, and")
@@ -277,7 +278,7 @@ def per_processor(p, partner, peripheral, watch, master):
         p("most 17x17 in 36x36). Left to do: those buffers sized by the placements and window the")
         p("caller holds (a const generic per processor), templates passed by handle instead of inline")
         p("in `Msg` (the answer is 4 KiB for four template-sized messages), and the master's 16 KiB")
-        p("`CornerDetector<24>`, used only to find a new template's corner support, borrowed as")
+        p("`CornerDetector<24>`, which the master uses only to find a template's corner support, borrowed as")
         p("scratch rather than held.")
         p()
         if frames:
