@@ -152,6 +152,12 @@ def stm32(p, argv):
     p()
 
 
+def wrap(text, **kw):
+    """`text` as a paragraph wrapped at 92 columns, never inside a `code span`."""
+    keep = re.sub(r"`[^`]*`", lambda m: m[0].replace(" ", "\0"), text)
+    return textwrap.fill(keep, 92, break_on_hyphens=False, break_long_words=False, **kw).replace("\0", " ")
+
+
 def image_table(p, flash, ram, stack, bound, budget=65536):
     """A one-processor image's memory table: flash, static RAM, stack, and their budget."""
     p("| | bytes |")
@@ -164,6 +170,22 @@ def image_table(p, flash, ram, stack, bound, budget=65536):
     p()
 
 
+def one_image(p, argv, name, intro, budget=65536):
+    """A one-processor image's paragraph and memory table; `intro` makes the paragraph from the
+    image's figures (a dict: lines, stack, bound, ram). Returns its run and stack analysis."""
+    run, flash, ram, stack, _, bound, lines, sb = image(argv, name)
+    p(wrap(intro(dict(lines=lines, stack=stack, bound=bound, ram=ram))))
+    p()
+    image_table(p, flash, ram, stack, bound, budget)
+    return run, sb
+
+
+def worst(counts):
+    """The worst of a step's instruction `counts`, their mean, and its margin on the frame period."""
+    return (f"at most {max(counts):,} instructions (mean {sum(counts) / len(counts):,.0f}), a "
+            f"{FRAME / (max(counts) / HZ):.1f}x margin on the 8.8 ms period at one cycle per instruction")
+
+
 def metered(run, key):
     """The instruction counts of `key`'s metered steps in a run."""
     return [int(m[1]) for m in re.finditer(rf"^# icount {key} (\d+)", run, re.M)]
@@ -172,120 +194,110 @@ def metered(run, key):
 def per_processor(p, partner, peripheral, watch, master):
     """The "Per-processor images" section: each processor's own image (its run, size,
     disassembly and ELF, or None when not given) and its figures."""
+    para = lambda text: p(wrap(text))
     p("## Per-processor images")
     p()
-    p("Issue 22 asks for one image a processor, as the thesis places them, each in at most 64 KiB")
-    p("of RAM (static plus the static stack bound) and 256 KiB of flash. `scripts/board.sh`")
-    p("builds one a processor with `--features stm32f405,PROCESSOR` (`memory-stm32f405-64k.x`: 64")
-    p("KiB of the part's SRAM), runs it on `netduinoplus2` and compares its result lines with the")
-    p("matching lines of `expected.txt`, bit for bit; `coopwin-parity`'s `board_parity.rs` holds")
-    p("the host to the same selection. An image reads its inputs (the recorded or benchmark")
-    p("windows) from flash, where the partner's replay already did; what a processor keeps between")
-    p("windows (its state, a Watch's previous strip) and what a kernel packs a window into is RAM.")
+    para("Issue 22 asks for one image a processor, as the thesis places them, each in at most 64 KiB "
+         "of RAM (static plus the static stack bound) and 256 KiB of flash. `scripts/board.sh` builds "
+         "one a processor with `--features stm32f405,PROCESSOR` (`memory-stm32f405-64k.x`: 64 KiB of "
+         "the part's SRAM), runs it on `netduinoplus2` and compares its result lines with the matching "
+         "lines of `expected.txt`, bit for bit; `coopwin-parity`'s `board_parity.rs` holds the host to "
+         "the same selection. An image reads its inputs (the recorded or benchmark windows) from flash, "
+         "where the partner's replay already did; what a processor keeps between windows (its state, a "
+         "Watch's previous strip) and what a kernel packs a window into is RAM.")
     p()
     if partner:
-        run, flash, ram, stack, _, bound, lines, _ = image(partner, "partner image")
+        run, _ = one_image(p, partner, "partner image", lambda f: (
+            "**The COOP partner** (`partner`): the corner kernels and the partner alone on both "
+            "replays' recorded windows (`suite::run_partner`), its own window the Foveal window centred "
+            f"in the master's, where the master's `Follow` puts it. Its {f['lines']} result lines equal the "
+            "matching lines of `expected.txt` (the pairs' `*_cd` lines, the partner's corner each frame, "
+            "and the corner kernels'); `the_partner_alone_answers_as_in_the_pair` holds the host to the "
+            "same."))
         frames = metered(run, "partner_frame")
-        p("**The COOP partner** (`partner`): the corner kernels and the partner alone on both")
-        p("replays' recorded windows (`suite::run_partner`), its own window the Foveal window centred")
-        p("in the master's, where the master's `Follow` puts it. Its")
-        p(f"{lines} result lines equal the matching lines of `expected.txt` (the pairs' `*_cd` lines, the")
-        p("partner's corner each frame, and the corner kernels'); `the_partner_alone_answers_as_in_the_pair`")
-        p("holds the host to the same.")
-        p()
-        image_table(p, flash, ram, stack, bound)
         if frames:
-            p(f"On its own core the partner's frame (its window to its answer) takes at most {max(frames):,}")
-            p(f"instructions over the {len(frames)} frames of both replays (mean {sum(frames) / len(frames):,.0f}): a")
-            p(f"{FRAME / (max(frames) / HZ):.1f}x margin on the 8.8 ms period at one cycle per instruction.")
+            para(f"On its own core the partner's frame (its window to its answer) takes {worst(frames)}, "
+                 f"over the {len(frames)} frames of both replays.")
             p()
     if peripheral:
-        run, flash, ram, stack, _, bound, lines, _ = image(peripheral, "Peripheral image")
+        run, _ = one_image(p, peripheral, "Peripheral image", lambda f: (
+            "**The Peripheral** (`peripheral`, `suite::run_peripheral`): its kernels (SSD and SAD of "
+            "the 16x16 template in the 40x40 window, SSD at 25 %) and the `Peripheral` processor on the "
+            "Watch benchmark's frame, its template captured there at the centre of the Watch's motion as "
+            "`Watch` captures it: the thesis's lock-on (`peripheral_lockon`: the motion area to a "
+            "location for the Foveal window), its Detection mode after a loss far from the object "
+            "(`peripheral_lost`: 40x40, then 64x64, then back to waiting for motion), and an adapting "
+            "track's re-detection after the same loss (`peripheral_sweep`: zero-mean NCC, the two sizes, "
+            "then the frame's 128x128 tiles, 64x64 samples each, the largest window it matches, until it "
+            f"finds the object). Its {f['lines']} result lines equal `expected.txt`'s; "
+            "`the_peripheral_alone_answers_as_in_the_suite_and_finds_the_object` holds the host to the "
+            "same and checks each location it hands over against a brute-force search of the decimated "
+            "template and against the motion area."))
         wins = metered(run, "peripheral_lockon") + metered(run, "peripheral_lost")
         sweep = metered(run, "peripheral_sweep")
-        p("**The Peripheral** (`peripheral`, `suite::run_peripheral`): its kernels (SSD and SAD of the")
-        p("16x16 template in the 40x40 window, SSD at 25 %) and the `Peripheral` processor on the Watch")
-        p("benchmark's frame, its template captured there at the centre of the Watch's motion as")
-        p("`Watch` captures it: the thesis's lock-on (`peripheral_lockon`: the motion area to a location")
-        p("for the Foveal window), its Detection mode after a loss far from the object")
-        p("(`peripheral_lost`: 40x40, then 64x64, then back to waiting for motion), and an adapting")
-        p("track's re-detection after the same loss (`peripheral_sweep`: zero-mean NCC, the two")
-        p("sizes, then the frame's 128x128 tiles, 64x64 samples each, the largest window it matches,")
-        p(f"until it finds the object). Its {lines} result lines equal `expected.txt`'s;")
-        p("`the_peripheral_alone_answers_as_in_the_suite_and_finds_the_object` holds the host to the")
-        p("same and checks each location it hands over against a brute-force search of the decimated")
-        p("template and against the motion area.")
-        p()
-        image_table(p, flash, ram, stack, bound)
         if wins and sweep:
-            p(f"A thesis Peripheral window (its arrival to its answer, SSD) takes at most {max(wins):,}")
-            p(f"instructions over the lock-on's and the search's {len(wins)} windows: a {FRAME / (max(wins) / HZ):.1f}x margin on")
-            p("the 8.8 ms period at one cycle per instruction. An adapting sweep's windows take up to")
-            p(f"{max(sweep):,} ({fmt_t(max(sweep) / HZ)} at 168 MHz, {max(sweep) / HZ / FRAME:.1f} frame periods): zero-mean NCC over")
-            p("64x64 samples, ranked exactly in 128-bit integers; a sweep runs only after both sizes")
-            p("failed, one tile a window, and the Foveal track waits for it either way.")
+            para(f"A thesis Peripheral window (its arrival to its answer, SSD) takes at most {max(wins):,} "
+                 f"instructions over the lock-on's and the search's {len(wins)} windows: a "
+                 f"{FRAME / (max(wins) / HZ):.1f}x margin on the 8.8 ms period at one cycle per "
+                 f"instruction. An adapting sweep's windows take up to {max(sweep):,} "
+                 f"({fmt_t(max(sweep) / HZ)} at 168 MHz, {max(sweep) / HZ / FRAME:.1f} frame periods): "
+                 "zero-mean NCC over 64x64 samples, ranked exactly in 128-bit integers; a sweep runs only "
+                 "after both sizes failed, one tile a window, and the Foveal track waits for it either way.")
             p()
     if watch:
-        run, flash, ram, stack, _, bound, lines, _ = image(watch, "Watch image")
+        run, _ = one_image(p, watch, "Watch image", lambda f: (
+            "**The Watch** (`watch`, `suite::run_watch`). A 256x256 previous frame is 64 KiB: one "
+            "Watch processor cannot hold it beside anything else in 64 KiB. As MPDF places several Watch "
+            "windows, each on its own processor (2.3.3, Table 2.2: two 256x20 strips), the frame is "
+            "split into four 256x64 strips (`processors::watch::strip`), a Watch processor each, holding "
+            "its previous strip and the window the unit delivers (16 KiB each). Their motion areas merge "
+            "(`watch::merge`: the union of the boxes, the sum of the counts) into exactly the whole "
+            "frame's: the image prints each strip's line and the merged `watch_motion_256` line, which "
+            "must equal the one the host computes over the whole frame. `coopwin-firmware`'s "
+            "`tests/watch_strips.rs` proves the merge equal to the whole-frame detector for any frame, "
+            "threshold and split (proptest), and `the_watch_strips_merge_into_the_whole_frames_motion` "
+            "for 1 to 20 strips of the benchmark pair. The Watch's rule on the merged area (its least "
+            "count, the template captured at its centre) then applies as to one Watch's: the strips send "
+            f"their areas, counts included, to whichever processor merges them. Its {f['lines']} result lines "
+            "equal `expected.txt`'s."))
         strips = metered(run, "watch_strip")
-        p("**The Watch** (`watch`, `suite::run_watch`). A 256x256 previous frame is 64 KiB: one Watch")
-        p("processor cannot hold it beside anything else in 64 KiB. As MPDF places several Watch")
-        p("windows, each on its own processor (2.3.3, Table 2.2: two 256x20 strips), the frame is")
-        p("split into four 256x64 strips (`processors::watch::strip`), a Watch processor each, holding")
-        p("its previous strip and the window the unit delivers (16 KiB each). Their motion areas")
-        p("merge (`watch::merge`: the union of the boxes, the sum of the counts) into exactly the")
-        p("whole frame's: the image prints each strip's line and the merged `watch_motion_256` line,")
-        p("which must equal the one the host computes over the whole frame. `coopwin-firmware`'s")
-        p("`tests/watch_strips.rs` proves the merge equal to the whole-frame detector for any frame,")
-        p("threshold and split (proptest), and `the_watch_strips_merge_into_the_whole_frames_motion`")
-        p("for 1 to 20 strips of the benchmark pair. The Watch's rule on the merged area (its least")
-        p("count, the template captured at its centre) then applies as to one Watch's: the strips")
-        p(f"send their areas, counts included, to whichever processor merges them. Its {lines} result")
-        p("lines equal `expected.txt`'s.")
-        p()
-        image_table(p, flash, ram, stack, bound)
         if strips:
-            p(f"A strip's differencing takes {max(strips):,} instructions at most (mean {sum(strips) / len(strips):,.0f}),")
-            p(f"a {FRAME / (max(strips) / HZ):.1f}x margin on the 8.8 ms period at one cycle per instruction, each")
-            p("strip on its own core.")
+            para(f"A strip's differencing takes {worst(strips)}, each strip on its own core.")
             p()
     if master:
-        run, flash, ram, stack, _, bound, lines, sb = image(master, "NCC master image")
-        frames = metered(run, "master_frame") + metered(run, "master_frame_adaptive")
+        run, sb = one_image(p, master, "NCC master image", lambda f: (
+            "**The NCC master** (`master`, `suite::run_master`): the COOP master alone on both "
+            "replays' recorded windows, its partner's corner each frame read from the partner's own "
+            "lines of `expected.txt` (what that image sends it over the link), printing the pair's "
+            f"decision lines and totals: its {f['lines']} result lines equal `expected.txt`'s. "
+            "`the_master_alone_decides_as_in_the_pair` holds the host to the same, and shows the "
+            "partner's results decide (without them the master never picks the corner and leaves the "
+            "recorded run). Built in place (`lone_master`, never inlined) the master and its one answer "
+            f"take the replay's frame. Its measured stack, {f['stack']:,} bytes, fits 64 KiB, but its static "
+            f"bound, {f['bound']:,}, does not (by {f['ram'] + f['bound'] - 65536:,} bytes), so this image is still "
+            "linked into the part's 128 KB (`memory-stm32f405.x`) and `scripts/board.sh` holds it to "
+            "that:"), 131072)
+        thesis, adapting = metered(run, "master_frame"), metered(run, "master_frame_adaptive")
         funcs = sb["funcs"]
         path = [(stack_bound.brief(funcs[a].name), add) for a, add, _ in sb["models"]["address-taken", sb["times"]]["path"]
                 if not isinstance(a, tuple)]
-        p("**The NCC master** (`master`, `suite::run_master`): the COOP master alone on both replays'")
-        p("recorded windows, its partner's corner each frame read from the partner's own lines of")
-        p("`expected.txt` (what that image sends it over the link), printing the pair's decision")
-        p(f"lines and totals: its {lines} result lines equal `expected.txt`'s.")
-        p("`the_master_alone_decides_as_in_the_pair` holds the host to the same, and shows the")
-        p("partner's results decide (without them the master never picks the corner and leaves the")
-        p("recorded run). Built in place (`lone_master`, never inlined) the master and its one answer")
-        p(f"take the replay's frame. Its measured stack, {stack:,} bytes, fits 64 KiB, but its static")
-        p(f"bound, {bound:,}, does not (by {ram + bound - 65536:,} bytes), so this image is still linked into")
-        p("the part's 128 KB (`memory-stm32f405.x`) and `scripts/board.sh` holds it to that:")
+        para("Its deepest path (bytes each adds): " + ", ".join(f"`{n}` {v:,}" for n, v in path if v >= 512)
+             + ". What stands over 64 KiB is the NCC path's fixed-capacity buffers, sized for the largest "
+             "window and placement count any processor matches (a 128x128 Peripheral window at 25 %, "
+             "1,024 placements): `best_match`'s frame, `row_dot_products`' strips, and "
+             "`matching::packed`'s two 4 KiB packing buffers, which the bound counts although the replay's "
+             "windows are packed and never go through them (the measured chain skips that frame). The "
+             "master's windows have 25 placements (20x20 in 24x24; an adapting master's at most 17x17 in "
+             "36x36). Left to do: those buffers sized by the placements and window the caller holds (a "
+             "const generic per processor), templates passed by handle instead of inline in `Msg` (the "
+             "answer is 4 KiB for four template-sized messages), and the master's 16 KiB "
+             "`CornerDetector<24>`, which the master uses only to find a template's corner support, "
+             "borrowed as scratch rather than held.")
         p()
-        image_table(p, flash, ram, stack, bound, 131072)
-        p(textwrap.fill("Its deepest path (bytes each adds): " + ", ".join(f"`{n}`\0{v:,}".replace(" ", "\0") for n, v in path if v >= 512)
-                        + ".", 92, break_on_hyphens=False, break_long_words=False).replace("\0", " "))
-        p("What stands over 64 KiB is the NCC path's fixed-capacity buffers, sized for the largest")
-        p("window and placement count any processor matches (a 128x128 Peripheral window at 25 %,")
-        p("1,024 placements): `best_match`'s frame, `row_dot_products`' strips, and")
-        p("`matching::packed`'s two 4 KiB packing buffers, which the bound counts although the")
-        p("replay's windows are packed and never go through them (the measured chain skips that")
-        p("frame). The master's windows have 25 placements (20x20 in 24x24; an adapting master's at")
-        p("most 17x17 in 36x36). Left to do: those buffers sized by the placements and window the")
-        p("caller holds (a const generic per processor), templates passed by handle instead of inline")
-        p("in `Msg` (the answer is 4 KiB for four template-sized messages), and the master's 16 KiB")
-        p("`CornerDetector<24>`, which the master uses only to find a template's corner support, borrowed as")
-        p("scratch rather than held.")
-        p()
-        if frames:
-            p(f"The master's frame alone (its window and its partner's result to its decision) takes at")
-            p(f"most {max(frames):,} instructions over both replays' {len(frames)} frames (the adapting replay's")
-            p("alignment and zero-mean NCC; the thesis's replay at most")
-            p(f"{max(metered(run, 'master_frame')):,}).")
+        if thesis and adapting:
+            para("The master's frame alone (its window and its partner's result to its decision) takes at "
+                 f"most {max(thesis):,} instructions in the thesis's replay and {max(adapting):,} in the "
+                 "adapting one (its alignment and zero-mean NCC).")
             p()
 
 
@@ -588,10 +600,6 @@ def static_bound(p, sb, measured):
     free = sb["models"]["address-taken", None]
     direct = sb["models"]["direct", None]
     name = lambda a: f"`{stack_bound.brief(funcs[a].name)}`"
-    # Paragraphs wrapped at 92 columns, never inside a `code span`.
-    keep = lambda text: re.sub(r"`[^`]*`", lambda m: m[0].replace(" ", "\0"), text)
-    wrap = lambda text, **kw: textwrap.fill(keep(text), 92, break_on_hyphens=False,
-                                            break_long_words=False, **kw).replace("\0", " ")
     para = lambda text: p(wrap(text))
     bullet = lambda text: p(wrap(text, initial_indent="* ", subsequent_indent="  "))
     sites = defaultdict(int)
