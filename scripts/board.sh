@@ -75,14 +75,18 @@ if ! grep -v '^#' "$run" | diff -u "$root/fixtures/board/expected.txt" - >"$out/
 fi
 echo "board.sh: $(grep -vc '^#' "$run") result lines bit-identical to the host's; $(grep '^# pins' "$run" | sed 's/^# //')"
 
-# An STM32F405 image: built with `features` into `dir`, run on netduinoplus2, its result lines
+# An STM32F405 image: built with `features` (in one target folder for all of them, so `core`
+# and the crates build once) and copied into `dir`, run on netduinoplus2, its result lines
 # compared with `expected` (a file), and its static RAM plus its static stack bound
 # (scripts/stack_bound.py, with the exceptions) held to `ram` bytes, its flash to `flash`.
 stm32_image() {
   local name=$1 dir=$2 features=$3 expected=$4 ram=$5 flash=$6
   local elf="$dir/thumbv7em-none-eabihf/release/coopwin-board" run="$dir/run.txt" status=0
+  local build="$root/target/board-stm32-build"
   (cd "$root/firmware/board" &&
-    CARGO_TARGET_DIR="$dir" RUSTC=/usr/bin/rustc RUSTC_BOOTSTRAP=1 /usr/bin/cargo build --release --locked -q --features "$features")
+    CARGO_TARGET_DIR="$build" RUSTC=/usr/bin/rustc RUSTC_BOOTSTRAP=1 /usr/bin/cargo build --release --locked -q --features "$features")
+  mkdir -p "$(dirname "$elf")"
+  cp "$build/thumbv7em-none-eabihf/release/coopwin-board" "$elf"
   timeout 600 qemu-system-arm -machine netduinoplus2 -nographic -semihosting-config enable=on,target=native \
     -icount shift=0 -kernel "$elf" >"$run" 2>&1 || status=$?
   if [ "$status" != 0 ]; then
