@@ -256,10 +256,12 @@ def per_processor(p, partner, peripheral, watch, master):
             "must equal the one the host computes over the whole frame. `coopwin-firmware`'s "
             "`tests/watch_strips.rs` proves the merge equal to the whole-frame detector for any frame, "
             "threshold and split (proptest), and `the_watch_strips_merge_into_the_whole_frames_motion` "
-            "for 1 to 20 strips of the benchmark pair. The Watch's rule on the merged area (its least "
-            "count, the template captured at its centre) then applies as to one Watch's: the strips send "
-            f"their areas, counts included, to whichever processor merges them. Its {f['lines']} result lines "
-            "equal `expected.txt`'s."))
+            "for 1 to 20 strips of the benchmark pair. Its "
+            f"{f['lines']} result lines equal `expected.txt`'s. In a running system the strips would send "
+            "their areas, counts included, to the processor that merges them and applies the Watch's rule "
+            "to the merged area (its least count, the template captured at its centre) as one Watch does; "
+            "that message (`Msg::Motion` carries no count) and the roster are not built yet: the "
+            "testbench still runs one whole-frame Watch."))
         strips = metered(run, "watch_strip")
         if strips:
             para(f"A strip's differencing takes {worst(strips)}, each strip on its own core.")
