@@ -4,7 +4,8 @@ Cortex-M4F instead of the TMS320C40) from a board run, `arm-none-eabi-size -A` a
 disassembly. Called by `scripts/board.sh --figures`; standard library only.
 
 usage: board_figures.py RUN.txt SIZE.txt DISASM.txt PROFILE.md [ELF [STM32 RUN SIZE DISASM ELF
-       [PARTNER RUN SIZE DISASM ELF]]] > docs/firmware-target.md
+       [PARTNER RUN SIZE DISASM ELF [PERIPHERAL RUN SIZE DISASM ELF [WATCH RUN SIZE DISASM ELF
+       [MASTER RUN SIZE DISASM ELF]]]]]] > docs/firmware-target.md
 
 PROFILE.md is scripts/board_profile.py's table of a COOP frame's instructions.
 
@@ -36,6 +37,7 @@ C40 = {
     "peripheral_sad_16in40": 20e-6 + 0.57e-6 * 256 * 625,
     "peripheral_ssd_16in40_dec": 20e-6 + 0.57e-6 * 64 * 169,
     "watch_motion_256": 20e-6 + 0.75e-6 * 65536,
+    "watch_strip": 20e-6 + 0.75e-6 * 16384,
     "corner_20": 20e-6 + 5e-6 * 400,
     "corner_24": 20e-6 + 5e-6 * 576,
     "corner_24_literal": 20e-6 + 5e-6 * 576,
@@ -51,6 +53,10 @@ WHAT = {
     "peripheral_sad_16in40": "SAD, same sizes",
     "peripheral_ssd_16in40_dec": "SSD at 25 % (8x8 in 20x20)",
     "watch_motion_256": "differencing, 256x256 Watch frame",
+    "watch_strip": "differencing, one 256x64 strip of it (a Watch strip processor)",
+    "peripheral_lockon": "a Peripheral window: the processor's lock-on, SSD at 25 % (10x10 in 22x22)",
+    "peripheral_lost": "its Detection-mode search after a loss (SSD, 10x10 in 20x20, then 32x32)",
+    "peripheral_sweep": "an adapting re-detection (zero-mean NCC at 25 %, 10x10 in 20x20 to 64x64)",
     "corner_20": "corner detector, 20x20 (ch. 3)",
     "corner_24": "corner detector, 24x24",
     "corner_24_literal": "the thesis's rules only (no line fit), 24x24",
@@ -120,12 +126,12 @@ def image(argv, name):
     flash, ram, stack, sections = memory(run, size)
     bound = sb["models"]["address-taken", sb["times"]]["total"]
     lines = sum(1 for line in run.splitlines() if line and not line.startswith("#"))
-    return run, flash, ram, stack, sections, bound, lines
+    return run, flash, ram, stack, sections, bound, lines, sb
 
 
 def stm32(p, argv):
     """The "On an STM32F405" section: the image linked for the part, and its figures."""
-    _, flash, ram, stack, sections, bound, lines = image(argv, "STM32F405")
+    _, flash, ram, stack, sections, bound, lines, _ = image(argv, "STM32F405")
     p("## On an STM32F405")
     p()
     p("`scripts/board.sh` also links the board for an STM32F405 (`--features stm32f405`,")
@@ -146,45 +152,155 @@ def stm32(p, argv):
     p()
 
 
-def partner_image(p, argv):
-    """The "Per-processor images" section: the COOP partner's own image and its figures."""
-    run, flash, ram, stack, _, bound, lines = image(argv, "partner image")
-    frames = [int(m[1]) for m in re.finditer(r"^# icount partner_frame (\d+)", run, re.M)]
-    p("## Per-processor images")
-    p()
-    p("Issue 22 asks for one image a processor, as the thesis places them, each in at most 64 KiB")
-    p("of RAM (static plus the static stack bound) and 256 KiB of flash. `scripts/board.sh`")
-    p("builds the **COOP partner**'s (`--features stm32f405,partner`: `memory-stm32f405-64k.x`, 64")
-    p("KiB of the part's SRAM) and runs it on `netduinoplus2`: the corner kernels and the partner")
-    p("alone on both replays' recorded windows (`suite::run_partner`), its own window the Foveal")
-    p("window centred in the master's, where the master's `Follow` puts it. Its")
-    p(f"{lines} result lines equal the matching lines of `expected.txt` (the pairs' `*_cd` lines, the")
-    p("partner's corner each frame, and the corner kernels'), bit for bit; `coopwin-parity`'s")
-    p("`the_partner_alone_answers_as_in_the_pair` holds the host to the same.")
-    p()
+def wrap(text, **kw):
+    """`text` as a paragraph wrapped at 92 columns, never inside a `code span`."""
+    keep = re.sub(r"`[^`]*`", lambda m: m[0].replace(" ", "\0"), text)
+    return textwrap.fill(keep, 92, break_on_hyphens=False, break_long_words=False, **kw).replace("\0", " ")
+
+
+def image_table(p, flash, ram, stack, bound, budget=65536):
+    """A one-processor image's memory table: flash, static RAM, stack, and their budget."""
     p("| | bytes |")
     p("|---|---:|")
     p(f"| flash | {flash:,} of 262,144 |")
     p(f"| RAM, static | {ram:,} |")
     p(f"| stack, measured high-water | {stack:,} |")
     p(f"| stack, static bound (`scripts/stack_bound.py`) | {bound:,} |")
-    p(f"| **RAM, static + bound** | **{ram + bound:,}** of 65,536 |")
+    p(f"| **RAM, static + bound** | **{ram + bound:,}** of {budget:,} |")
     p()
-    if frames:
-        p(f"On its own core the partner's frame (its window to its answer) takes at most {max(frames):,}")
-        p(f"instructions over the {len(frames)} frames of both replays (mean {sum(frames) / len(frames):,.0f}): a")
-        p(f"{FRAME / (max(frames) / HZ):.1f}x margin on the 8.8 ms period at one cycle per instruction.")
+
+
+def one_image(p, argv, name, intro, budget=65536):
+    """A one-processor image's paragraph and memory table; `intro` makes the paragraph from the
+    image's figures (a dict: lines, stack, bound, ram). Returns its run and stack analysis."""
+    run, flash, ram, stack, _, bound, lines, sb = image(argv, name)
+    p(wrap(intro(dict(lines=lines, stack=stack, bound=bound, ram=ram))))
+    p()
+    image_table(p, flash, ram, stack, bound, budget)
+    return run, sb
+
+
+def worst(counts):
+    """The worst of a step's instruction `counts`, their mean, and its margin on the frame period."""
+    return (f"at most {max(counts):,} instructions (mean {sum(counts) / len(counts):,.0f}), a "
+            f"{FRAME / (max(counts) / HZ):.1f}x margin on the 8.8 ms period at one cycle per instruction")
+
+
+def metered(run, key):
+    """The instruction counts of `key`'s metered steps in a run."""
+    return [int(m[1]) for m in re.finditer(rf"^# icount {key} (\d+)", run, re.M)]
+
+
+def per_processor(p, partner, peripheral, watch, master):
+    """The "Per-processor images" section: each processor's own image (its run, size,
+    disassembly and ELF, or None when not given) and its figures."""
+    para = lambda text: p(wrap(text))
+    p("## Per-processor images")
+    p()
+    para("Issue 22 asks for one image a processor, as the thesis places them, each in at most 64 KiB "
+         "of RAM (static plus the static stack bound) and 256 KiB of flash. `scripts/board.sh` builds "
+         "one a processor with `--features stm32f405,PROCESSOR` (`memory-stm32f405-64k.x`: 64 KiB of "
+         "the part's SRAM), runs it on `netduinoplus2` and compares its result lines with the matching "
+         "lines of `expected.txt`, bit for bit; `coopwin-parity`'s `board_parity.rs` holds the host to "
+         "the same selection. An image reads its inputs (the recorded or benchmark windows) from flash, "
+         "where the partner's replay already did; what a processor keeps between windows (its state, a "
+         "Watch's previous strip) and what a kernel packs a window into is RAM.")
+    p()
+    if partner:
+        run, _ = one_image(p, partner, "partner image", lambda f: (
+            "**The COOP partner** (`partner`): the corner kernels and the partner alone on both "
+            "replays' recorded windows (`suite::run_partner`), its own window the Foveal window centred "
+            f"in the master's, where the master's `Follow` puts it. Its {f['lines']} result lines equal the "
+            "matching lines of `expected.txt` (the pairs' `*_cd` lines, the partner's corner each frame, "
+            "and the corner kernels'); `the_partner_alone_answers_as_in_the_pair` holds the host to the "
+            "same."))
+        frames = metered(run, "partner_frame")
+        if frames:
+            para(f"On its own core the partner's frame (its window to its answer) takes {worst(frames)}, "
+                 f"over the {len(frames)} frames of both replays.")
+            p()
+    if peripheral:
+        run, _ = one_image(p, peripheral, "Peripheral image", lambda f: (
+            "**The Peripheral** (`peripheral`, `suite::run_peripheral`): its kernels (SSD and SAD of "
+            "the 16x16 template in the 40x40 window, SSD at 25 %) and the `Peripheral` processor on the "
+            "Watch benchmark's frame, its template captured there at the centre of the Watch's motion as "
+            "`Watch` captures it: the thesis's lock-on (`peripheral_lockon`: the motion area to a "
+            "location for the Foveal window), its Detection mode after a loss far from the object "
+            "(`peripheral_lost`: 40x40, then 64x64, then back to waiting for motion), and an adapting "
+            "track's re-detection after the same loss (`peripheral_sweep`: zero-mean NCC, the two sizes, "
+            "then the frame's 128x128 tiles, 64x64 samples each, the largest window it matches, until it "
+            f"finds the object). Its {f['lines']} result lines equal `expected.txt`'s; "
+            "`the_peripheral_alone_answers_as_in_the_suite_and_finds_the_object` holds the host to the "
+            "same and checks each location it hands over against a brute-force search of the decimated "
+            "template and against the motion area."))
+        wins = metered(run, "peripheral_lockon") + metered(run, "peripheral_lost")
+        sweep = metered(run, "peripheral_sweep")
+        if wins and sweep:
+            para(f"A thesis Peripheral window (its arrival to its answer, SSD) takes at most {max(wins):,} "
+                 f"instructions over the lock-on's and the search's {len(wins)} windows: a "
+                 f"{FRAME / (max(wins) / HZ):.1f}x margin on the 8.8 ms period at one cycle per "
+                 f"instruction. An adapting sweep's windows take up to {max(sweep):,} "
+                 f"({fmt_t(max(sweep) / HZ)} at 168 MHz, {max(sweep) / HZ / FRAME:.1f} frame periods): "
+                 "zero-mean NCC over 64x64 samples, ranked exactly in 128-bit integers; a sweep runs only "
+                 "after both sizes failed, one tile a window, and the Foveal track waits for it either way.")
+            p()
+    if watch:
+        run, _ = one_image(p, watch, "Watch image", lambda f: (
+            "**The Watch** (`watch`, `suite::run_watch`). A 256x256 previous frame is 64 KiB: one "
+            "Watch processor cannot hold it beside anything else in 64 KiB. As MPDF places several Watch "
+            "windows, each on its own processor (2.3.3, Table 2.2: two 256x20 strips), the frame is "
+            "split into four 256x64 strips (`processors::watch::strip`), a Watch processor each, holding "
+            "its previous strip and the window the unit delivers (16 KiB each). Their motion areas merge "
+            "(`watch::merge`: the union of the boxes, the sum of the counts) into exactly the whole "
+            "frame's: the image prints each strip's line and the merged `watch_motion_256` line, which "
+            "must equal the one the host computes over the whole frame. `coopwin-firmware`'s "
+            "`tests/watch_strips.rs` proves the merge equal to the whole-frame detector for any frame, "
+            "threshold and split (proptest), and `the_watch_strips_merge_into_the_whole_frames_motion` "
+            "for 1 to 20 strips of the benchmark pair. Its "
+            f"{f['lines']} result lines equal `expected.txt`'s. In a running system the strips would send "
+            "their areas, counts included, to the processor that merges them and applies the Watch's rule "
+            "to the merged area (its least count, the template captured at its centre) as one Watch does; "
+            "that message (`Msg::Motion` carries no count) and the roster are not built yet: the "
+            "testbench still runs one whole-frame Watch."))
+        strips = metered(run, "watch_strip")
+        if strips:
+            para(f"A strip's differencing takes {worst(strips)}, each strip on its own core.")
+            p()
+    if master:
+        run, sb = one_image(p, master, "NCC master image", lambda f: (
+            "**The NCC master** (`master`, `suite::run_master`): the COOP master alone on both "
+            "replays' recorded windows, its partner's corner each frame read from the partner's own "
+            "lines of `expected.txt` (what that image sends it over the link), printing the pair's "
+            f"decision lines and totals: its {f['lines']} result lines equal `expected.txt`'s. "
+            "`the_master_alone_decides_as_in_the_pair` holds the host to the same, and shows the "
+            "partner's results decide (without them the master never picks the corner and leaves the "
+            "recorded run). Built in place (`lone_master`, never inlined) the master and its one answer "
+            f"take the replay's frame. Its measured stack, {f['stack']:,} bytes, fits 64 KiB, but its static "
+            f"bound, {f['bound']:,}, does not (by {f['ram'] + f['bound'] - 65536:,} bytes), so this image is still "
+            "linked into the part's 128 KB (`memory-stm32f405.x`) and `scripts/board.sh` holds it to "
+            "that:"), 131072)
+        thesis, adapting = metered(run, "master_frame"), metered(run, "master_frame_adaptive")
+        funcs = sb["funcs"]
+        path = [(stack_bound.brief(funcs[a].name), add) for a, add, _ in sb["models"]["address-taken", sb["times"]]["path"]
+                if not isinstance(a, tuple)]
+        para("Its deepest path (bytes each adds): " + ", ".join(f"`{n}` {v:,}" for n, v in path if v >= 512)
+             + ". What stands over 64 KiB is the NCC path's fixed-capacity buffers, sized for the largest "
+             "window and placement count any processor matches (a 128x128 Peripheral window at 25 %, "
+             "1,024 placements): `best_match`'s frame, `row_dot_products`' strips, and "
+             "`matching::packed`'s two 4 KiB packing buffers, which the bound counts although the replay's "
+             "windows are packed and never go through them (the measured chain skips that frame). The "
+             "master's windows have 25 placements (20x20 in 24x24; an adapting master's at most 17x17 in "
+             "36x36). Left to do: those buffers sized by the placements and window the caller holds (a "
+             "const generic per processor), templates passed by handle instead of inline in `Msg` (the "
+             "answer is 4 KiB for four template-sized messages), and the master's 16 KiB "
+             "`CornerDetector<24>`, which the master uses only to find a template's corner support, "
+             "borrowed as scratch rather than held.")
         p()
-    p("Not yet built: the NCC master's image. Its master (`Foveal<24, 324>`, the `# size` line's")
-    p("`master`) with two `Step`s (a message carries a 1 KB template inline) and the NCC path's")
-    p("stack (`matching::packed` and `best_match`'s score cache and packing buffers, the deepest")
-    p("path above) come to more than 64 KiB; it needs the matcher's buffers sized by the")
-    p("placements they hold, templates passed by handle in `Msg`, and a replay that feeds it the")
-    p("partner's `*_cd` results. The Peripheral (SSD at 25 %, windows up to 64x64) is estimated")
-    p("from its types at about 45 KB, to be measured in an image of its own. The Watch cannot hold")
-    p("a 256x256 previous frame (64 KiB) beside anything else in 64 KiB: it would difference at")
-    p("25 % (a 128x128 frame, 16 KiB) or in strips (as MPDF's Watch windows do).")
-    p()
+        if thesis and adapting:
+            para("The master's frame alone (its window and its partner's result to its decision) takes at "
+                 f"most {max(thesis):,} instructions in the thesis's replay and {max(adapting):,} in the "
+                 "adapting one (its alignment and zero-mean NCC).")
+            p()
 
 
 def main():
@@ -309,8 +425,9 @@ def main():
     static_bound(p, sb, stack)
     if len(sys.argv) > 9:
         stm32(p, sys.argv[6:10])
-    if len(sys.argv) > 13:
-        partner_image(p, sys.argv[10:14])
+    extra = [sys.argv[k:k + 4] if len(sys.argv) >= k + 4 else None for k in (10, 14, 18, 22)]
+    if any(extra):
+        per_processor(p, *extra)
     p("## Instructions per kernel")
     p()
     p("| kernel | instructions | Cortex-M4 at 168 MHz | C40 (model) | C40 / M4 |")
@@ -485,10 +602,6 @@ def static_bound(p, sb, measured):
     free = sb["models"]["address-taken", None]
     direct = sb["models"]["direct", None]
     name = lambda a: f"`{stack_bound.brief(funcs[a].name)}`"
-    # Paragraphs wrapped at 92 columns, never inside a `code span`.
-    keep = lambda text: re.sub(r"`[^`]*`", lambda m: m[0].replace(" ", "\0"), text)
-    wrap = lambda text, **kw: textwrap.fill(keep(text), 92, break_on_hyphens=False,
-                                            break_long_words=False, **kw).replace("\0", " ")
     para = lambda text: p(wrap(text))
     bullet = lambda text: p(wrap(text, initial_indent="* ", subsequent_indent="  "))
     sites = defaultdict(int)

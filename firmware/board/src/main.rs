@@ -1,7 +1,8 @@
 //! The tracking firmware on a Cortex-M4F (QEMU `mps2-an386`, or `netduinoplus2`'s STM32F405 with
-//! the `stm32f405` feature; with `partner` too, the COOP partner's own image in 64 KiB of its
-//! SRAM, running its part of the suite, `suite::run_partner`), thesis 2.6: the window
-//! processors' code on a real embedded target. It prints the parity suite's lines
+//! the `stm32f405` feature; with `partner`, `peripheral` or `watch` too, that processor's own
+//! image in 64 KiB of its SRAM, running its part of the suite: `suite::run_partner`,
+//! `run_peripheral`, `run_watch`), thesis 2.6: the window processors' code on a real embedded
+//! target. It prints the parity suite's lines
 //! (`coopwin_parity::suite`: every kernel on the benchmark inputs, and the COOP Foveal pair on
 //! the recorded window stream), which `scripts/board.sh` diffs against the host's
 //! `fixtures/board/expected.txt`; then it drives the window unit's coordinate and pixel ports
@@ -183,12 +184,7 @@ fn main() -> ! {
     } else {
         let _ = writeln!(meter.out, "# calibration instructions_per_tick={}/{}", per.0, per.1);
     }
-    // The COOP partner's image (`partner`) runs its processor's part of the suite only.
-    #[cfg(feature = "partner")]
-    let result = suite::run_partner(&mut out, &mut meter);
-    #[cfg(not(feature = "partner"))]
-    let result = suite::run(&mut out, &mut meter);
-    if let Err(e) = result {
+    if let Err(e) = run(&mut out, &mut meter) {
         let _ = writeln!(out, "error {e:?}");
         fail("suite");
     }
@@ -201,7 +197,7 @@ fn main() -> ! {
             fail("pins");
         }
     }
-    #[cfg(not(feature = "partner"))]
+    #[cfg(not(any(feature = "partner", feature = "peripheral", feature = "watch", feature = "master")))]
     sizes(&mut out);
     let top = core::ptr::addr_of!(_stack_start) as usize;
     let _ = writeln!(out, "# stack used={} painted_from={bottom:#x} top={top:#x}", stack_used(bottom));
@@ -211,8 +207,30 @@ fn main() -> ! {
     }
 }
 
+#[cfg(any(
+    all(feature = "partner", any(feature = "peripheral", feature = "watch", feature = "master")),
+    all(feature = "peripheral", any(feature = "watch", feature = "master")),
+    all(feature = "watch", feature = "master")
+))]
+compile_error!("one processor's image at a time: `partner`, `peripheral`, `watch` or `master`");
+
+/// The suite this image runs: a processor's part of it (`partner`, `peripheral`, `watch`), or
+/// all of it.
+fn run(out: &mut Out, meter: &mut Icount) -> Result<(), suite::SuiteError> {
+    #[cfg(feature = "partner")]
+    return suite::run_partner(out, meter);
+    #[cfg(feature = "peripheral")]
+    return suite::run_peripheral(out, meter);
+    #[cfg(feature = "watch")]
+    return suite::run_watch(out, meter);
+    #[cfg(feature = "master")]
+    return suite::run_master(out, meter);
+    #[cfg(not(any(feature = "partner", feature = "peripheral", feature = "watch", feature = "master")))]
+    suite::run(out, meter)
+}
+
 /// What the replay holds on the stack: the pair, its processors and one of its answers.
-#[cfg(not(feature = "partner"))]
+#[cfg(not(any(feature = "partner", feature = "peripheral", feature = "watch", feature = "master")))]
 fn sizes(out: &mut Out) {
     use coopwin_firmware::processors::adapt::Adaptive;
     use coopwin_firmware::processors::{CornerPartner, Foveal, Step};

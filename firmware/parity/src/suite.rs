@@ -3,17 +3,17 @@
 //! float-format comparison for the M4F's single-precision FPU, and the COOP Foveal pair
 //! (4.2) replaying a recorded window stream. One line per result; floats as IEEE bits.
 use crate::pgm::{self, PgmError};
-use crate::stream::{Stream, StreamError};
+use crate::stream::{Frame, Stream, StreamError};
 use coopwin_firmware::kernels::confidence::{ConfidencePolicy, KalmanCoop, SseCoop};
 use coopwin_firmware::kernels::corner::{CornerDetector, CornerParams};
 use coopwin_firmware::kernels::fmath::sqrtf;
 use coopwin_firmware::kernels::info::{corner_information, edge_information, edge_information_with_prior};
 use coopwin_firmware::kernels::matching::{best_match, best_match_decimated, Match, MatchError, Method};
-use coopwin_firmware::kernels::motion::detect_motion;
+use coopwin_firmware::kernels::motion::{detect_motion, MotionArea, MotionError};
 use coopwin_firmware::processors::coop::guard::{Guard, GuardParams};
-use coopwin_firmware::processors::{CornerPartner, Dest, Foveal, FovealKind, Msg, Params, Policy, Step, Template, Work};
+use coopwin_firmware::processors::{watch, CornerPartner, Dest, Foveal, FovealKind, Msg, Params, Peripheral, Policy, Step, Template, Work};
 use coopwin_firmware::kernels::view::WindowView;
-use coopwin_firmware::types::{Point, Source, WindowRequest};
+use coopwin_firmware::types::{Decimation, Point, Source, WindowRequest};
 use core::fmt::{self, Write};
 
 /// The benchmark inputs (`fixtures/bench/`, see its README) and the recorded window stream.
@@ -70,8 +70,10 @@ pub enum SuiteError {
     View(&'static str),
     /// The window stream is malformed.
     Stream(StreamError),
-    /// The stream's template is not a valid template.
+    /// The stream's template is not a valid template (or the Watch's cannot be captured).
     Template,
+    /// The Watch benchmark pair shows no motion for the Peripheral to lock on to.
+    NoMotion,
     /// The processors asked for a window other than the one recorded at this frame: the
     /// replay no longer follows the recorded run.
     Diverged(u16),
@@ -136,29 +138,182 @@ fn run_kernels<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), Sui
 fn kernels<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
     let fw = image("foveal_window", inputs::FOVEAL_WINDOW)?;
     let ft = image("foveal_template", inputs::FOVEAL_TEMPLATE)?;
-    let pw = image("peripheral_window", inputs::PERIPHERAL_WINDOW)?;
-    let pt = image("peripheral_template", inputs::PERIPHERAL_TEMPLATE)?;
-    for (id, method, w, t) in [
-        ("foveal_ncc_20in24", Method::Ncc, &fw, &ft),
-        ("foveal_zncc_20in24", Method::Zncc, &fw, &ft),
-        ("peripheral_ssd_16in40", Method::Ssd, &pw, &pt),
-        ("peripheral_sad_16in40", Method::Sad, &pw, &pt),
-    ] {
-        let m = meter.kernel(id, &mut || best_match(method, w, t));
+    matches(out, meter, &fw, &ft, [("foveal_ncc_20in24", Method::Ncc), ("foveal_zncc_20in24", Method::Zncc)])?;
+    peripheral_kernels(out, meter)?;
+    peripheral_steps(out, meter)?;
+    watch_strips(out, meter)?;
+    let prev = image("watch_prev", inputs::WATCH_PREV)?;
+    let next = image("watch_next", inputs::WATCH_NEXT)?;
+    let area = meter.kernel("watch_motion_256", &mut || detect_motion(&prev, &next, WATCH_THRESHOLD));
+    motion_line(out, area)?;
+    corner_kernels(out, meter)
+}
+
+/// `tpl` matched in `win` by each of `methods`, one line each under its id.
+fn matches<W: Write, M: Meter, const N: usize>(
+    out: &mut W,
+    meter: &mut M,
+    win: &WindowView<'_>,
+    tpl: &WindowView<'_>,
+    methods: [(&str, Method); N],
+) -> Result<(), SuiteError> {
+    for (id, method) in methods {
+        let m = meter.kernel(id, &mut || best_match(method, win, tpl));
         match_line(out, id, m)?;
     }
+    Ok(())
+}
+
+/// The Peripheral's kernels (2.3.2): SSD and SAD of the 16x16 template in the 40x40 window,
+/// and SSD at 25 %.
+fn peripheral_kernels<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
+    let pw = image("peripheral_window", inputs::PERIPHERAL_WINDOW)?;
+    let pt = image("peripheral_template", inputs::PERIPHERAL_TEMPLATE)?;
+    matches(out, meter, &pw, &pt, [("peripheral_ssd_16in40", Method::Ssd), ("peripheral_sad_16in40", Method::Sad)])?;
     let id = "peripheral_ssd_16in40_dec";
     let m = meter.kernel(id, &mut || best_match_decimated(Method::Ssd, &pw, &pt));
     match_line(out, id, m)?;
+    Ok(())
+}
 
+/// The differencing threshold of the Watch benchmark (`watch_motion_256`, OpenCV's `absdiff`
+/// > 30 in `fixtures/bench/README.md`).
+const WATCH_THRESHOLD: u8 = 30;
+
+/// The line `watch_motion_256 bbox=XMIN,XMAX,YMIN,YMAX count=N` (or `none=..`): the whole
+/// frame's motion, from one Watch or merged from its strips'.
+fn motion_line<W: Write>(out: &mut W, area: Result<Option<MotionArea>, MotionError>) -> fmt::Result {
+    match area {
+        Ok(Some(a)) => writeln!(out, "watch_motion_256 bbox={},{},{},{} count={}", a.xmin, a.xmax, a.ymin, a.ymax, a.count),
+        other => writeln!(out, "watch_motion_256 none={other:?}"),
+    }
+}
+
+/// Strips the Watch's 256x256 frame is split into, each its own processor (issue 22: a whole
+/// previous frame, 64 KiB, does not fit one processor's 64 KiB beside anything else): 256x64,
+/// a 16 KiB previous strip and a 16 KiB window each.
+pub const WATCH_STRIPS: u16 = 4;
+/// Bytes of one strip of the 256x256 benchmark frame.
+const STRIP_BYTES: usize = 256 * 256 / WATCH_STRIPS as usize;
+
+/// The Watch benchmark pair through [`WATCH_STRIPS`] strip processors (2.3.3, MPDF's Watch
+/// windows covering the frame): a line each, `watch_strip K rows=Y0-Y1 ..`, and their areas
+/// merged (`watch::merge`), which must be the whole frame's `watch_motion_256`.
+fn watch_strips<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<Option<MotionArea>, SuiteError> {
     let prev = image("watch_prev", inputs::WATCH_PREV)?;
     let next = image("watch_next", inputs::WATCH_NEXT)?;
-    match meter.kernel("watch_motion_256", &mut || detect_motion(&prev, &next, 30)) {
-        Ok(Some(a)) => writeln!(out, "watch_motion_256 bbox={},{},{},{} count={}", a.xmin, a.xmax, a.ymin, a.ymax, a.count)?,
-        other => writeln!(out, "watch_motion_256 none={other:?}")?,
+    let (w, h) = (next.width() as u16, next.height() as u16);
+    let frame = WindowRequest { x0: 0, y0: 0, width: w, height: h, decimation: Decimation::Full };
+    let mut merged = None;
+    for k in 0..WATCH_STRIPS {
+        let s = watch::strip(frame, k, WATCH_STRIPS).ok_or(SuiteError::View("watch strip"))?;
+        let area = watch_strip(meter, &prev, &next, s)?;
+        write!(out, "watch_strip {k} rows={}-{}", s.y0, s.y0 + s.height - 1)?;
+        match area {
+            Some(a) => writeln!(out, " bbox={},{},{},{} count={}", a.xmin, a.xmax, a.ymin, a.ymax, a.count)?,
+            None => writeln!(out, " none")?,
+        }
+        merged = watch::merge(merged, area);
     }
+    Ok(merged)
+}
 
-    corner_kernels(out, meter)
+/// One strip's Watch processor, metered as `watch_strip`: its previous acquisition and the
+/// window the unit delivers, each [`STRIP_BYTES`] in its own RAM (here this frame), differenced.
+#[inline(never)]
+fn watch_strip<M: Meter>(
+    meter: &mut M,
+    prev: &WindowView<'_>,
+    next: &WindowView<'_>,
+    s: WindowRequest,
+) -> Result<Option<MotionArea>, SuiteError> {
+    let (mut last, mut window) = ([0u8; STRIP_BYTES], [0u8; STRIP_BYTES]);
+    let rows = |v: &WindowView<'_>, buf| v.sub(0, usize::from(s.y0), usize::from(s.width), usize::from(s.height))?.pack_into(buf);
+    let bad = SuiteError::View("watch strip");
+    let last = rows(prev, &mut last).ok_or(bad)?;
+    let window = rows(next, &mut window).ok_or(bad)?;
+    meter.kernel("watch_strip", &mut || detect_motion(&last, &window, WATCH_THRESHOLD)).map_err(|_| bad)
+}
+
+/// The Watch processors' image (issue 22: one image a processor): the strips' lines and their
+/// merged area, which `scripts/board.sh` holds to the whole frame's `watch_motion_256` line.
+pub fn run_watch<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
+    let merged = watch_strips(out, meter)?;
+    motion_line(out, Ok(merged))?;
+    Ok(())
+}
+
+/// Where the Peripheral scenarios lose the object: a corner of the frame far from it.
+const LOST_AT: Point = Point { x: 20.0, y: 236.0 };
+/// Most windows a Peripheral scenario runs (an adapting sweep's nine tiles after its two
+/// sizes, and a spare).
+const PERIPHERAL_STEPS: u16 = 12;
+
+/// The Peripheral processor (2.3.2) on the Watch's benchmark frame `watch_next`: its template
+/// captured there at the centre of the Watch's motion (as `Watch` captures it), then
+/// * `peripheral_lockon`: the thesis's lock-on (L1 -> L2), the Watch's motion area to an
+///   approximate location for the Foveal window (SSD at 25 %);
+/// * `peripheral_lost`: the thesis's Detection mode after a loss far from the object: the 40x40
+///   and 64x64 windows there, then back to waiting for motion;
+/// * `peripheral_sweep`: an adapting track's re-detection after the same loss (zero-mean NCC,
+///   the two sizes, then the frame's 128x128 tiles, 64x64 samples each, until it is found).
+fn peripheral_steps<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
+    let prev = image("watch_prev", inputs::WATCH_PREV)?;
+    let next = image("watch_next", inputs::WATCH_NEXT)?;
+    let params = Params::default();
+    let a = detect_motion(&prev, &next, params.motion_threshold).ok().flatten().ok_or(SuiteError::NoMotion)?;
+    let centre = Point { x: (a.xmin + a.xmax) as f32 / 2.0, y: (a.ymin + a.ymax) as f32 / 2.0 };
+    let tpl = Template::capture(&next, centre, usize::from(params.template)).ok_or(SuiteError::Template)?;
+    let motion = Msg::Motion { xmin: a.xmin as u16, xmax: a.xmax as u16, ymin: a.ymin as u16, ymax: a.ymax as u16 };
+    peripheral_run(out, meter, "peripheral_lockon", Peripheral::new(params, Some(tpl.clone())), &motion, &next)?;
+    peripheral_run(out, meter, "peripheral_lost", Peripheral::new(params, Some(tpl.clone())), &Msg::Lost(LOST_AT), &next)?;
+    peripheral_run(out, meter, "peripheral_sweep", Peripheral::new(params.adaptive(), Some(tpl)), &Msg::Lost(LOST_AT), &next)
+}
+
+/// Runs `p` from the message `start` on the windows it asks for, cut from `frame` as the unit
+/// delivers them, until it hands a location to the Foveal processor or asks for none; a line a
+/// window: `{name} K win=X0,Y0,WxH placements=N approx=X,Y` (or `approx=none`). Each window is
+/// metered as `name`.
+#[inline(never)]
+fn peripheral_run<W: Write, M: Meter>(
+    out: &mut W,
+    meter: &mut M,
+    name: &str,
+    mut p: Peripheral,
+    start: &Msg,
+    frame: &WindowView<'_>,
+) -> Result<(), SuiteError> {
+    let mut want = p.on_message(start).request;
+    for k in 0..PERIPHERAL_STEPS {
+        let Some(r) = want else { break };
+        let full = frame.sub(usize::from(r.x0), usize::from(r.y0), usize::from(r.width), usize::from(r.height));
+        let view = full.map(|v| if r.decimation == Decimation::Quarter { v.decimated() } else { v }).ok_or(SuiteError::Diverged(k))?;
+        let step = meter.once(name, &mut || p.on_window(&view));
+        write!(out, "{name} {k} win={},{},{}x{}", r.x0, r.y0, r.width, r.height)?;
+        if let Work::Match { placements, .. } = step.work {
+            write!(out, " placements={placements}")?;
+        }
+        let approx = step.sends.iter().find_map(|(d, m)| match m {
+            Msg::Approx(a) if *d == Dest::Foveal => Some(*a),
+            _ => None,
+        });
+        match approx {
+            Some(a) => writeln!(out, " approx={:08x},{:08x}", a.x.to_bits(), a.y.to_bits())?,
+            None => writeln!(out, " approx=none")?,
+        }
+        if approx.is_some() {
+            break;
+        }
+        want = step.request;
+    }
+    Ok(())
+}
+
+/// The Peripheral processor's image (issue 22: one image a processor): its kernels and the
+/// processor's scenarios on the Watch's benchmark frame ([`peripheral_steps`]).
+pub fn run_peripheral<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
+    peripheral_kernels(out, meter)?;
+    peripheral_steps(out, meter)
 }
 
 /// The corner detector's kernels (ch. 3) and the information measures (3.4.1): what the COOP
@@ -350,9 +505,8 @@ impl CoopPair {
     /// are in this frame, which ends before the replay's deepest calls, not in its caller's.
     #[inline(never)]
     pub fn new(params: Params) -> Self {
-        let guard = if params.adapt { GuardParams::adapting() } else { GuardParams::default() };
         CoopPair {
-            master: Foveal::sized(FovealKind::CoopMaster, params).with_policy(Policy::Guarded(Guard::new(guard))),
+            master: coop_master(params),
             partner: CornerPartner::sized(params),
             partner_window: None,
             corner: (None, (0, 0)),
@@ -411,6 +565,21 @@ impl CoopPair {
     }
 }
 
+/// The COOP master (4.2-4.3) with `params`, idle; an adapting master ([`Params::adapt`]) guards
+/// with the adapting track's parameters, as the testbench's does.
+#[inline(always)]
+fn coop_master(params: Params) -> Foveal<MASTER_SIDE, MASTER_LK> {
+    let guard = if params.adapt { GuardParams::adapting() } else { GuardParams::default() };
+    Foveal::sized(FovealKind::CoopMaster, params).with_policy(Policy::Guarded(Guard::new(guard)))
+}
+
+/// [`coop_master`] returned into its caller's slot: never inlined, so whatever temporaries the
+/// compiler builds it through end with this frame, as [`CoopPair::new`]'s do.
+#[inline(never)]
+fn lone_master(params: Params) -> Foveal<MASTER_SIDE, MASTER_LK> {
+    coop_master(params)
+}
+
 /// The corner the partner's answer sends its master, if it sent one.
 fn result(step: &Step) -> Option<Option<Point>> {
     step.sends.iter().find_map(|(d, m)| match m {
@@ -467,6 +636,8 @@ pub struct Replay<'a> {
     pub name: &'static str,
     /// The meter id of its frames.
     pub meter: &'static str,
+    /// The meter id of its master's frames alone (the master's image, [`run_master`]).
+    pub master_meter: &'static str,
     /// The pair adapts its template ([`Params::adaptive`]); otherwise the thesis's defaults.
     pub adapt: bool,
     /// The recorded stream (`fixtures/board/README.md`).
@@ -475,11 +646,11 @@ pub struct Replay<'a> {
 
 impl Replay<'static> {
     /// The thesis's pair (fixed template, 4.2-4.3) on `windows.bin`.
-    pub const THESIS: Replay<'static> = Replay { name: "tracker", meter: "coop_frame", adapt: false, windows: inputs::WINDOWS };
+    pub const THESIS: Replay<'static> = Replay { name: "tracker", meter: "coop_frame", master_meter: "master_frame", adapt: false, windows: inputs::WINDOWS };
     /// The adapting pair (`track`'s default, issue 21: [`Params::adaptive`]) on
     /// `windows_adaptive.bin`.
     pub const ADAPTIVE: Replay<'static> =
-        Replay { name: "adaptive", meter: "coop_frame_adaptive", adapt: true, windows: inputs::WINDOWS_ADAPTIVE };
+        Replay { name: "adaptive", meter: "coop_frame_adaptive", master_meter: "master_frame_adaptive", adapt: true, windows: inputs::WINDOWS_ADAPTIVE };
 }
 
 /// Replays `replay`'s stream through a [`CoopPair`]. Each frame the master must ask for the
@@ -487,42 +658,117 @@ impl Replay<'static> {
 #[inline(never)]
 pub fn tracker<W: Write, M: Meter>(out: &mut W, meter: &mut M, replay: &Replay<'_>) -> Result<(), SuiteError> {
     let s = Stream::parse(replay.windows).map_err(SuiteError::Stream)?;
-    let anchor = Point { x: s.anchor.0, y: s.anchor.1 };
-    let tpl = Template::from_parts(usize::from(s.side), anchor, s.template).ok_or(SuiteError::Template)?;
-    let params = if replay.adapt { Params::default().adaptive() } else { Params::default() };
+    let (tpl, params) = start_of(&s, replay)?;
     let mut pair = CoopPair::new(params);
     pair.start(tpl, Point { x: s.start.0, y: s.start.1 });
-    let (mut reports, mut cd) = (0u32, 0u32);
+    let mut tally = (0u32, 0u32);
     let name = replay.name;
     for (k, f) in s.frames().enumerate() {
         let k = k as u16;
-        let r = pair.want().ok_or(SuiteError::Diverged(k))?;
-        if (r.x0, r.y0, r.width, r.height) != (f.x0, f.y0, f.w, f.h) {
-            return Err(SuiteError::Diverged(k));
-        }
-        let (w, h) = (usize::from(f.w), usize::from(f.h));
-        let view = WindowView::new(f.pixels, w, h, w, u32::from(f.x0), u32::from(f.y0)).map_err(|_| SuiteError::View("window"))?;
+        let view = recorded(pair.want(), &f, k)?;
         let step = pair.frame(meter, replay.meter, &view, f.t).ok_or(SuiteError::Diverged(k))?;
-        write!(out, "{name} {k} win={},{}", f.x0, f.y0)?;
-        if (f.w, f.h) != (24, 24) {
-            write!(out, " size={}x{}", f.w, f.h)?;
-        }
-        match (step.report, step.lost) {
-            (Some((p, algo)), _) => {
-                reports += 1;
-                cd += u32::from(algo == Source::Cd);
-                write!(out, " x={:08x} y={:08x} algo={algo:?}", p.x.to_bits(), p.y.to_bits())?;
-                if let Some(sh) = step.shape {
-                    write!(out, " scale={:08x} angle={:08x}", sh.scale.to_bits(), sh.angle_deg.to_bits())?;
-                }
-                writeln!(out)?
-            }
-            (None, Some(p)) => writeln!(out, " lost={:08x},{:08x}", p.x.to_bits(), p.y.to_bits())?,
-            (None, None) => writeln!(out, " none")?,
-        }
+        decision_line(out, name, k, &f, step, &mut tally)?;
         corner_line(out, name, k, pair.corner.1, pair.corner.0)?;
     }
-    writeln!(out, "{name}_total frames={} reports={reports} cd={cd}", s.count)?;
+    writeln!(out, "{name}_total frames={} reports={} cd={}", s.count, tally.0, tally.1)?;
+    Ok(())
+}
+
+/// A replay's template and the pair's parameters.
+fn start_of(s: &Stream<'_>, replay: &Replay<'_>) -> Result<(Template, Params), SuiteError> {
+    let anchor = Point { x: s.anchor.0, y: s.anchor.1 };
+    let tpl = Template::from_parts(usize::from(s.side), anchor, s.template).ok_or(SuiteError::Template)?;
+    Ok((tpl, if replay.adapt { Params::default().adaptive() } else { Params::default() }))
+}
+
+/// Frame `k`'s recorded window as a view, if the processors asked for it (`want`); otherwise the
+/// replay has left the recorded run.
+fn recorded<'a>(want: Option<WindowRequest>, f: &Frame<'a>, k: u16) -> Result<WindowView<'a>, SuiteError> {
+    let r = want.ok_or(SuiteError::Diverged(k))?;
+    if (r.x0, r.y0, r.width, r.height) != (f.x0, f.y0, f.w, f.h) {
+        return Err(SuiteError::Diverged(k));
+    }
+    let (w, h) = (usize::from(f.w), usize::from(f.h));
+    WindowView::new(f.pixels, w, h, w, u32::from(f.x0), u32::from(f.y0)).map_err(|_| SuiteError::View("window"))
+}
+
+/// The line `{name} K win=X0,Y0 [size=WxH] x=.. y=.. algo=..` (or `lost=..`, `none`): the
+/// master's decision in frame `k`; `tally` counts the reports and those from the corner.
+fn decision_line<W: Write>(out: &mut W, name: &str, k: u16, f: &Frame<'_>, step: &Step, tally: &mut (u32, u32)) -> fmt::Result {
+    write!(out, "{name} {k} win={},{}", f.x0, f.y0)?;
+    if (f.w, f.h) != (24, 24) {
+        write!(out, " size={}x{}", f.w, f.h)?;
+    }
+    match (step.report, step.lost) {
+        (Some((p, algo)), _) => {
+            tally.0 += 1;
+            tally.1 += u32::from(algo == Source::Cd);
+            write!(out, " x={:08x} y={:08x} algo={algo:?}", p.x.to_bits(), p.y.to_bits())?;
+            if let Some(sh) = step.shape {
+                write!(out, " scale={:08x} angle={:08x}", sh.scale.to_bits(), sh.angle_deg.to_bits())?;
+            }
+            writeln!(out)
+        }
+        (None, Some(p)) => writeln!(out, " lost={:08x},{:08x}", p.x.to_bits(), p.y.to_bits()),
+        (None, None) => writeln!(out, " none"),
+    }
+}
+
+/// What the NCC master's image receives from its partner over the link: the partner's corner
+/// each frame, as the partner's own image prints it (`expected.txt`'s `{name}_cd` lines, which
+/// `scripts/board.sh` holds that image to).
+pub const PARTNER_RESULTS: &str = include_str!("../../../fixtures/board/expected.txt");
+
+/// The partner's results of replay `name` in frame order, from `results` (lines as
+/// [`PARTNER_RESULTS`]'s): `None` for a malformed line.
+fn partner_results<'a>(results: &'a str, name: &'a str) -> impl Iterator<Item = Option<Option<Point>>> + 'a {
+    results.lines().filter_map(move |l| {
+        let rest = l.strip_prefix(name)?.strip_prefix("_cd ")?;
+        // "K win=X0,Y0 x=BITS y=BITS" or "K win=X0,Y0 none".
+        let mut f = rest.split(' ').skip(2);
+        let bits = |v: Option<&str>, key: &str| {
+            v?.strip_prefix(key).and_then(|h| u32::from_str_radix(h, 16).ok()).map(f32::from_bits)
+        };
+        Some(match f.next() {
+            Some("none") => Some(None),
+            x => bits(x, "x=").zip(bits(f.next(), "y=")).map(|(x, y)| Some(Point { x, y })),
+        })
+    })
+}
+
+/// The COOP master's image (issue 22: one image a processor): the master alone on both
+/// replays' recorded windows, its partner's results read as the partner's image sends them
+/// ([`PARTNER_RESULTS`]), printing the pair's decision lines and totals.
+pub fn run_master<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
+    master(out, meter, &Replay::THESIS, PARTNER_RESULTS)?;
+    master(out, meter, &Replay::ADAPTIVE, PARTNER_RESULTS)
+}
+
+/// The master alone on `replay` (see [`run_master`]) with its partner's corners from `results`
+/// (lines as [`PARTNER_RESULTS`]'s): its window, then its partner's result, into one answer
+/// (the window's own only records the NCC result, 4.2), metered as the replay's
+/// `master_meter`.
+#[inline(never)]
+pub fn master<W: Write, M: Meter>(out: &mut W, meter: &mut M, replay: &Replay<'_>, results: &str) -> Result<(), SuiteError> {
+    let s = Stream::parse(replay.windows).map_err(SuiteError::Stream)?;
+    let (tpl, params) = start_of(&s, replay)?;
+    let mut master = lone_master(params);
+    let mut step = Step::new(Work::None);
+    master.set_template(tpl);
+    master.start_at_into(Point { x: s.start.0, y: s.start.1 }, &mut step);
+    let mut results = partner_results(results, replay.name);
+    let mut tally = (0u32, 0u32);
+    for (k, f) in s.frames().enumerate() {
+        let k = k as u16;
+        let view = recorded(step.request, &f, k)?;
+        let corner = results.next().flatten().ok_or(SuiteError::Diverged(k))?;
+        meter.once(replay.master_meter, &mut || {
+            master.on_window_into(&view, f.t, &mut step);
+            master.on_message_into(&Msg::Result(corner), f.t, &mut step);
+        });
+        decision_line(out, replay.name, k, &f, &step, &mut tally)?;
+    }
+    writeln!(out, "{}_total frames={} reports={} cd={}", replay.name, s.count, tally.0, tally.1)?;
     Ok(())
 }
 

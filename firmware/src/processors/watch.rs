@@ -1,5 +1,7 @@
 //! The Watch processor (thesis 2.3.1, 2.4): image differencing over the whole frame or one of
 //! MPDF's strips, reporting the motion area and capturing the template at the first motion.
+//! A whole-frame Watch can be split into strips, each its own processor ([`strip`]), whose
+//! motion areas merge ([`merge`]) into exactly the whole frame's.
 use super::messages::{Dest, Msg};
 use super::params::Params;
 use super::step::{Step, Work};
@@ -69,6 +71,35 @@ impl<'b> Watch<'b> {
             Dest::Peripheral,
             Msg::Motion { xmin: a.xmin as u16, xmax: a.xmax as u16, ymin: a.ymin as u16, ymax: a.ymax as u16 },
         );
+    }
+}
+
+/// The `k`-th of `n` horizontal strips of `region` (2.3.3: MPDF's Watch windows, one a
+/// processor): rows split as evenly as they go, the first strips one row taller; `None` for
+/// `k >= n`. Together they cover `region`'s rows once each, so their areas [`merge`] into the
+/// region's.
+pub fn strip(region: WindowRequest, k: u16, n: u16) -> Option<WindowRequest> {
+    if k >= n {
+        return None;
+    }
+    let (rows, extra) = (region.height / n, region.height % n);
+    let y0 = region.y0 + k * rows + k.min(extra);
+    Some(WindowRequest { y0, height: rows + u16::from(k < extra), ..region })
+}
+
+/// The motion area of two disjoint sets of rows (or columns) from each one's: the union of
+/// the boxes and the sum of the counts (saturating, as [`detect_motion`] counts). Merged over
+/// strips that partition a region it equals [`detect_motion`] over the whole region.
+pub fn merge(a: Option<MotionArea>, b: Option<MotionArea>) -> Option<MotionArea> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some(MotionArea {
+            xmin: a.xmin.min(b.xmin),
+            xmax: a.xmax.max(b.xmax),
+            ymin: a.ymin.min(b.ymin),
+            ymax: a.ymax.max(b.ymax),
+            count: a.count.saturating_add(b.count),
+        }),
+        (a, b) => a.or(b),
     }
 }
 
