@@ -36,12 +36,25 @@ pub(super) fn dot_row(a: &[u8], b: &[u8]) -> u64 {
 #[cfg(any(test, not(target_arch = "arm")))]
 #[inline(always)]
 pub(super) fn dot_row_bytes(a: &[u8], b: &[u8]) -> u64 {
+    let n = a.len().min(b.len());
+    let (Some(a), Some(b)) = (a.get(..n), b.get(..n)) else { return 0 };
     let mut s = 0u64;
     for (ca, cb) in a.chunks(DOT_CHUNK).zip(b.chunks(DOT_CHUNK)) {
-        let d = ca.iter().zip(cb).fold(0u32, |acc, (&x, &y)| {
+        // Whole 16-pixel vectors, then the rest: a short row (a 16-pixel template's) would
+        // otherwise fall entirely into the vectorised loop's scalar remainder.
+        let (qa, qb) = (ca.chunks_exact(16), cb.chunks_exact(16));
+        let tail = qa.remainder().iter().zip(qb.remainder()).fold(0u32, |acc, (&x, &y)| {
             acc.wrapping_add(u32::from(u16::from(x) * u16::from(y)))
         });
-        s += u64::from(d);
+        let mut lanes = [0u32; 16];
+        for (x, y) in qa.zip(qb) {
+            if let (Ok(x), Ok(y)) = (<&[u8; 16]>::try_from(x), <&[u8; 16]>::try_from(y)) {
+                for ((l, &p), &q) in lanes.iter_mut().zip(x).zip(y) {
+                    *l = l.wrapping_add(u32::from(u16::from(p) * u16::from(q)));
+                }
+            }
+        }
+        s += u64::from(lanes.iter().fold(tail, |acc, &l| acc.wrapping_add(l)));
     }
     s
 }

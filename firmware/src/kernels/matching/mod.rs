@@ -23,6 +23,7 @@
 //! (how they are fast), the scores from running sums in `scores.rs`.
 
 mod dot;
+mod elimination;
 mod scores;
 mod subpixel;
 #[cfg(test)]
@@ -30,6 +31,7 @@ mod tests;
 
 use crate::kernels::view::WindowView;
 use heapless::Vec;
+use elimination::{search, Elimination};
 use scores::{for_each_score, placements, sums_at, Scorer, Sums};
 pub(crate) use subpixel::parabola;
 
@@ -185,22 +187,29 @@ pub fn best_match(
     let (origin_x, origin_y) = win.origin();
     with_packed(win, tpl, |win, tpl| {
         let maximise = method.maximises();
-        let (nx, _) = placements(win, tpl)?;
+        let (nx, ny) = placements(win, tpl)?;
         let scorer = Scorer::new(method, tpl)?;
         // Placements are ranked by their sums (exactly, see `Scorer::better`); only the best
         // and its neighbours get a score. The sums are kept for the sub-pixel fit; maps
-        // larger than the cache recompute the four neighbours instead.
+        // larger than the cache recompute the four neighbours instead. SSD skips the
+        // placements its bound excludes (`elimination.rs`) and recomputes the neighbours.
         let mut best: Option<(usize, usize, Sums)> = None;
         let mut cache: Vec<Sums, SUMS_CACHE> = Vec::new();
         let mut cached = true;
-        for_each_score(&scorer, win, tpl, |px, py, x| {
-            if cached {
-                cached = cache.push(x).is_ok();
+        match (method == Method::Ssd).then(|| Elimination::new(win, tpl)).flatten() {
+            Some(el) => {
+                cached = false;
+                best = search(&el, nx, ny, |x, y| sums_at(method, win, tpl, x, y), |x| scorer.ssd(x));
             }
-            if scorer.scores(&x) && best.as_ref().is_none_or(|b| scorer.better(&x, &b.2)) {
-                best = Some((px, py, x));
-            }
-        })?;
+            None => for_each_score(&scorer, win, tpl, |px, py, x| {
+                if cached {
+                    cached = cache.push(x).is_ok();
+                }
+                if scorer.scores(&x) && best.as_ref().is_none_or(|b| scorer.better(&x, &b.2)) {
+                    best = Some((px, py, x));
+                }
+            })?,
+        }
         let (bx, by, bsums) = best.ok_or(MatchError::NoMatch)?;
         let bs = scorer.score(&bsums).ok_or(MatchError::NoMatch)?;
         let at = |x: Option<usize>, y: Option<usize>| {

@@ -134,7 +134,7 @@ impl Scorer {
     }
 
     /// `Σ(R-I)² = ΣR² + ΣI² - 2ΣRI >= 0` exactly in integers.
-    fn ssd(&self, x: &Sums) -> u64 {
+    pub(super) fn ssd(&self, x: &Sums) -> u64 {
         (self.t.energy + x.e).saturating_sub(2 * x.a)
     }
 }

@@ -172,3 +172,41 @@ fn decimated_scales_back() {
     assert_eq!((full.x, full.y), (2, 2));
     assert!((full.score - 1.0).abs() < 1e-12);
 }
+
+/// SSD's successive elimination finds what scoring every placement finds: the first minimum
+/// in raster order, its score and its sub-pixel position. Reference: SSD summed pixel by pixel
+/// here, on LCG pixels (a textured window with the template cut out of it, and pure noise),
+/// repeated tiles (ties between equal minima) and a flat window (nothing eliminated).
+#[test]
+fn ssd_elimination_is_exact() {
+    let mut px = lcg(4242);
+    for (case, (tw, th, ww, wh)) in [(16, 16, 40, 40), (8, 8, 20, 20), (12, 9, 30, 21), (16, 16, 40, 40), (8, 8, 20, 20)].into_iter().enumerate() {
+        let mut w: std::vec::Vec<u8> = (0..ww * wh).map(|_| px()).collect();
+        match case {
+            // Repeated 4x4 tiles: many placements tie with the minimum.
+            3 => w.iter_mut().enumerate().for_each(|(i, p)| *p = ((i % ww) % 4 * 60 + (i / ww) % 4 * 3) as u8),
+            // Flat: every placement ties.
+            4 => w.iter_mut().for_each(|p| *p = 77),
+            _ => {}
+        }
+        // The template: the window's patch at (5, 3), one pixel changed.
+        let mut t: std::vec::Vec<u8> = (0..tw * th).map(|i| w[(3 + i / tw) * ww + 5 + i % tw]).collect();
+        t[0] = t[0].wrapping_add(9);
+        let (wv, tv) = (v(&w, ww, wh), v(&t, tw, th));
+        let (nx, ny) = (ww - tw + 1, wh - th + 1);
+        let ssd = |ox: usize, oy: usize| -> u64 {
+            (0..tw * th).map(|i| (i64::from(t[i]) - i64::from(w[(oy + i / tw) * ww + ox + i % tw])).pow(2) as u64).sum()
+        };
+        let all: std::vec::Vec<u64> = (0..nx * ny).map(|k| ssd(k % nx, k / nx)).collect();
+        let min = *all.iter().min().unwrap();
+        let first = all.iter().position(|&s| s == min).unwrap();
+        let m = best_match(Method::Ssd, &wv, &tv).unwrap();
+        assert_eq!((m.x, m.y, m.score), (first % nx, first / nx, min as f64), "case {case}");
+        // The sub-pixel fit from the reference's neighbours.
+        let s = |x: usize, y: usize| (x < nx && y < ny).then(|| all[y * nx + x] as f64);
+        let (bx, by) = (first % nx, first / nx);
+        let dx = parabola(bx.checked_sub(1).and_then(|x| s(x, by)), min as f64, s(bx + 1, by), false);
+        let dy = parabola(by.checked_sub(1).and_then(|y| s(bx, y)), min as f64, s(bx, by + 1), false);
+        assert_eq!((m.sub_x, m.sub_y), ((bx as f64 + dx) as f32, (by as f64 + dy) as f32), "case {case}");
+    }
+}

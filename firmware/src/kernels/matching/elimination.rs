@@ -1,0 +1,155 @@
+//! Successive elimination for SSD (thesis 2.4's Peripheral measure): placements that cannot
+//! beat the best SSD found are skipped without computing their dot product.
+//!
+//! Split the template into `B x B` blocks (the last `tw % B` columns and `th % B` rows are left
+//! out). Over a block of `n = B²` pixels, Cauchy-Schwarz gives `(Σ R - Σ I)² <= n Σ (R - I)²`,
+//! and the blocks are disjoint, so for every placement
+//!
+//! `n · SSD >= L = Σ_blocks (Σ_block R - Σ_block I)²`
+//!
+//! (Li and Salari's successive elimination algorithm, with block sums). `L` costs one
+//! subtraction and one multiply-add per block from the window's `B x B` box sums, against
+//! `tw·th` multiply-adds for the SSD. A placement with `L > n · best` has an SSD above the best
+//! one found before it and cannot be the first minimum in raster order, so the search is exact
+//! (the same placement, ties to the first in raster order, as `cv::minMaxLoc`). The
+//! placement with the smallest `L` is scored first, so the bound is tight from the start.
+//! How many placements are left depends on the images, not their size: a flat window keeps them
+//! all (then the bounds are extra work).
+use super::MAX_SEARCH_WIDTH;
+use crate::kernels::view::WindowView;
+use heapless::Vec;
+
+/// Capacity of the box-sum image, in box positions (`(ww - B + 1)·(wh - B + 1)`): a 40x40
+/// Peripheral window at full resolution has 1,369 with `B = 4`. Larger windows are searched
+/// exhaustively.
+const BOX_CAP: usize = 2048;
+
+/// Most template blocks (a 64x64 template has 256 of 4x4): the bound of a placement is under
+/// `BLOCK_CAP · (16·255)² < 2³²`.
+const BLOCK_CAP: usize = 256;
+
+/// The block sums of a template and the box sums of a window, for the bound `L`.
+pub(super) struct Elimination {
+    /// `Σ I` over the `B x B` box at each window position `(x, y)`, row-major with `cols`
+    /// columns (at most `4²·255`, so differences and their squares fit `i16` and `i32`).
+    boxes: Vec<i16, BOX_CAP>,
+    cols: usize,
+    /// `Σ R` over each template block, row-major with `bw` columns.
+    blocks: Vec<i16, BLOCK_CAP>,
+    bw: usize,
+    b: usize,
+}
+
+impl Elimination {
+    /// The bound's sums for `tpl` in `win` (both step 1), with blocks of a quarter of the
+    /// template's shorter side, at most 4 (4x4 blocks for 16x16, 2x2 for 8x8); `None`
+    /// (search every placement) for templates under 8 pixels on a side (blocks of one pixel
+    /// would cost the SSD itself), or too large for the buffers.
+    pub(super) fn new(win: &WindowView<'_>, tpl: &WindowView<'_>) -> Option<Self> {
+        let (tw, th, ww, wh) = (tpl.width(), tpl.height(), win.width(), win.height());
+        let b = (tw.min(th) / 4).min(4);
+        if b < 2 || tw > ww || th > wh || ww > MAX_SEARCH_WIDTH {
+            return None;
+        }
+        let (cols, rows) = (ww - b + 1, wh - b + 1);
+        if cols.checked_mul(rows)? > BOX_CAP {
+            return None;
+        }
+        let mut blocks = Vec::new();
+        for by in 0..th / b {
+            for bx in 0..tw / b {
+                let mut s = 0i16;
+                for v in 0..b {
+                    s += tpl.row(by * b + v)?.get(bx * b..bx * b + b)?.iter().map(|&p| i16::from(p)).sum::<i16>();
+                }
+                blocks.push(s).ok()?;
+            }
+        }
+        // Box sums: the sums of `b` rows down each column (one row in, one out), then of `b`
+        // of those along the row (both loops over whole rows: SIMD on the host).
+        let mut boxes = Vec::new();
+        let mut col = [0i16; MAX_SEARCH_WIDTH];
+        let col = col.get_mut(..ww)?;
+        for v in 0..b {
+            col.iter_mut().zip(win.row(v)?).for_each(|(c, &p)| *c += i16::from(p));
+        }
+        for y in 0..rows {
+            if y > 0 {
+                let (add, sub) = (win.row(y + b - 1)?, win.row(y - 1)?);
+                col.iter_mut().zip(add.iter().zip(sub)).for_each(|(c, (&a, &s))| *c += i16::from(a) - i16::from(s));
+            }
+            let at = boxes.len();
+            boxes.resize(at + cols, 0).ok()?;
+            let out = boxes.get_mut(at..)?;
+            for k in 0..b {
+                out.iter_mut().zip(col.get(k..)?).for_each(|(o, &c)| *o += c);
+            }
+        }
+        Some(Self { boxes, cols, blocks, bw: tw / b, b })
+    }
+
+    /// `n = B²`, the pixels of a block: `L <= n · SSD`.
+    fn block_pixels(&self) -> u64 {
+        (self.b * self.b) as u64
+    }
+
+    /// The bounds `L` of the placements `(0, py)` to `(out.len() - 1, py)` into `out`, a
+    /// block at a time along the row (contiguous box sums: SIMD on the host).
+    fn bounds(&self, py: usize, out: &mut [u32]) {
+        out.iter_mut().for_each(|l| *l = 0);
+        let n = out.len();
+        for (j, row) in self.blocks.chunks(self.bw.max(1)).enumerate() {
+            for (i, &t) in row.iter().enumerate() {
+                let at = (py + j * self.b) * self.cols + i * self.b;
+                let Some(boxes) = self.boxes.get(at..at + n) else { continue };
+                for (l, &w) in out.iter_mut().zip(boxes) {
+                    let d = i32::from(t - w);
+                    *l = l.wrapping_add((d * d) as u32);
+                }
+            }
+        }
+    }
+}
+
+/// The first placement in raster order with the smallest SSD among `nx x ny`, with its sums:
+/// `sums` gives a placement's sums and `ssd` their SSD. Only the placements whose bound does
+/// not exclude them are summed (see the module docs); `None` if `sums` fails.
+pub(super) fn search<S>(
+    el: &Elimination,
+    nx: usize,
+    ny: usize,
+    mut sums: impl FnMut(usize, usize) -> Option<S>,
+    ssd: impl Fn(&S) -> u64,
+) -> Option<(usize, usize, S)> {
+    let n = el.block_pixels();
+    let mut row: Vec<u32, MAX_SEARCH_WIDTH> = Vec::new();
+    row.resize(nx, 0).ok()?;
+    // The smallest bound first (the first in raster order): its SSD bounds the search from the
+    // start.
+    let mut first = (0, 0, u32::MAX);
+    for py in 0..ny {
+        el.bounds(py, &mut row);
+        for (px, &l) in row.iter().enumerate() {
+            if l < first.2 {
+                first = (px, py, l);
+            }
+        }
+    }
+    let mut limit = ssd(&sums(first.0, first.1)?);
+    let mut best: Option<(usize, usize, S, u64)> = None;
+    for py in 0..ny {
+        el.bounds(py, &mut row);
+        for (px, &l) in row.iter().enumerate() {
+            if u64::from(l) > n.saturating_mul(limit) {
+                continue;
+            }
+            let x = sums(px, py)?;
+            let s = ssd(&x);
+            limit = limit.min(s);
+            if best.as_ref().is_none_or(|b| s < b.3) {
+                best = Some((px, py, x, s));
+            }
+        }
+    }
+    best.map(|(px, py, x, _)| (px, py, x))
+}
