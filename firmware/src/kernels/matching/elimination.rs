@@ -20,18 +20,17 @@ use crate::kernels::view::WindowView;
 use heapless::Vec;
 
 /// Capacity of the box-sum image, in box positions (`(ww - B + 1)·(wh - B + 1)`): a 40x40
-/// Peripheral window at full resolution has 1,369 with `B = 4`. Larger windows are searched
+/// Peripheral window at full resolution has 1,089 with `B = 8`. Larger windows are searched
 /// exhaustively.
 const BOX_CAP: usize = 2048;
 
-/// Most template blocks (a 64x64 template has 256 of 4x4): the bound of a placement is under
-/// `BLOCK_CAP · (16·255)² < 2³²`.
+/// Most template blocks (a bound must also stay under 2³², see [`Elimination::new`]).
 const BLOCK_CAP: usize = 256;
 
 /// The block sums of a template and the box sums of a window, for the bound `L`.
 pub(super) struct Elimination {
     /// `Σ I` over the `B x B` box at each window position `(x, y)`, row-major with `cols`
-    /// columns (at most `4²·255`, so differences and their squares fit `i16` and `i32`).
+    /// columns (at most `8²·255`, so differences and their squares fit `i16` and `i32`).
     boxes: Vec<i16, BOX_CAP>,
     cols: usize,
     /// `Σ R` over each template block, row-major with `bw` columns.
@@ -41,14 +40,16 @@ pub(super) struct Elimination {
 }
 
 impl Elimination {
-    /// The bound's sums for `tpl` in `win` (both step 1), with blocks of a quarter of the
-    /// template's shorter side, at most 4 (4x4 blocks for 16x16, 2x2 for 8x8); `None`
-    /// (search every placement) for templates under 8 pixels on a side (blocks of one pixel
-    /// would cost the SSD itself), or too large for the buffers.
+    /// The bound's sums for `tpl` in `win` (both step 1), with blocks of half the template's
+    /// shorter side, at most 8 (four 8x8 blocks for 16x16, four 4x4 for 8x8: a bound costs
+    /// four multiply-adds); `None` (search every placement) for templates under 4 pixels on
+    /// a side (blocks of one pixel would cost the SSD itself), too large for the buffers, or
+    /// with so many blocks that a bound, at most `blocks · (B²·255)²`, could pass 2³².
     pub(super) fn new(win: &WindowView<'_>, tpl: &WindowView<'_>) -> Option<Self> {
         let (tw, th, ww, wh) = (tpl.width(), tpl.height(), win.width(), win.height());
-        let b = (tw.min(th) / 4).min(4);
-        if b < 2 || tw > ww || th > wh || ww > MAX_SEARCH_WIDTH {
+        let b = (tw.min(th) / 2).min(8);
+        let most = ((b * b * 255) as u64).pow(2);
+        if b < 2 || tw > ww || th > wh || ww > MAX_SEARCH_WIDTH || ((tw / b) * (th / b)) as u64 * most > u64::from(u32::MAX) {
             return None;
         }
         let (cols, rows) = (ww - b + 1, wh - b + 1);
