@@ -43,8 +43,11 @@ impl Elimination {
     /// The bound's sums for `tpl` in `win` (both step 1), with blocks of half the template's
     /// shorter side, at most 8 (four 8x8 blocks for 16x16, four 4x4 for 8x8: a bound costs
     /// four multiply-adds); `None` (search every placement) for templates under 4 pixels on
-    /// a side (blocks of one pixel would cost the SSD itself), too large for the buffers, or
+    /// a side (blocks of one pixel would cost the SSD itself), windows or maps too large for
+    /// the buffers, or
     /// with so many blocks that a bound, at most `blocks · (B²·255)²`, could pass 2³².
+    /// Inlined: the caller's frame holds the sums (4 KiB), not a copy returned.
+    #[inline(always)]
     pub(super) fn new(win: &WindowView<'_>, tpl: &WindowView<'_>) -> Option<Self> {
         let (tw, th, ww, wh) = (tpl.width(), tpl.height(), win.width(), win.height());
         let b = (tw.min(th) / 2).min(8);
@@ -53,7 +56,7 @@ impl Elimination {
             return None;
         }
         let (cols, rows) = (ww - b + 1, wh - b + 1);
-        if cols.checked_mul(rows)? > BOX_CAP {
+        if cols.checked_mul(rows)? > BOX_CAP || (ww - tw + 1) * (wh - th + 1) > PLACEMENT_CAP {
             return None;
         }
         let mut blocks = Vec::new();
@@ -112,9 +115,14 @@ impl Elimination {
     }
 }
 
+/// Most placements searched (a 40x40 window has 625 of a 16x16 template); their bounds are
+/// kept, each computed once. Larger maps are searched exhaustively.
+const PLACEMENT_CAP: usize = 1024;
+
 /// The first placement in raster order with the smallest SSD among `nx x ny`, with its sums:
 /// `sums` gives a placement's sums and `ssd` their SSD. Only the placements whose bound does
-/// not exclude them are summed (see the module docs); `None` if `sums` fails.
+/// not exclude them are summed (see the module docs); `None` if `sums` fails (the map fits
+/// [`PLACEMENT_CAP`]: [`Elimination::new`] checks).
 pub(super) fn search<S>(
     el: &Elimination,
     nx: usize,
@@ -123,34 +131,36 @@ pub(super) fn search<S>(
     ssd: impl Fn(&S) -> u64,
 ) -> Option<(usize, usize, S)> {
     let n = el.block_pixels();
-    let mut row: Vec<u32, MAX_SEARCH_WIDTH> = Vec::new();
-    row.resize(nx, 0).ok()?;
+    let mut bounds: Vec<u32, PLACEMENT_CAP> = Vec::new();
+    bounds.resize(nx.checked_mul(ny)?, 0).ok()?;
+    for (py, row) in bounds.chunks_exact_mut(nx.max(1)).enumerate() {
+        el.bounds(py, row);
+    }
     // The smallest bound first (the first in raster order): its SSD bounds the search from the
     // start.
-    let mut first = (0, 0, u32::MAX);
-    for py in 0..ny {
-        el.bounds(py, &mut row);
-        for (px, &l) in row.iter().enumerate() {
-            if l < first.2 {
-                first = (px, py, l);
-            }
+    let (mut first, mut least) = (0, u32::MAX);
+    for (k, &l) in bounds.iter().enumerate() {
+        if l < least {
+            (first, least) = (k, l);
         }
     }
-    let mut limit = ssd(&sums(first.0, first.1)?);
-    let mut best: Option<(usize, usize, S, u64)> = None;
-    for py in 0..ny {
-        el.bounds(py, &mut row);
-        for (px, &l) in row.iter().enumerate() {
-            if u64::from(l) > n.saturating_mul(limit) {
-                continue;
-            }
-            let x = sums(px, py)?;
-            let s = ssd(&x);
-            limit = limit.min(s);
-            if best.as_ref().is_none_or(|b| s < b.3) {
-                best = Some((px, py, x, s));
-            }
+    let mut start = Some(sums(first % nx, first / nx)?);
+    let mut limit = ssd(start.as_ref()?);
+    let mut best: Option<(usize, S, u64)> = None;
+    for (k, &l) in bounds.iter().enumerate() {
+        if u64::from(l) > n.saturating_mul(limit) {
+            continue;
+        }
+        // The first placement scored is not summed twice.
+        let x = match start.take_if(|_| k == first) {
+            Some(x) => x,
+            None => sums(k % nx, k / nx)?,
+        };
+        let s = ssd(&x);
+        limit = limit.min(s);
+        if best.as_ref().is_none_or(|b| s < b.2) {
+            best = Some((k, x, s));
         }
     }
-    best.map(|(px, py, x, _)| (px, py, x))
+    best.map(|(k, x, _)| (k % nx, k / nx, x))
 }

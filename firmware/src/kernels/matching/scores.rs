@@ -320,7 +320,10 @@ pub(super) fn sums_at(method: Method, win: &WindowView<'_>, tpl: &WindowView<'_>
         let w = win.row(py + v)?.get(px..px + tw)?;
         x.a += if method == Method::Sad { sad_row(trow, w) } else { dot_row(trow, w) };
         x.e += dot_row(w, w);
-        x.s += w.iter().map(|&p| u64::from(p)).sum::<u64>();
+        // Only ZNCC reads the pixel sum.
+        if method == Method::Zncc {
+            x.s += w.iter().map(|&p| u64::from(p)).sum::<u64>();
+        }
     }
     Some(x)
 }

@@ -176,11 +176,12 @@ fn decimated_scales_back() {
 /// SSD's successive elimination finds what scoring every placement finds: the first minimum
 /// in raster order, its score and its sub-pixel position. Reference: SSD summed pixel by pixel
 /// here, on LCG pixels (a noise window with the template cut out of it, or a noise template),
-/// repeated tiles (ties between equal minima) and a flat window (nothing eliminated).
+/// repeated tiles (ties between equal minima), a flat window (nothing eliminated) and a map of
+/// 1,089 placements (over the elimination's capacity: every placement scored).
 #[test]
 fn ssd_elimination_is_exact() {
     let mut px = lcg(4242);
-    for (case, (tw, th, ww, wh)) in [(16, 16, 40, 40), (8, 8, 20, 20), (12, 9, 30, 21), (16, 16, 40, 40), (8, 8, 20, 20), (16, 16, 40, 40), (8, 8, 20, 20), (16, 16, 40, 40)].into_iter().enumerate() {
+    for (case, (tw, th, ww, wh)) in [(16, 16, 40, 40), (8, 8, 20, 20), (12, 9, 30, 21), (16, 16, 40, 40), (8, 8, 20, 20), (16, 16, 40, 40), (8, 8, 20, 20), (16, 16, 40, 40), (16, 16, 48, 48)].into_iter().enumerate() {
         let mut w: std::vec::Vec<u8> = (0..ww * wh).map(|_| px()).collect();
         match case {
             // Repeated 4x4 tiles: many placements tie with the minimum.
