@@ -40,23 +40,33 @@ pub(super) fn dot_row_bytes(a: &[u8], b: &[u8]) -> u64 {
     let (Some(a), Some(b)) = (a.get(..n), b.get(..n)) else { return 0 };
     let mut s = 0u64;
     for (ca, cb) in a.chunks(DOT_CHUNK).zip(b.chunks(DOT_CHUNK)) {
-        // Whole 16-pixel vectors, then the rest: a short row (a 16-pixel template's) would
-        // otherwise fall entirely into the vectorised loop's scalar remainder.
+        // Whole 16-pixel vectors, then one of 8, then the rest: a short row (a 16- or 8-pixel
+        // template's) would otherwise fall entirely into the vectorised loop's scalar remainder.
         let (qa, qb) = (ca.chunks_exact(16), cb.chunks_exact(16));
-        let tail = qa.remainder().iter().zip(qb.remainder()).fold(0u32, |acc, (&x, &y)| {
+        let (ea, eb) = (qa.remainder().chunks_exact(8), qb.remainder().chunks_exact(8));
+        let tail = ea.remainder().iter().zip(eb.remainder()).fold(0u32, |acc, (&x, &y)| {
             acc.wrapping_add(u32::from(u16::from(x) * u16::from(y)))
         });
-        let mut lanes = [0u32; 16];
-        for (x, y) in qa.zip(qb) {
-            if let (Ok(x), Ok(y)) = (<&[u8; 16]>::try_from(x), <&[u8; 16]>::try_from(y)) {
-                for ((l, &p), &q) in lanes.iter_mut().zip(x).zip(y) {
-                    *l = l.wrapping_add(u32::from(u16::from(p) * u16::from(q)));
-                }
-            }
-        }
-        s += u64::from(lanes.iter().fold(tail, |acc, &l| acc.wrapping_add(l)));
+        let (sixteen, eight) = (lanes_dot::<16>(qa.zip(qb)), lanes_dot::<8>(ea.zip(eb)));
+        s += u64::from(tail.wrapping_add(sixteen).wrapping_add(eight));
     }
     s
+}
+
+/// `Σ x·y` over pairs of `N`-pixel chunks, in `N` `u32` lanes (SIMD multiply-adds, no scalar
+/// remainder), wrapping like the caller's `DOT_CHUNK` sums (which cannot wrap).
+#[cfg(any(test, not(target_arch = "arm")))]
+#[inline(always)]
+fn lanes_dot<'a, const N: usize>(chunks: impl Iterator<Item = (&'a [u8], &'a [u8])>) -> u32 {
+    let mut lanes = [0u32; N];
+    for (x, y) in chunks {
+        if let (Ok(x), Ok(y)) = (<&[u8; N]>::try_from(x), <&[u8; N]>::try_from(y)) {
+            for ((l, &p), &q) in lanes.iter_mut().zip(x).zip(y) {
+                *l = l.wrapping_add(u32::from(u16::from(p) * u16::from(q)));
+            }
+        }
+    }
+    lanes.iter().fold(0u32, |acc, &l| acc.wrapping_add(l))
 }
 
 /// [`dot_row`] four pixels at a time on the Cortex-M4: each word's pixels spread over two

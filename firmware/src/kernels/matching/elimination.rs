@@ -41,16 +41,17 @@ pub(super) struct Elimination {
 
 impl Elimination {
     /// The bound's sums for `tpl` in `win` (both step 1), with blocks of half the template's
-    /// shorter side, at most 8 (four 8x8 blocks for 16x16, four 4x4 for 8x8: a bound costs
-    /// four multiply-adds); `None` (search every placement) for templates under 4 pixels on
+    /// shorter side rounded down to a power of two, at most 8 (four 8x8 blocks for 16x16, four
+    /// 4x4 for 8x8: a bound costs four multiply-adds); `None` (search every placement) for templates under 4 pixels on
     /// a side (blocks of one pixel would cost the SSD itself), windows or maps too large for
     /// the buffers, or
     /// with so many blocks that a bound, at most `blocks · (B²·255)²`, could pass 2³².
     /// Inlined: the caller's frame holds the sums (4 KiB), not a copy returned.
     #[inline(always)]
-    pub(super) fn new(win: &WindowView<'_>, tpl: &WindowView<'_>) -> Option<Self> {
+    fn new(win: &WindowView<'_>, tpl: &WindowView<'_>) -> Option<Self> {
         let (tw, th, ww, wh) = (tpl.width(), tpl.height(), win.width(), win.height());
-        let b = (tw.min(th) / 2).min(8);
+        // A power of two, so a box sum is `log2 B` doublings.
+        let b = 1usize << (tw.min(th) / 2).clamp(1, 8).ilog2();
         let most = ((b * b * 255) as u64).pow(2);
         if b < 2 || tw > ww || th > wh || ww > MAX_SEARCH_WIDTH || ((tw / b) * (th / b)) as u64 * most > u64::from(u32::MAX) {
             return None;
@@ -82,12 +83,18 @@ impl Elimination {
                 let (add, sub) = (win.row(y + b - 1)?, win.row(y - 1)?);
                 col.iter_mut().zip(add.iter().zip(sub)).for_each(|(c, (&a, &s))| *c += i16::from(a) - i16::from(s));
             }
-            let at = boxes.len();
-            boxes.resize(at + cols, 0).ok()?;
-            let out = boxes.get_mut(at..)?;
-            for k in 0..b {
-                out.iter_mut().zip(col.get(k..)?).for_each(|(o, &c)| *o += c);
+            // Sums of 2, 4, ..., b columns, each of two of the previous width.
+            let (mut buf, mut spare) = ([0i16; MAX_SEARCH_WIDTH], [0i16; MAX_SEARCH_WIDTH]);
+            let (mut run, mut next) = (buf.get_mut(..ww)?, spare.get_mut(..ww)?);
+            run.copy_from_slice(col);
+            let mut width = 1;
+            while width < b {
+                let sums = run.iter().zip(run.get(width..)?).map(|(&x, &y)| x + y);
+                next.iter_mut().zip(sums).for_each(|(d, s)| *d = s);
+                core::mem::swap(&mut run, &mut next);
+                width *= 2;
             }
+            boxes.extend_from_slice(run.get(..cols)?).ok()?;
         }
         Some(Self { boxes, cols, blocks, bw: tw / b, b })
     }
@@ -119,11 +126,26 @@ impl Elimination {
 /// kept, each computed once. Larger maps are searched exhaustively.
 const PLACEMENT_CAP: usize = 1024;
 
-/// The first placement in raster order with the smallest SSD among `nx x ny`, with its sums:
-/// `sums` gives a placement's sums and `ssd` their SSD. Only the placements whose bound does
-/// not exclude them are summed (see the module docs); `None` if `sums` fails (the map fits
-/// [`PLACEMENT_CAP`]: [`Elimination::new`] checks).
+/// The first placement in raster order with the smallest SSD of `tpl` in `win` (both step
+/// 1, `nx x ny` placements), with its sums: `sums` gives a placement's sums and `ssd` their
+/// SSD. Only the placements whose bound does not exclude them are summed (see the module
+/// docs). `None` when the elimination does not apply ([`Elimination::new`]: search every
+/// placement), `Some(None)` if `sums` fails. In a frame of its own, so the other methods'
+/// matching does not carry its buffers.
+#[inline(never)]
 pub(super) fn search<S>(
+    win: &WindowView<'_>,
+    tpl: &WindowView<'_>,
+    (nx, ny): (usize, usize),
+    sums: impl FnMut(usize, usize) -> Option<S>,
+    ssd: impl Fn(&S) -> u64,
+) -> Option<Option<(usize, usize, S)>> {
+    let el = Elimination::new(win, tpl)?;
+    Some(search_with(&el, nx, ny, sums, ssd))
+}
+
+/// [`search`] with the bound's sums built.
+fn search_with<S>(
     el: &Elimination,
     nx: usize,
     ny: usize,

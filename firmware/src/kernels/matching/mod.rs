@@ -31,7 +31,7 @@ mod tests;
 
 use crate::kernels::view::WindowView;
 use heapless::Vec;
-use elimination::{search, Elimination};
+use elimination::search;
 use scores::{for_each_score, placements, sums_at, Scorer, Sums};
 pub(crate) use subpixel::parabola;
 
@@ -200,10 +200,14 @@ pub fn best_match(
         let mut best: Option<(usize, usize, Sums)> = None;
         let mut cache: Vec<Sums, SUMS_CACHE> = Vec::new();
         let mut cached = true;
-        match (method == Method::Ssd).then(|| Elimination::new(win, tpl)).flatten() {
-            Some(el) => {
+        let eliminated = match method {
+            Method::Ssd => search(win, tpl, (nx, ny), |x, y| sums_at(method, win, tpl, x, y), |x| scorer.ssd(x)),
+            _ => None,
+        };
+        match eliminated {
+            Some(found) => {
                 cached = false;
-                best = search(&el, nx, ny, |x, y| sums_at(method, win, tpl, x, y), |x| scorer.ssd(x));
+                best = found;
             }
             None => for_each_score(&scorer, win, tpl, |px, py, x| {
                 if cached {
