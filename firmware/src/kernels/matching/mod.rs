@@ -197,27 +197,15 @@ pub fn best_match(
         // and its neighbours get a score. The sums are kept for the sub-pixel fit; maps
         // larger than the cache recompute the four neighbours instead. SSD skips the
         // placements its bound excludes (`elimination.rs`) and recomputes the neighbours.
-        let mut best: Option<(usize, usize, Sums)> = None;
         let mut cache: Vec<Sums, SUMS_CACHE> = Vec::new();
-        let mut cached = true;
         let eliminated = match method {
             Method::Ssd => search(win, tpl, (nx, ny), |x, y| sums_at(method, win, tpl, x, y), |x| scorer.ssd(x)),
             _ => None,
         };
-        match eliminated {
-            Some(found) => {
-                cached = false;
-                best = found;
-            }
-            None => for_each_score(&scorer, win, tpl, |px, py, x| {
-                if cached {
-                    cached = cache.push(x).is_ok();
-                }
-                if scorer.scores(&x) && best.as_ref().is_none_or(|b| scorer.better(&x, &b.2)) {
-                    best = Some((px, py, x));
-                }
-            })?,
-        }
+        let (best, cached) = match eliminated {
+            Some(found) => (found, false),
+            None => rank_all(&scorer, win, tpl, &mut cache)?,
+        };
         let (bx, by, bsums) = best.ok_or(MatchError::NoMatch)?;
         let bs = scorer.score(&bsums).ok_or(MatchError::NoMatch)?;
         let at = |x: Option<usize>, y: Option<usize>| {
@@ -254,6 +242,29 @@ pub fn best_match(
             frame_y: origin_y as f32 + sub_y,
         })
     })
+}
+
+/// The first best placement in raster order with its sums, every placement ranked (see
+/// [`best_match`]), and whether `cache` holds the sums of every placement (else only the
+/// first [`SUMS_CACHE`]). In a frame of its own, apart from the SSD's elimination.
+#[inline(never)]
+fn rank_all(
+    scorer: &Scorer,
+    win: &WindowView<'_>,
+    tpl: &WindowView<'_>,
+    cache: &mut Vec<Sums, SUMS_CACHE>,
+) -> Result<(Option<(usize, usize, Sums)>, bool), MatchError> {
+    let mut best: Option<(usize, usize, Sums)> = None;
+    let mut cached = true;
+    for_each_score(scorer, win, tpl, |px, py, x| {
+        if cached {
+            cached = cache.push(x).is_ok();
+        }
+        if scorer.scores(&x) && best.as_ref().is_none_or(|b| scorer.better(&x, &b.2)) {
+            best = Some((px, py, x));
+        }
+    })?;
+    Ok((best, cached))
 }
 
 /// The 25 %-resolution match of the Peripheral window (thesis 2.3): both views are
