@@ -73,27 +73,33 @@ impl Elimination {
         // Box sums: the sums of `b` rows down each column (one row in, one out), then of `b`
         // of those along the row (both loops over whole rows: SIMD on the host).
         let mut boxes = Vec::new();
-        let mut col = [0i16; MAX_SEARCH_WIDTH];
-        let col = col.get_mut(..ww)?;
+        let (mut col, mut buf, mut spare) = ([0i16; MAX_SEARCH_WIDTH], [0i16; MAX_SEARCH_WIDTH], [0i16; MAX_SEARCH_WIDTH]);
+        let (col, buf, spare) = (col.get_mut(..ww)?, buf.get_mut(..ww)?, spare.get_mut(..ww)?);
         for v in 0..b {
             col.iter_mut().zip(win.row(v)?).for_each(|(c, &p)| *c += i16::from(p));
         }
+        // `dst[i] = src[i] + src[i + width]`: sums of twice `width` columns.
+        let double = |dst: &mut [i16], src: &[i16], width: usize| {
+            let sums = src.iter().zip(src.get(width..).unwrap_or(&[])).map(|(&x, &y)| x + y);
+            dst.iter_mut().zip(sums).for_each(|(d, s)| *d = s);
+        };
         for y in 0..rows {
             if y > 0 {
                 let (add, sub) = (win.row(y + b - 1)?, win.row(y - 1)?);
                 col.iter_mut().zip(add.iter().zip(sub)).for_each(|(c, (&a, &s))| *c += i16::from(a) - i16::from(s));
             }
             // Sums of 2, 4, ..., b columns, each of two of the previous width.
-            let (mut buf, mut spare) = ([0i16; MAX_SEARCH_WIDTH], [0i16; MAX_SEARCH_WIDTH]);
-            let (mut run, mut next) = (buf.get_mut(..ww)?, spare.get_mut(..ww)?);
-            run.copy_from_slice(col);
-            let mut width = 1;
+            double(buf, col, 1);
+            let (mut width, mut in_buf) = (2, true);
             while width < b {
-                let sums = run.iter().zip(run.get(width..)?).map(|(&x, &y)| x + y);
-                next.iter_mut().zip(sums).for_each(|(d, s)| *d = s);
-                core::mem::swap(&mut run, &mut next);
-                width *= 2;
+                if in_buf {
+                    double(spare, buf, width);
+                } else {
+                    double(buf, spare, width);
+                }
+                (width, in_buf) = (2 * width, !in_buf);
             }
+            let run = if in_buf { &buf[..] } else { &spare[..] };
             boxes.extend_from_slice(run.get(..cols)?).ok()?;
         }
         Some(Self { boxes, cols, blocks, bw: tw / b, b })
