@@ -169,7 +169,7 @@ impl Scorer {
     }
 
     /// `Σ(R-I)² = ΣR² + ΣI² - 2ΣRI >= 0` exactly in integers.
-    fn ssd(&self, x: &Sums) -> u64 {
+    pub(super) fn ssd(&self, x: &Sums) -> u64 {
         (self.t.energy + x.e).saturating_sub(2 * x.a)
     }
 }
@@ -355,7 +355,10 @@ pub(super) fn sums_at(method: Method, win: &WindowView<'_>, tpl: &WindowView<'_>
         let w = win.row(py + v)?.get(px..px + tw)?;
         x.a += if method == Method::Sad { sad_row(trow, w) } else { dot_row(trow, w) };
         x.e += dot_row(w, w);
-        x.s += w.iter().map(|&p| u64::from(p)).sum::<u64>();
+        // Only ZNCC reads the pixel sum.
+        if method == Method::Zncc {
+            x.s += w.iter().map(|&p| u64::from(p)).sum::<u64>();
+        }
     }
     Some(x)
 }

@@ -229,3 +229,57 @@ fn the_pyramid_finds_what_the_full_search_finds() {
     let w27 = WindowView::new(&w, 27, 27, 52, 0, 0).unwrap();
     assert_eq!(best_match_pyramid(Method::Zncc, &w27, &v(&t, 20, 20)), best_match(Method::Zncc, &w27, &v(&t, 20, 20)));
 }
+
+/// SSD's successive elimination finds what scoring every placement finds: the first minimum
+/// in raster order, its score and its sub-pixel position. Reference: SSD summed pixel by pixel
+/// here, on LCG pixels (a noise window with the template cut out of it, or a noise template),
+/// repeated tiles (ties between equal minima), a flat window (nothing eliminated) and a map of
+/// 1,089 placements (over the elimination's capacity: every placement scored).
+#[test]
+fn ssd_elimination_is_exact() {
+    let mut px = lcg(4242);
+    for (case, (tw, th, ww, wh)) in [(16, 16, 40, 40), (8, 8, 20, 20), (12, 9, 30, 21), (16, 16, 40, 40), (8, 8, 20, 20), (16, 16, 40, 40), (8, 8, 20, 20), (16, 16, 40, 40), (16, 16, 48, 48)].into_iter().enumerate() {
+        let mut w: std::vec::Vec<u8> = (0..ww * wh).map(|_| px()).collect();
+        match case {
+            // Repeated 4x4 tiles: many placements tie with the minimum.
+            3 => w.iter_mut().enumerate().for_each(|(i, p)| *p = ((i % ww) % 4 * 60 + (i / ww) % 4 * 3) as u8),
+            // Flat: every placement ties.
+            4 => w.iter_mut().for_each(|p| *p = 77),
+            // Flat 8x8 tiles (the bound's blocks for 16x16): the bound is the SSD at aligned
+            // placements, so an overestimate would skip the minimum.
+            7 => {
+                let tiles: std::vec::Vec<u8> = (0..25).map(|_| px() / 2).collect();
+                w.iter_mut().enumerate().for_each(|(i, p)| *p = tiles[(i / ww) / 8 * 5 + (i % ww) / 8]);
+            }
+            _ => {}
+        }
+        // The template: the window's patch at (5, 3), one pixel changed.
+        let mut t: std::vec::Vec<u8> = (0..tw * th).map(|i| w[(3 + i / tw) * ww + 5 + i % tw]).collect();
+        t[0] = t[0].wrapping_add(9);
+        // Cases 5 and 6: a noise template, not in the window (the minimum's bound is close to
+        // its SSD, so a bound that overestimated would skip it).
+        if case == 5 || case == 6 {
+            t.iter_mut().for_each(|p| *p = px() / 2 + 64);
+        }
+        // Case 7: the aligned tiles at (8, 8), each pixel 5 brighter.
+        if case == 7 {
+            t.iter_mut().enumerate().for_each(|(i, p)| *p = w[(8 + i / tw) * ww + 8 + i % tw] + 5);
+        }
+        let (wv, tv) = (v(&w, ww, wh), v(&t, tw, th));
+        let (nx, ny) = (ww - tw + 1, wh - th + 1);
+        let ssd = |ox: usize, oy: usize| -> u64 {
+            (0..tw * th).map(|i| (i64::from(t[i]) - i64::from(w[(oy + i / tw) * ww + ox + i % tw])).pow(2) as u64).sum()
+        };
+        let all: std::vec::Vec<u64> = (0..nx * ny).map(|k| ssd(k % nx, k / nx)).collect();
+        let min = *all.iter().min().unwrap();
+        let first = all.iter().position(|&s| s == min).unwrap();
+        let m = best_match(Method::Ssd, &wv, &tv).unwrap();
+        assert_eq!((m.x, m.y, m.score), (first % nx, first / nx, min as f64), "case {case}");
+        // The sub-pixel fit from the reference's neighbours.
+        let s = |x: usize, y: usize| (x < nx && y < ny).then(|| all[y * nx + x] as f64);
+        let (bx, by) = (first % nx, first / nx);
+        let dx = parabola(bx.checked_sub(1).and_then(|x| s(x, by)), min as f64, s(bx + 1, by), false);
+        let dy = parabola(by.checked_sub(1).and_then(|y| s(bx, y)), min as f64, s(bx, by + 1), false);
+        assert_eq!((m.sub_x, m.sub_y), ((bx as f64 + dx) as f32, (by as f64 + dy) as f32), "case {case}");
+    }
+}

@@ -1,0 +1,194 @@
+//! Successive elimination for SSD (thesis 2.4's Peripheral measure): placements that cannot
+//! beat the best SSD found are skipped without computing their dot product.
+//!
+//! Split the template into `B x B` blocks (the last `tw % B` columns and `th % B` rows are left
+//! out). Over a block of `n = B²` pixels, Cauchy-Schwarz gives `(Σ R - Σ I)² <= n Σ (R - I)²`,
+//! and the blocks are disjoint, so for every placement
+//!
+//! `n · SSD >= L = Σ_blocks (Σ_block R - Σ_block I)²`
+//!
+//! (Li and Salari's successive elimination algorithm, with block sums). `L` costs one
+//! subtraction and one multiply-add per block from the window's `B x B` box sums, against
+//! `tw·th` multiply-adds for the SSD. A placement with `L > n · best` has an SSD above the best
+//! one found before it and cannot be the first minimum in raster order, so the search is exact
+//! (the same placement, ties to the first in raster order, as `cv::minMaxLoc`). The
+//! placement with the smallest `L` is scored first, so the bound is tight from the start.
+//! How many placements are left depends on the images, not their size: a flat window keeps them
+//! all (then the bounds are extra work).
+use super::MAX_SEARCH_WIDTH;
+use crate::kernels::view::WindowView;
+use heapless::Vec;
+
+/// Capacity of the box-sum image, in box positions (`(ww - B + 1)·(wh - B + 1)`): a 40x40
+/// Peripheral window at full resolution has 1,089 with `B = 8`. Larger windows are searched
+/// exhaustively.
+const BOX_CAP: usize = 2048;
+
+/// Most template blocks (a bound must also stay under 2³², see [`Elimination::new`]).
+const BLOCK_CAP: usize = 256;
+
+/// The block sums of a template and the box sums of a window, for the bound `L`.
+pub(super) struct Elimination {
+    /// `Σ I` over the `B x B` box at each window position `(x, y)`, row-major with `cols`
+    /// columns (at most `8²·255`, so differences and their squares fit `i16` and `i32`).
+    boxes: Vec<i16, BOX_CAP>,
+    cols: usize,
+    /// `Σ R` over each template block, row-major with `bw` columns.
+    blocks: Vec<i16, BLOCK_CAP>,
+    bw: usize,
+    b: usize,
+}
+
+impl Elimination {
+    /// The bound's sums for `tpl` in `win` (both step 1), with blocks of half the template's
+    /// shorter side rounded down to a power of two, at most 8 (four 8x8 blocks for 16x16, four
+    /// 4x4 for 8x8: a bound costs four multiply-adds); `None` (search every placement) for templates under 4 pixels on
+    /// a side (blocks of one pixel would cost the SSD itself), windows or maps too large for
+    /// the buffers, or
+    /// with so many blocks that a bound, at most `blocks · (B²·255)²`, could pass 2³².
+    /// Inlined: the caller's frame holds the sums (4 KiB), not a copy returned.
+    #[inline(always)]
+    fn new(win: &WindowView<'_>, tpl: &WindowView<'_>) -> Option<Self> {
+        let (tw, th, ww, wh) = (tpl.width(), tpl.height(), win.width(), win.height());
+        // A power of two, so a box sum is `log2 B` doublings.
+        let b = 1usize << (tw.min(th) / 2).clamp(1, 8).ilog2();
+        let most = ((b * b * 255) as u64).pow(2);
+        if b < 2 || tw > ww || th > wh || ww > MAX_SEARCH_WIDTH || ((tw / b) * (th / b)) as u64 * most > u64::from(u32::MAX) {
+            return None;
+        }
+        let (cols, rows) = (ww - b + 1, wh - b + 1);
+        if cols.checked_mul(rows)? > BOX_CAP || (ww - tw + 1) * (wh - th + 1) > PLACEMENT_CAP {
+            return None;
+        }
+        let mut blocks = Vec::new();
+        for by in 0..th / b {
+            for bx in 0..tw / b {
+                let mut s = 0i16;
+                for v in 0..b {
+                    s += tpl.row(by * b + v)?.get(bx * b..bx * b + b)?.iter().map(|&p| i16::from(p)).sum::<i16>();
+                }
+                blocks.push(s).ok()?;
+            }
+        }
+        // Box sums: the sums of `b` rows down each column (one row in, one out), then of `b`
+        // of those along the row (both loops over whole rows: SIMD on the host).
+        let mut boxes = Vec::new();
+        let (mut col, mut buf, mut spare) = ([0i16; MAX_SEARCH_WIDTH], [0i16; MAX_SEARCH_WIDTH], [0i16; MAX_SEARCH_WIDTH]);
+        let (col, buf, spare) = (col.get_mut(..ww)?, buf.get_mut(..ww)?, spare.get_mut(..ww)?);
+        for v in 0..b {
+            col.iter_mut().zip(win.row(v)?).for_each(|(c, &p)| *c += i16::from(p));
+        }
+        // `dst[i] = src[i] + src[i + width]`: sums of twice `width` columns.
+        let double = |dst: &mut [i16], src: &[i16], width: usize| {
+            let sums = src.iter().zip(src.get(width..).unwrap_or(&[])).map(|(&x, &y)| x + y);
+            dst.iter_mut().zip(sums).for_each(|(d, s)| *d = s);
+        };
+        for y in 0..rows {
+            if y > 0 {
+                let (add, sub) = (win.row(y + b - 1)?, win.row(y - 1)?);
+                col.iter_mut().zip(add.iter().zip(sub)).for_each(|(c, (&a, &s))| *c += i16::from(a) - i16::from(s));
+            }
+            // Sums of 2, 4, ..., b columns, each of two of the previous width.
+            double(buf, col, 1);
+            let (mut width, mut in_buf) = (2, true);
+            while width < b {
+                if in_buf {
+                    double(spare, buf, width);
+                } else {
+                    double(buf, spare, width);
+                }
+                (width, in_buf) = (2 * width, !in_buf);
+            }
+            let run = if in_buf { &buf[..] } else { &spare[..] };
+            boxes.extend_from_slice(run.get(..cols)?).ok()?;
+        }
+        Some(Self { boxes, cols, blocks, bw: tw / b, b })
+    }
+
+    /// `n = B²`, the pixels of a block: `L <= n · SSD`.
+    fn block_pixels(&self) -> u64 {
+        (self.b * self.b) as u64
+    }
+
+    /// The bounds `L` of the placements `(0, py)` to `(out.len() - 1, py)` into `out`, a
+    /// block at a time along the row (contiguous box sums: SIMD on the host).
+    fn bounds(&self, py: usize, out: &mut [u32]) {
+        out.iter_mut().for_each(|l| *l = 0);
+        let n = out.len();
+        for (j, row) in self.blocks.chunks(self.bw.max(1)).enumerate() {
+            for (i, &t) in row.iter().enumerate() {
+                let at = (py + j * self.b) * self.cols + i * self.b;
+                let Some(boxes) = self.boxes.get(at..at + n) else { continue };
+                for (l, &w) in out.iter_mut().zip(boxes) {
+                    let d = i32::from(t - w);
+                    *l = l.wrapping_add((d * d) as u32);
+                }
+            }
+        }
+    }
+}
+
+/// Most placements searched (a 40x40 window has 625 of a 16x16 template); their bounds are
+/// kept, each computed once. Larger maps are searched exhaustively.
+const PLACEMENT_CAP: usize = 1024;
+
+/// The first placement in raster order with the smallest SSD of `tpl` in `win` (both step
+/// 1, `nx x ny` placements), with its sums: `sums` gives a placement's sums and `ssd` their
+/// SSD. Only the placements whose bound does not exclude them are summed (see the module
+/// docs). `None` when the elimination does not apply ([`Elimination::new`]: search every
+/// placement), `Some(None)` if `sums` fails. In a frame of its own, so the other methods'
+/// matching does not carry its buffers.
+#[inline(never)]
+pub(super) fn search<S>(
+    win: &WindowView<'_>,
+    tpl: &WindowView<'_>,
+    (nx, ny): (usize, usize),
+    sums: impl FnMut(usize, usize) -> Option<S>,
+    ssd: impl Fn(&S) -> u64,
+) -> Option<Option<(usize, usize, S)>> {
+    let el = Elimination::new(win, tpl)?;
+    Some(search_with(&el, nx, ny, sums, ssd))
+}
+
+/// [`search`] with the bound's sums built.
+fn search_with<S>(
+    el: &Elimination,
+    nx: usize,
+    ny: usize,
+    mut sums: impl FnMut(usize, usize) -> Option<S>,
+    ssd: impl Fn(&S) -> u64,
+) -> Option<(usize, usize, S)> {
+    let n = el.block_pixels();
+    let mut bounds: Vec<u32, PLACEMENT_CAP> = Vec::new();
+    bounds.resize(nx.checked_mul(ny)?, 0).ok()?;
+    for (py, row) in bounds.chunks_exact_mut(nx.max(1)).enumerate() {
+        el.bounds(py, row);
+    }
+    // The smallest bound first (the first in raster order): its SSD bounds the search from the
+    // start.
+    let (mut first, mut least) = (0, u32::MAX);
+    for (k, &l) in bounds.iter().enumerate() {
+        if l < least {
+            (first, least) = (k, l);
+        }
+    }
+    let mut start = Some(sums(first % nx, first / nx)?);
+    let mut limit = ssd(start.as_ref()?);
+    let mut best: Option<(usize, S, u64)> = None;
+    for (k, &l) in bounds.iter().enumerate() {
+        if u64::from(l) > n.saturating_mul(limit) {
+            continue;
+        }
+        // The first placement scored is not summed twice.
+        let x = match start.take_if(|_| k == first) {
+            Some(x) => x,
+            None => sums(k % nx, k / nx)?,
+        };
+        let s = ssd(&x);
+        limit = limit.min(s);
+        if best.as_ref().is_none_or(|b| s < b.2) {
+            best = Some((k, x, s));
+        }
+    }
+    best.map(|(k, x, _)| (k % nx, k / nx, x))
+}
