@@ -241,7 +241,8 @@ def per_processor(p, partner, peripheral, watch, master):
                  f"{FRAME / (max(wins) / HZ):.1f}x margin on the 8.8 ms period at one cycle per "
                  f"instruction. An adapting sweep's windows take up to {max(sweep):,} "
                  f"({fmt_t(max(sweep) / HZ)} at 168 MHz, {max(sweep) / HZ / FRAME:.1f} frame periods): "
-                 "zero-mean NCC over 64x64 samples, ranked exactly in 128-bit integers; a sweep runs only "
+                 "zero-mean NCC over 64x64 samples (ranked in single precision, in 128-bit integers on "
+                 "near-ties); a sweep runs only "
                  "after both sizes failed, one tile a window, and the Foveal track waits for it either way.")
             p()
     if watch:
@@ -535,10 +536,14 @@ def coop_frames(p, counts, prof):
             p(f"At the estimated {c:.2f} cycles per instruction the worst frame takes {fmt_t(wa * c / HZ)}")
             p(f"(a {FRAME / (wa * c / HZ):.1f}x margin).")
         if wa > budget:
-            p("Where those instructions go is the profile's second table below: the alignment's")
-            p("bilinear samples (`warp.rs`, inlined into `CoopPair::frame`) and the zero-mean NCC's")
-            p("ranking (`Scorer::score` and `better`: exact comparisons in 128-bit integers, library")
-            p("multiplications on the M4) over windows of up to 36x36 dominate.")
+            p("Where those instructions go is the profile's second table below: the zero-mean NCC's")
+            p("dot products over windows of up to 36x36 (`matching::dot`; windows of more than 64")
+            p("placements are searched coarse to fine, `best_match_pyramid`), the first template's")
+            p("search within 3 px of the point and its Lucas-Kanade refinement, the alignment's")
+            p("bilinear samples (`warp.rs`, inlined into `CoopPair::frame`), the new template's")
+            p("preparation and the partner's corner detector. Before this was measured the worst")
+            p("frame was 1,415,520: the alignment summed the template's side every iteration and")
+            p("floored through the library, and placements were ranked in 128-bit integers.")
         p()
     p("### Cycles")
     p()
