@@ -8,9 +8,8 @@
 # pairs' replays included: its lines must equal expected.txt's too, and its static RAM plus its
 # static stack bound (scripts/stack_bound.py) must fit the 128 KiB. Then each processor's own
 # image (issue 22), linked into 64 KiB: the COOP partner's (`partner`), the Peripheral's
-# (`peripheral`) and a Watch strip processor's (`watch`), each printing its lines of
-# expected.txt, in RAM <= 64 KiB and flash <= 256 KiB; and the NCC master's (`master`), still
-# in 128 KiB.
+# (`peripheral`), a Watch strip processor's (`watch`) and the NCC master's (`master`), each
+# printing its lines of expected.txt, in RAM <= 64 KiB and flash <= 256 KiB.
 #
 #   scripts/board.sh             build, run, compare
 #   scripts/board.sh --profile   also profile the COOP frames (QEMU's execution trace, through
@@ -132,8 +131,7 @@ one_image peripheral "Peripheral image" 'peripheral_ssd_16in40|peripheral_sad_16
 # A Watch strip processor: each strip's motion and their merge, the whole frame's line.
 one_image watch "Watch image" 'watch_strip|watch_motion_256'
 # The NCC master: the pair's decisions, its partner's corners read from the partner's lines.
-# Linked into 128 KiB and held to it: its stack bound is not yet within 64 KiB (see the docs).
-one_image master "NCC master image" 'tracker|tracker_total|adaptive|adaptive_total' 131072
+one_image master "NCC master image" 'tracker|tracker_total|adaptive|adaptive_total'
 images=(partner peripheral watch master)
 
 if [ "$figures" = 1 ]; then

@@ -276,24 +276,22 @@ def per_processor(p, partner, peripheral, watch, master):
             "`the_master_alone_decides_as_in_the_pair` holds the host to the same, and shows the "
             "partner's results decide (without them the master never picks the corner and leaves the "
             "recorded run). Built in place (`lone_master`, never inlined) the master and its one answer "
-            f"take the replay's frame. Its measured stack, {f['stack']:,} bytes, fits 64 KiB, but its static "
-            f"bound, {f['bound']:,}, does not (by {f['ram'] + f['bound'] - 65536:,} bytes), so this image is still "
-            "linked into the part's 128 KB (`memory-stm32f405.x`) and `scripts/board.sh` holds it to "
-            "that:"), 131072)
+            f"take the replay's frame. Its measured stack is {f['stack']:,} bytes and its static bound "
+            f"{f['bound']:,}. The Foveal matches full-resolution windows only (`best_match_full`), so "
+            "its path carries none of the 8 KiB of packing buffers a strided view needs (the bound "
+            "counted them although the replay's windows never went through them, 72,012 bytes before)."), 65536)
         thesis, adapting = metered(run, "master_frame"), metered(run, "master_frame_adaptive")
         funcs = sb["funcs"]
         path = [(stack_bound.brief(funcs[a].name), add) for a, add, _ in sb["models"]["address-taken", sb["times"]]["path"]
                 if not isinstance(a, tuple)]
         para("Its deepest path (bytes each adds): " + ", ".join(f"`{n}` {v:,}" for n, v in path if v >= 512)
-             + ". What stands over 64 KiB is the NCC path's fixed-capacity buffers, sized for the largest "
-             "window and placement count any processor matches (a 128x128 Peripheral window at 25 %, "
-             "1,024 placements): `best_match`'s frame, `row_dot_products`' strips, and "
-             "`matching::packed`'s two 4 KiB packing buffers, which the bound counts although the replay's "
-             "windows are packed and never go through them (the measured chain skips that frame). The "
-             "master's windows have 25 placements (20x20 in 24x24; an adapting master's at most 17x17 in "
-             "36x36). Left to do: those buffers sized by the placements and window the caller holds (a "
-             "const generic per processor), templates passed by handle instead of inline in `Msg` (the "
-             "answer is 4 KiB for four template-sized messages), and the master's 16 KiB "
+             + ". It is within 64 KiB by less than 2 KiB: the NCC path's fixed-capacity buffers are "
+             "still sized for the largest window and placement count any processor matches (a 128x128 "
+             "Peripheral window at 25 %, 1,024 placements: `best_match`'s frame, `row_dot_products`' "
+             "strips), where the master's windows have 25 placements (20x20 in 24x24; an adapting "
+             "master's at most 17x17 in 36x36). Room to win: those buffers sized by the caller's "
+             "placements (a const generic per processor), templates passed by handle instead of inline "
+             "in `Msg` (the answer is 4 KiB for four template-sized messages), and the master's 16 KiB "
              "`CornerDetector<24>`, which the master uses only to find a template's corner support, "
              "borrowed as scratch rather than held.")
         p()
@@ -410,8 +408,9 @@ def main():
     p("into `tracker`'s slot, and whatever temporaries the compiler builds it through end with")
     p("its own frame, before the replay's deepest calls; `CoopPair::start` takes the template and")
     p("starts the track in place. Below the pair, a frame's deepest calls are the master's NCC")
-    p("(`matching::*`, with the 8 KB packing buffers of a strided view, which the static bound")
-    p("counts although the replay's windows are packed). The Lucas-Kanade refinement (its 8 KB")
+    p("(`matching::*`, for full-resolution windows only, `best_match_full`: none of the 8 KB of")
+    p("packing buffers a strided view needs, which the bound counted before, 93,864 bytes then).")
+    p("The Lucas-Kanade refinement (its 8 KB")
     p("block), the partner's detector, the template's preparation and the pins exercise (its 4 KB")
     p("buffer) each run in a frame of their own, off that path. The code, the inputs and this")
     p("stack fit an STM32F405 (below). Before the adaptation's and the partner's right-sizing")

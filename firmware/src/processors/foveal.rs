@@ -9,7 +9,7 @@ use super::params::{Params, COAST_MARGIN, GROW_MARGIN, MAX_MARGIN, MISS_DECAY};
 use super::step::{placements, Mode, Step, Work};
 use super::template::Template;
 use crate::kernels::corner::{CornerDetector, CornerParams, MAX_DIM};
-use crate::kernels::matching::{best_match, best_match_pyramid};
+use crate::kernels::matching::{best_match_full, best_match_pyramid};
 use crate::kernels::refine::{LkTemplate, INTERIOR};
 use crate::kernels::support::{best_match_on, Support};
 use crate::kernels::view::WindowView;
@@ -60,7 +60,7 @@ fn ncc_track<const P: usize>(win: &WindowView<'_>, tpl: &Template, support: Opti
     let (m, support) = match on_support {
         Some((m, s)) => (m, Some(s)),
         // An adapting track's window widens with the motion: its cost stays bounded.
-        None => match if adapting { best_match_pyramid(method, win, &tv) } else { best_match(method, win, &tv) } {
+        None => match if adapting { best_match_pyramid(method, win, &tv) } else { best_match_full(method, win, &tv) } {
             Ok(m) => (m, None),
             Err(_) => return (None, work),
         },

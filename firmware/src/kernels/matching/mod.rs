@@ -88,6 +88,8 @@ pub enum MatchError {
     NoMatch,
     /// The output map slice is shorter than the number of placements.
     MapTooSmall,
+    /// A full-resolution match ([`best_match_full`]) was given a strided view.
+    Strided,
 }
 
 error_messages!(MatchError {
@@ -97,6 +99,7 @@ error_messages!(MatchError {
     ZeroEnergy => "the template is flat (no energy for NCC, no variance for ZNCC)",
     NoMatch => "every placement's window patch is flat",
     MapTooSmall => "the score map is shorter than the number of placements",
+    Strided => "the window or the template is not at full resolution (decimated)",
 });
 
 /// The best placement of a template in a window.
@@ -187,60 +190,75 @@ pub fn best_match(
     win: &WindowView<'_>,
     tpl: &WindowView<'_>,
 ) -> Result<Match, MatchError> {
-    let step = win.step();
-    let (origin_x, origin_y) = win.origin();
-    with_packed(win, tpl, |win, tpl| {
-        let maximise = method.maximises();
-        let (nx, ny) = placements(win, tpl)?;
-        let scorer = Scorer::new(method, tpl)?;
-        // Placements are ranked by their sums (exactly, see `Scorer::better`); only the best
-        // and its neighbours get a score. The sums are kept for the sub-pixel fit; maps
-        // larger than the cache recompute the four neighbours instead. SSD skips the
-        // placements its bound excludes (`elimination.rs`) and recomputes the neighbours.
-        let mut cache: Vec<Sums, SUMS_CACHE> = Vec::new();
-        let eliminated = match method {
-            Method::Ssd => search(win, tpl, (nx, ny), |x, y| sums_at(method, win, tpl, x, y), |x| scorer.ssd(x)),
-            _ => None,
-        };
-        let (best, cached) = match eliminated {
-            Some(found) => (found, false),
-            None => rank_all(&scorer, win, tpl, &mut cache)?,
-        };
-        let (bx, by, bsums) = best.ok_or(MatchError::NoMatch)?;
-        let bs = scorer.score(&bsums).ok_or(MatchError::NoMatch)?;
-        let at = |x: Option<usize>, y: Option<usize>| {
-            let (x, y) = (x?, y?);
-            if !cached {
-                return scorer.score(&sums_at(method, win, tpl, x, y)?);
-            }
-            if x >= nx {
-                return None;
-            }
-            scorer.score(cache.get(y * nx + x)?)
-        };
-        let dx = parabola(
-            at(bx.checked_sub(1), Some(by)),
-            bs,
-            at(Some(bx + 1), Some(by)),
-            maximise,
-        );
-        let dy = parabola(
-            at(Some(bx), by.checked_sub(1)),
-            bs,
-            at(Some(bx), Some(by + 1)),
-            maximise,
-        );
-        let sub_x = ((bx as f64 + dx) * step as f64) as f32;
-        let sub_y = ((by as f64 + dy) * step as f64) as f32;
-        Ok(Match {
-            x: bx * step,
-            y: by * step,
-            score: bs,
-            sub_x,
-            sub_y,
-            frame_x: origin_x as f32 + sub_x,
-            frame_y: origin_y as f32 + sub_y,
-        })
+    with_packed(win, tpl, |packed_win, packed_tpl| search_packed(method, win, packed_win, packed_tpl))
+}
+
+/// [`best_match`] for full-resolution views only ([`MatchError::Strided`] otherwise), without
+/// the packing of strided views: a caller that never matches one (the Foveal, whose windows
+/// are full resolution) carries no packing buffers on its stack (8 KiB, which the NCC
+/// master's image in 64 KiB has no room for).
+pub fn best_match_full(method: Method, win: &WindowView<'_>, tpl: &WindowView<'_>) -> Result<Match, MatchError> {
+    if win.step() != 1 || tpl.step() != 1 {
+        return Err(MatchError::Strided);
+    }
+    search_packed(method, win, win, tpl)
+}
+
+/// [`best_match`] over the step-1 views `win` and `tpl` (`view`'s pixels, packed if it is
+/// strided): the position is scaled back by `view`'s step and put in its frame.
+fn search_packed(method: Method, view: &WindowView<'_>, win: &WindowView<'_>, tpl: &WindowView<'_>) -> Result<Match, MatchError> {
+    let step = view.step();
+    let (origin_x, origin_y) = view.origin();
+    let maximise = method.maximises();
+    let (nx, ny) = placements(win, tpl)?;
+    let scorer = Scorer::new(method, tpl)?;
+    // Placements are ranked by their sums (exactly, see `Scorer::better`); only the best
+    // and its neighbours get a score. The sums are kept for the sub-pixel fit; maps
+    // larger than the cache recompute the four neighbours instead. SSD skips the
+    // placements its bound excludes (`elimination.rs`) and recomputes the neighbours.
+    let mut cache: Vec<Sums, SUMS_CACHE> = Vec::new();
+    let eliminated = match method {
+        Method::Ssd => search(win, tpl, (nx, ny), |x, y| sums_at(method, win, tpl, x, y), |x| scorer.ssd(x)),
+        _ => None,
+    };
+    let (best, cached) = match eliminated {
+        Some(found) => (found, false),
+        None => rank_all(&scorer, win, tpl, &mut cache)?,
+    };
+    let (bx, by, bsums) = best.ok_or(MatchError::NoMatch)?;
+    let bs = scorer.score(&bsums).ok_or(MatchError::NoMatch)?;
+    let at = |x: Option<usize>, y: Option<usize>| {
+        let (x, y) = (x?, y?);
+        if !cached {
+            return scorer.score(&sums_at(method, win, tpl, x, y)?);
+        }
+        if x >= nx {
+            return None;
+        }
+        scorer.score(cache.get(y * nx + x)?)
+    };
+    let dx = parabola(
+        at(bx.checked_sub(1), Some(by)),
+        bs,
+        at(Some(bx + 1), Some(by)),
+        maximise,
+    );
+    let dy = parabola(
+        at(Some(bx), by.checked_sub(1)),
+        bs,
+        at(Some(bx), Some(by + 1)),
+        maximise,
+    );
+    let sub_x = ((bx as f64 + dx) * step as f64) as f32;
+    let sub_y = ((by as f64 + dy) * step as f64) as f32;
+    Ok(Match {
+        x: bx * step,
+        y: by * step,
+        score: bs,
+        sub_x,
+        sub_y,
+        frame_x: origin_x as f32 + sub_x,
+        frame_y: origin_y as f32 + sub_y,
     })
 }
 
@@ -269,13 +287,14 @@ const HALF_PIXELS: usize = 1024;
 /// are close. A 20x20 template in a 52x52 window costs 289 placements of 100 pixels and at
 /// most 72 of 400 instead of 1,089 of 400; in a 28x28 window 25 of 100 and about 40 of 400
 /// instead of 81 of 400. The result is in `win`'s pixels, as [`best_match`]'s; a smaller
-/// window (or one too large to halve) is [`best_match`] itself.
+/// window (or one too large to halve) is [`best_match_full`] itself (full-resolution views
+/// only, as the Foveal's).
 pub fn best_match_pyramid(method: Method, win: &WindowView<'_>, tpl: &WindowView<'_>) -> Result<Match, MatchError> {
     let (nx, ny) = placements(win, tpl)?;
     let (mut wbuf, mut tbuf) = ([0u8; HALF_PIXELS], [0u8; HALF_PIXELS]);
     let halves = (nx * ny > PYRAMID_FROM).then(|| Some((halve(win, &mut wbuf)?, halve(tpl, &mut tbuf)?))).flatten();
-    let Some((half_win, half_tpl)) = halves else { return best_match(method, win, tpl) };
-    let coarse = best_match(method, &half_win, &half_tpl)?;
+    let Some((half_win, half_tpl)) = halves else { return best_match_full(method, win, tpl) };
+    let coarse = best_match_full(method, &half_win, &half_tpl)?;
     // A coarse placement stands for full-resolution `2c` and `2c + 1`; close to the centre's,
     // one search covers both.
     let (centre, found) = (((nx - 1) / 2, (ny - 1) / 2), (2 * coarse.x, 2 * coarse.y));
@@ -308,7 +327,7 @@ pub fn best_match_near(
     let ((x0, x1), (y0, y1)) = (range(from.0, to.0, nx), range(from.1, to.1, ny));
     let (x0, y0) = (x0.min(x1), y0.min(y1));
     let sub = win.sub(x0, y0, x1 - x0 + tpl.width(), y1 - y0 + tpl.height()).ok_or(MatchError::TooLarge)?;
-    let m = best_match(method, &sub, tpl)?;
+    let m = best_match_full(method, &sub, tpl)?;
     Ok(Match { x: m.x + x0, y: m.y + y0, sub_x: m.sub_x + x0 as f32, sub_y: m.sub_y + y0 as f32, ..m })
 }
 

@@ -121,6 +121,7 @@ fn errors_read_as_sentences() {
         MatchError::ZeroEnergy,
         MatchError::NoMatch,
         MatchError::MapTooSmall,
+        MatchError::Strided,
     ];
     let texts: std::vec::Vec<_> = all.iter().map(ToString::to_string).collect();
     assert!(texts.iter().all(|t| !t.is_empty() && !t.contains("Error")));
@@ -152,6 +153,19 @@ fn subpixel_of_symmetric_peak_is_between_placements() {
     let m = best_match(Method::Ssd, &v(&d, 6, 3), &v(&t, 3, 3)).unwrap();
     assert_eq!((m.x, m.y), (1, 0));
     assert_eq!(m.sub_x, 1.5);
+}
+
+#[test]
+fn the_full_resolution_match_is_best_match_and_refuses_strided_views() {
+    // Reference: `best_match` (which packs strided views first).
+    let w = smooth_noise(30, 30, 3);
+    let t: std::vec::Vec<u8> = (0..100).map(|k| w[(7 + k / 10) * 30 + 11 + k % 10]).collect();
+    for m in [Method::Ncc, Method::Zncc, Method::Ssd, Method::Sad] {
+        assert_eq!(best_match_full(m, &v(&w, 30, 30), &v(&t, 10, 10)), best_match(m, &v(&w, 30, 30), &v(&t, 10, 10)));
+    }
+    let strided = v(&w, 30, 30).decimated();
+    assert_eq!(best_match_full(Method::Ncc, &strided, &v(&t[..25], 5, 5)), Err(MatchError::Strided));
+    assert!(best_match(Method::Ncc, &strided, &v(&t[..25], 5, 5)).is_ok());
 }
 
 #[test]
