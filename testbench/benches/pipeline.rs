@@ -1,6 +1,6 @@
-//! Whole-pipeline speed: each strategy tracking a pre-rendered 120-frame scene with the
-//! `native` cost profile, in frames per second (criterion's throughput). Scene rendering is
-//! done once, outside the measurement. Run: cargo bench -p coopwin-testbench --bench pipeline
+//! Whole-pipeline speed: each strategy (and `track`'s default, COOP adapting) tracking a
+//! pre-rendered 120-frame scene with the `native` cost profile, in frames per second
+//! (criterion's throughput). Scene rendering is done once, outside the measurement. Run: cargo bench -p coopwin-testbench --bench pipeline
 use coopwin_testbench::experiments::setup::triangle;
 use coopwin_testbench::frames::prerendered::Prerendered;
 use coopwin_testbench::frames::scene::SceneConfig;
@@ -19,6 +19,11 @@ fn pipeline(c: &mut Criterion) {
         let sys = SystemConfig::thesis(s, CostModel::NATIVE, Some(target));
         g.bench_function(s.name(), |b| b.iter(|| simulate(&sys, &mut frames, &mut |_| {}).expect("run")));
     }
+    // `track`'s default: COOP with the adapting template (issue 21), against KCF's time a frame
+    // (scripts/tracker_speed.py on the same scene; fixtures/bench/README.md).
+    let mut adapting = SystemConfig::thesis(Strategy::Coop, CostModel::NATIVE, Some(target));
+    adapting.params = adapting.params.adaptive();
+    g.bench_function("COOP adapting", |b| b.iter(|| simulate(&adapting, &mut frames, &mut |_| {}).expect("run")));
     g.finish();
 }
 

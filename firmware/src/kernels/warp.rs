@@ -161,6 +161,24 @@ fn bilinear(data: &[u8], stride: usize, w: usize, h: usize, x: f32, y: f32) -> O
     Some(top + ay * (bottom - top))
 }
 
+/// [`bilinear`] at an `(x, y)` known to lie inside the window (every sample of a pose whose
+/// interior corners do, [`SimilarityTemplate::align`]), bit for bit: the checks against the
+/// window's sides are left out, and on the last column or row the next pixel is read as it
+/// is in memory, its weight being exactly zero (`p + 0 * d` is `p`). `None` where the 2x2
+/// block reaches past `data` (the window's last row at the end of its buffer).
+#[inline(always)]
+fn bilinear_inside(data: &[u8], stride: usize, x: f32, y: f32) -> Option<f32> {
+    let (x0, y0) = (x as usize, y as usize);
+    let (ax, ay) = (x - x0 as f32, y - y0 as f32);
+    let at = y0 * stride + x0;
+    let block = data.get(at..at.checked_add(stride)?.checked_add(2)?)?;
+    let p = |i: usize| f32::from(block[i]);
+    let (p00, p10, p01, p11) = (p(0), p(1), p(stride), p(stride + 1));
+    let top = p00 + ax * (p10 - p00);
+    let bottom = p01 + ax * (p11 - p01);
+    Some(top + ay * (bottom - top))
+}
+
 /// The solution of `H d = b` for the symmetric positive definite `H` (upper triangle row by
 /// row), by Cholesky; `None` when `H` is not (the template lacks texture for some motion).
 fn solve4(h: &[f32; 10], b: [f32; 4]) -> Option<[f32; 4]> {
@@ -262,7 +280,8 @@ impl<const P: usize> SimilarityTemplate<P> {
             let mut missed = false;
             self.lk.each_used(|u, v, t, s| {
                 let (x, y) = pose.map(u, v);
-                match bilinear(data, stride, w, h, x, y) {
+                let sample = if all_inside { bilinear_inside(data, stride, x, y) } else { None };
+                match sample.or_else(|| bilinear(data, stride, w, h, x, y)) {
                     Some(sample) => {
                         if !all_inside {
                             fixed.add(t, s);

@@ -105,25 +105,30 @@ impl<const P: usize> Adaptive<P> {
         Some((Point { x: x + ox, y: y + oy }, pose))
     }
 
-    /// The current template `tpl` matched at `point` (translation and Lucas-Kanade, before any
-    /// alignment) with `score` in this window: when `tpl` is the first template, that is the
-    /// first template's match, kept for [`Adaptive::propose`].
+    /// The current template `tpl` matched at `point` (the first template's aligned point, or
+    /// the match refined by Lucas-Kanade where it did not align) with `score` (translated) in
+    /// this window: when `tpl` is the first template, that is the first template's match,
+    /// kept for [`Adaptive::propose`].
     pub fn matched(&mut self, tpl: &Template, point: Point, score: f32) {
         self.first_match = (*tpl == self.first).then_some((point, score));
     }
 
     /// The current template measured `at` with `score` in `win`: proposes the next template
-    /// (see the module documentation), replacing any earlier proposal.
-    pub fn propose(&mut self, win: &WindowView<'_>, at: Point, score: f32, n: usize) {
+    /// (see the module documentation), replacing any earlier proposal. `aligned`: `at` is the
+    /// first template's own point, aligned there under a similarity warp ([`Adaptive::align`]),
+    /// so only its translated score is measured (one placement), not its point.
+    pub fn propose(&mut self, win: &WindowView<'_>, at: Point, score: f32, n: usize, aligned: bool) {
         self.pending = None;
         let first_match = self.first_match.take();
         if score >= REFRESH {
             return;
         }
-        let first = match first_match {
-            Some(m) => Some(m).filter(|&(_, s)| s >= CONFIRM),
-            None => self.first_point(win, at),
+        let first = if aligned {
+            first_match.map(|(_, s)| s).or_else(|| self.first_score(win, at)).map(|s| (at, s))
+        } else {
+            first_match.or_else(|| self.first_point(win, at))
         };
+        let first = first.filter(|&(_, s)| s >= CONFIRM);
         let cut_at = match first {
             // The object looks as it did at lock-on: the first template itself, unchanged.
             Some((_, s)) if s >= RECLAIM => {
@@ -140,16 +145,27 @@ impl<const P: usize> Adaptive<P> {
         self.on_first = false;
     }
 
+    /// The placement of the first template in `win` that puts its anchor nearest `at`.
+    fn placement_at(&self, win: &WindowView<'_>, at: Point) -> (usize, usize) {
+        let (ox, oy) = win.origin();
+        let placement = |p: f32, o: u32, anchor: f32| libm::roundf(p - o as f32 - anchor).max(0.0) as usize;
+        (placement(at.x, ox, self.first.anchor().x), placement(at.y, oy, self.first.anchor().y))
+    }
+
+    /// The first template's translated (zero-mean NCC) score at its placement nearest `at`.
+    fn first_score(&self, win: &WindowView<'_>, at: Point) -> Option<f32> {
+        let p = self.placement_at(win, at);
+        best_match_near(Method::Zncc, win, &self.first.view()?, p, p, 0).ok().map(|m| m.score as f32)
+    }
+
     /// The first template's point in `win` and its score, when it still matches (score `>=`
     /// [`CONFIRM`]) within [`RECLAIM_REACH`] px of `at` (where the current template put the
     /// point: a drift of more would have been reclaimed before).
     fn first_point(&self, win: &WindowView<'_>, at: Point) -> Option<(Point, f32)> {
         let tv = self.first.view()?;
         let (ox, oy) = win.origin();
-        // The placement that puts the first template's anchor on `at`.
-        let placement = |p: f32, o: u32, anchor: f32| libm::roundf(p - o as f32 - anchor).max(0.0) as usize;
-        let (px, py) = (placement(at.x, ox, self.first.anchor().x), placement(at.y, oy, self.first.anchor().y));
-        let m = best_match_near(Method::Zncc, win, &tv, (px, py), (px, py), RECLAIM_REACH).ok()?;
+        let p = self.placement_at(win, at);
+        let m = best_match_near(Method::Zncc, win, &tv, p, p, RECLAIM_REACH).ok()?;
         let score = m.score as f32;
         if score < CONFIRM {
             return None;
@@ -180,7 +196,7 @@ mod tests {
         let mut a = Adaptive::<INTERIOR>::new(&template());
         let win = square(24, 14, 16, Decimation::Full);
         // Score 1 >= REFRESH: the template is kept.
-        a.propose(&cut(&frame(Some((30, 20))), &win), TARGET, 1.0, 8);
+        a.propose(&cut(&frame(Some((30, 20))), &win), TARGET, 1.0, 8, false);
         assert!(a.take().is_none());
         // The look changed: two pixels of 200 beside the block, point-symmetric about the
         // target, so the first template still lands exactly on it, with zero-mean NCC 0.923
@@ -190,7 +206,7 @@ mod tests {
         changed[21 * 64 + 29] = 200;
         changed[22 * 64 + 34] = 200;
         let off = Point { x: TARGET.x + 0.6, y: TARGET.y };
-        a.propose(&cut(&changed, &win), off, 0.95, 8);
+        a.propose(&cut(&changed, &win), off, 0.95, 8, false);
         let t = a.take().expect("a proposal");
         let expected = Template::capture(&cut(&changed, &win), TARGET, 8).unwrap();
         assert_eq!(t.pixels(), expected.pixels());
@@ -209,16 +225,16 @@ mod tests {
         let mut moved = frame(Some((33, 22)));
         moved[27 * 64 + 36] = 255;
         let at = Point { x: TARGET.x + 0.4, y: TARGET.y - 0.2 };
-        a.propose(&cut(&moved, &win), at, 0.9, 8);
+        a.propose(&cut(&moved, &win), at, 0.9, 8, false);
         let t = a.take().expect("a proposal");
         assert_eq!(Some(t), Template::capture(&cut(&moved, &win), at, 8));
         // Unchanged but moved, the block matches the first template exactly (NCC 1 >=
         // RECLAIM): the first template is taken back 3.6 px away (within RECLAIM_REACH);
         // once, as it is then the template in use.
         let moved = frame(Some((33, 22)));
-        a.propose(&cut(&moved, &win), at, 0.9, 8);
+        a.propose(&cut(&moved, &win), at, 0.9, 8, false);
         assert_eq!(a.take(), Some(template()));
-        a.propose(&cut(&moved, &win), at, 0.9, 8);
+        a.propose(&cut(&moved, &win), at, 0.9, 8, false);
         assert_eq!(a.take(), None);
     }
 }

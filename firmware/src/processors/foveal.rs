@@ -41,13 +41,30 @@ struct NccFound {
     point: Point,
     score: f32,
     pinned: bool,
+    /// The parabola's placement (window pixels), and whether Lucas-Kanade refined `point` from
+    /// it yet.
+    sub: (f32, f32),
+    refined: bool,
+}
+
+impl NccFound {
+    /// The point refined by Lucas-Kanade from the parabola's placement (the parabola's own
+    /// where it is refused), as it is or refined now. `lk` holds (or prepares) `tpl` over
+    /// `support`.
+    fn refine<const P: usize>(self, win: &WindowView<'_>, tpl: &Template, support: Option<&Support>, lk: &mut LkCache<P>) -> Self {
+        let Some(tv) = tpl.view().filter(|_| !self.refined) else { return self };
+        let (ox, oy) = win.origin();
+        let Some((x, y)) = lk.prepared(&tv, support).refine(win, self.sub.0, self.sub.1) else { return NccFound { refined: true, ..self } };
+        NccFound { point: tpl.point_at(x + ox as f32, y + oy as f32), refined: true, ..self }
+    }
 }
 
 /// NCC tracking of `tpl` in `win`: the new point (the best placement, refined to sub-pixel
-/// accuracy by Lucas-Kanade, [`crate::kernels::refine`]) and its score, or `None` if the best
-/// score is under `ncc_min` (the target has left the window, or no longer looks like the
-/// template). `lk` holds the template prepared for the refinement; an `adapting` template is
-/// matched by zero-mean NCC ([`Params::correlation`]).
+/// accuracy by Lucas-Kanade, [`crate::kernels::refine`], unless `adapting`: an adapting
+/// track refines only where its first template does not align, [`Foveal::on_window_into`])
+/// and its score, or `None` if the best score is under `ncc_min` (the target has left the
+/// window, or no longer looks like the template). `lk` holds the template prepared for the
+/// refinement; an `adapting` template is matched by zero-mean NCC ([`Params::correlation`]).
 fn ncc_track<const P: usize>(win: &WindowView<'_>, tpl: &Template, support: Option<&Support>, lk: &mut LkCache<P>, p: &Params, adapting: bool) -> (Option<NccFound>, Work) {
     let (method, acceptance) = p.correlation(adapting);
     let n = tpl.side();
@@ -69,12 +86,9 @@ fn ncc_track<const P: usize>(win: &WindowView<'_>, tpl: &Template, support: Opti
     if score < acceptance {
         return (None, work);
     }
-    // Lucas-Kanade from the parabola's placement; the parabola's own when it is refused.
-    let (ox, oy) = win.origin();
-    let refined = lk.prepared(&tv, support).refine(win, m.sub_x, m.sub_y);
-    let (x, y) = refined.map_or((m.frame_x, m.frame_y), |(x, y)| (x + ox as f32, y + oy as f32));
     let pinned = m.x == 0 || m.y == 0 || m.x + n >= win.width() || m.y + n >= win.height();
-    (Some(NccFound { point: tpl.point_at(x, y), score, pinned }), work)
+    let found = NccFound { point: tpl.point_at(m.frame_x, m.frame_y), score, pinned, sub: (m.sub_x, m.sub_y), refined: false };
+    (Some(if adapting { found } else { found.refine(win, tpl, support, lk) }), work)
 }
 
 /// The corner in `win`, or `None` when the detector finds none (also the COOP partner's,
@@ -192,11 +206,10 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     }
 
     /// Takes the adapted template `tpl` (one with no support) in place of the current one.
+    /// Its Lucas-Kanade side is prepared when a window first needs it: where the first template
+    /// aligns, none does.
     fn adopt(&mut self, tpl: Template) {
         self.lk.over = None;
-        if let Some(v) = tpl.view() {
-            self.lk.prepared(&v, None);
-        }
         self.template = Some(tpl);
     }
 
@@ -299,17 +312,20 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
                     None => (None, Work::None),
                 };
                 step.clear(work);
-                if let (Some(a), Some(f), Some(tpl)) = (self.adapt.as_mut(), found, self.template.as_ref()) {
-                    a.matched(tpl, f.point, f.score);
-                }
                 // An adapting track's point is the first template's, aligned under a
-                // similarity warp where it aligns.
+                // similarity warp from the match where it aligns; where it does not, the
+                // match refined by Lucas-Kanade, as a fixed template's.
                 let aligned = self.adapt.as_mut().zip(found).and_then(|(a, f)| a.align(win, f.point));
                 self.shape = aligned.map(|(_, pose)| Shape { scale: pose.scale(), angle_deg: pose.angle().to_degrees() });
-                let found = found.map(|f| aligned.map_or(f, |(point, _)| NccFound { point, ..f }));
+                let found = match (found, aligned, self.template.as_ref()) {
+                    (Some(f), Some((point, _)), _) => Some(NccFound { point, ..f }),
+                    (Some(f), None, Some(tpl)) => Some(f.refine(win, tpl, self.support.as_ref(), &mut self.lk)),
+                    (f, _, _) => f,
+                };
                 self.pinned = found.is_some_and(|f| f.pinned);
                 if let (Some(a), Some(f), Some(tpl)) = (self.adapt.as_mut(), found, self.template.as_ref()) {
-                    a.propose(win, f.point, f.score, tpl.side());
+                    a.matched(tpl, f.point, f.score);
+                    a.propose(win, f.point, f.score, tpl.side(), aligned.is_some());
                 }
                 let own = found.map(|f| (f.point, f.score));
                 if self.kind == FovealKind::CoopMaster {
