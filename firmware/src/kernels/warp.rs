@@ -29,7 +29,7 @@ use crate::kernels::view::WindowView;
 /// Iterations at most.
 const ITERATIONS: usize = 10;
 /// A step that moves no template pixel by more than this many pixels ends the iteration.
-pub const CONVERGED: f32 = 0.01;
+pub const CONVERGED: f32 = 0.03;
 /// Fraction of the template's interior pixels that must sample inside the window.
 pub const MIN_INSIDE: f32 = 0.7;
 /// Farthest the template's centre may walk from the start before the alignment is refused
