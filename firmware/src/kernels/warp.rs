@@ -179,6 +179,23 @@ fn bilinear_inside(data: &[u8], stride: usize, x: f32, y: f32) -> Option<f32> {
     Some(top + ay * (bottom - top))
 }
 
+/// The window's sums of one iteration at a `pose` whose samples all lie inside the window
+/// (`(data, stride)` its pixels, `(w, h)` its size), `None` if one does not after all. Out of
+/// line: inlined into the frame, the seven sums spill to the stack at every pixel.
+#[inline(never)]
+fn sums_inside<const P: usize>(lk: &LkTemplate<P>, (data, stride): (&[u8], usize), (w, h): (usize, usize), pose: &Pose, t_mean: f32) -> Option<WindowSums> {
+    let mut seen = WindowSums::default();
+    let mut missed = false;
+    lk.each_used(|u, v, t, s| {
+        let (x, y) = pose.map(u, v);
+        match bilinear_inside(data, stride, x, y).or_else(|| bilinear(data, stride, w, h, x, y)) {
+            Some(sample) => seen.add(sample - t_mean, t, s),
+            None => missed = true,
+        }
+    })?;
+    (!missed).then_some(seen)
+}
+
 /// The solution of `H d = b` for the symmetric positive definite `H` (upper triangle row by
 /// row), by Cholesky; `None` when `H` is not (the template lacks texture for some motion).
 fn solve4(h: &[f32; 10], b: [f32; 4]) -> Option<[f32; 4]> {
@@ -275,23 +292,20 @@ impl<const P: usize> SimilarityTemplate<P> {
                 let (x, y) = pose.map(u, v);
                 x >= 0.0 && y >= 0.0 && x <= (w - 1) as f32 && y <= (h - 1) as f32
             });
-            let mut fixed = if all_inside { self.fixed.clone() } else { TemplateSums::ZERO };
-            let mut seen = WindowSums::default();
-            let mut missed = false;
-            self.lk.each_used(|u, v, t, s| {
-                let (x, y) = pose.map(u, v);
-                let sample = if all_inside { bilinear_inside(data, stride, x, y) } else { None };
-                match sample.or_else(|| bilinear(data, stride, w, h, x, y)) {
-                    Some(sample) => {
-                        if !all_inside {
-                            fixed.add(t, s);
-                        }
+            let (fixed, seen) = if all_inside {
+                (self.fixed.clone(), sums_inside(&self.lk, (data, stride), (w, h), &pose, t_mean)?)
+            } else {
+                let (mut fixed, mut seen) = (TemplateSums::ZERO, WindowSums::default());
+                self.lk.each_used(|u, v, t, s| {
+                    let (x, y) = pose.map(u, v);
+                    if let Some(sample) = bilinear(data, stride, w, h, x, y) {
+                        fixed.add(t, s);
                         seen.add(sample - t_mean, t, s);
                     }
-                    None => missed = true,
-                }
-            })?;
-            if fixed.m < need || (all_inside && missed) {
+                })?;
+                (fixed, seen)
+            };
+            if fixed.m < need {
                 return None;
             }
             let (w_mean, t_mean_in) = (seen.w / fixed.m, fixed.t / fixed.m);
