@@ -260,7 +260,13 @@ impl Window {
         let mut out = Vec::with_capacity((x1 - x0).div_ceil(step) * (self.ymax - self.ymin + 1) as usize);
         for y in (self.ymin as usize..=self.ymax as usize).step_by(step) {
             let row = &frame[y * width + x0..y * width + x1];
-            out.extend(row.iter().step_by(step));
+            // A slice copy, and pairs rather than `step_by`: the testbench crops every window
+            // of a run here, and `step_by`'s element-wise fold was half a run's host time.
+            if decimate {
+                out.extend(row.chunks(2).map(|pair| pair[0]));
+            } else {
+                out.extend_from_slice(row);
+            }
         }
         out
     }
@@ -269,6 +275,17 @@ impl Window {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn crop_takes_the_windows_pixels_and_every_other_one_decimated() {
+        // A 6x5 frame whose pixel is its raster index; the window is columns 1..=3 (an odd
+        // width) of rows 1..=4. Hand-listed: full, its 12 pixels row by row; decimated, columns
+        // 1 and 3 of rows 1 and 3.
+        let frame: Vec<u8> = (0..30).collect();
+        let w = Window { xmin: 1, xmax: 3, ymin: 1, ymax: 4 };
+        assert_eq!(w.crop(&frame, 6, false), [7, 8, 9, 13, 14, 15, 19, 20, 21, 25, 26, 27]);
+        assert_eq!(w.crop(&frame, 6, true), [7, 9, 19, 21]);
+    }
 
     #[test]
     fn ca_d1_runs_at_114_frames_per_second() {
