@@ -3,7 +3,8 @@
 //! (`fixtures/opencv/footage/`, objects in `fixtures/footage/objects.csv`).
 //!
 //! The bounds are the figures last measured (`coopwin experiment real-footage`,
-//! docs/results.md): positions at least half the measured count, and on the
+//! docs/results.md): positions at least 90 % of the measured count (the tracker is
+//! deterministic: the margin is for a legitimate change's frame or two), and on the
 //! objects COOP holds as CSRT does, issue 21's 95 % of the frames CSRT reports, with at least
 //! 97.5 % of the reports within 5 px of CSRT's (measured 98.9-100: 2x margin on the rest);
 //! on every object, reports within 10 px of CSRT's on average (no false re-lock).
@@ -57,7 +58,7 @@ fn coop_on_the_opencv_doc_clips_holds_the_rigid_objects_as_csrt_does() {
         let f = figures(&o, &clip.runs(&o).expect("runs"), &csrt);
         let (_, measured) = MEASURED.iter().copied().find(|m| m.0 == o.id()).expect("a measured figure");
         eprintln!("{}: {f:?}", o.id());
-        assert!(f.positions * 2 >= measured, "{}: {} positions of {}, measured {measured}", o.id(), f.positions, f.frames);
+        assert!(f.positions * 10 >= measured * 9, "{}: {} positions of {}, measured {measured}", o.id(), f.positions, f.frames);
         // Never lying: a report is on the object CSRT follows, give or take a face's drift
         // (measured at most 6.9 px on average; a false re-lock measured 21.5 and 44.8).
         if let Some((mean, _)) = f.to_csrt {
