@@ -11,11 +11,12 @@
 //! 1. Track with the current template `T_n`: the point `p_n` and its score `s_n`.
 //! 2. Only when `s_n < `[`REFRESH`] (the appearance has changed measurably) is a new template
 //!    proposed; while it holds, `T_n` is kept and nothing accumulates.
-//! 3. Drift correction: the first template `T_1` is aligned in the same window, near `p_n`
-//!    (zero-mean NCC within [`RECLAIM_REACH`] px, as the adapting track matches, then
-//!    Lucas-Kanade from its best placement). When it still matches (score `>=` [`CONFIRM`])
-//!    and lands within [`DRIFT`] px of `p_n`, the new template is cut at `T_1`'s point `p*`,
-//!    which carries no accumulated error.
+//! 3. Drift correction: the first template `T_1` is aligned in the same window, near `p_n`.
+//!    Where it aligns under a similarity warp ([`Adaptive::align`]), `p_n` is already its
+//!    point and only its translated score is measured there; otherwise it is searched (zero-mean
+//!    NCC within [`RECLAIM_REACH`] px, then Lucas-Kanade from its best placement). When it
+//!    still matches (score `>=` [`CONFIRM`]) and lands within [`DRIFT`] px of `p_n`, the new
+//!    template is cut at `T_1`'s point `p*`, which carries no accumulated error.
 //!    When `T_1` matches as well as at lock-on (score `>=` [`RECLAIM`]) `T_1` itself is taken
 //!    back, wherever it lands: the object looks as it did, any drift is dropped, and a
 //!    rigid object is tracked with its first template as the thesis tracks it.
@@ -236,5 +237,24 @@ mod tests {
         assert_eq!(a.take(), Some(template()));
         a.propose(&cut(&moved, &win), at, 0.9, 8, false);
         assert_eq!(a.take(), None);
+    }
+
+    #[test]
+    fn an_aligned_point_is_cut_where_it_is_and_only_the_first_templates_score_is_measured() {
+        let mut a = Adaptive::<INTERIOR>::new(&template());
+        let win = square(24, 14, 16, Decimation::Full);
+        // The changed look of the first test: at the placement nearest the aligned point the
+        // first template scores 0.923 (hand calculation, numpy), between CONFIRM and RECLAIM.
+        // The aligned point is the drift-free one: the cut is there, 0.3 px off the target,
+        // not at a point searched again (the unaligned path would cut at the target).
+        let mut changed = frame(Some((30, 20)));
+        changed[21 * 64 + 29] = 200;
+        changed[22 * 64 + 34] = 200;
+        let at = Point { x: TARGET.x + 0.3, y: TARGET.y };
+        a.propose(&cut(&changed, &win), at, 0.95, 8, true);
+        assert_eq!(a.take(), Template::capture(&cut(&changed, &win), at, 8));
+        // The unchanged block scores 1 >= RECLAIM there: the first template is taken back.
+        a.propose(&cut(&frame(Some((30, 20))), &win), at, 0.95, 8, true);
+        assert_eq!(a.take(), Some(template()));
     }
 }
