@@ -537,8 +537,8 @@ def coop_frames(p, counts, prof):
             p(f"(a {FRAME / (wa * c / HZ):.1f}x margin).")
         if wa > budget:
             p("Where those instructions go is the profile's second table below: the alignment's")
-            p("bilinear samples and sums, 3 to 5 iterations of the template's 324 pixels (`warp.rs`,")
-            p("inlined into `CoopPair::frame`), the zero-mean NCC's dot products over windows of up to")
+            p("bilinear samples and sums, 2 to 4 iterations of the template's 324 pixels")
+            p("(`warp::sums_inside`), the zero-mean NCC's dot products over windows of up to")
             p("36x36 (`matching::dot`; windows of more than 64 placements are searched coarse to fine,")
             p("`best_match_pyramid`) and the partner's corner detector. Before this was measured the")
             p("worst frame was 1,415,520: the alignment summed the template's side every iteration and")
@@ -581,7 +581,8 @@ def coop_frames(p, counts, prof):
     for k, r in enumerate(prof_replays):
         p()
         if k == 1:
-            p("and the adapting pair (`warp.rs`'s alignment is inlined into `CoopPair::frame`;")
+            p("and the adapting pair (`warp::sums_inside` is the alignment's pixel loop, the rest of it")
+            p("inlined into `CoopPair::frame`;")
             p("`matching::scores::Scorer::score` and `best_match`'s closures are the zero-mean NCC):")
             p()
         p(r[4])
