@@ -13,7 +13,7 @@ Each repeat starts each tracker afresh on frame 0 (init not timed), then times o
 later frame (perf_counter_ns, cv2.setNumThreads(1)): kcf, csrt, mosse = update() of
 cv2.TrackerKCF_create(), cv2.TrackerCSRT_create(), cv2.legacy.TrackerMOSSE_create()
 (defaults; gray replicated to BGR beforehand, as scripts/opencv_real.py feeds them); match =
-one step of opencv_real.py's track_template: TM_CCOEFF_NORMED of frame 0's template
+opencv_real.py's track_template, timed frame by frame: TM_CCOEFF_NORMED of frame 0's template
 (float32) over the template plus --search px a side around the last box, minMaxLoc,
 parabola refinement, score < 0.5 keeps the last box. Prints a markdown table: median and
 mean us per frame over all repeats, frames/s = 1e6 / mean, lost = updates without a
@@ -22,7 +22,6 @@ position; with the CPU model and the OpenCV version.
 
 import argparse
 import csv
-import math
 import re
 import statistics
 import sys
@@ -32,19 +31,9 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-MIN_SCORE = 0.5  # as scripts/opencv_real.py
-# Vertex offset of the parabola through (-1,a), (0,b), (1,c) (opencv_real.parabola).
-parabola = lambda a, b, c: 0.0 if a - 2.0 * b + c == 0.0 else 0.5 * (a - c) / (a - 2.0 * b + c)
-FACTORIES = {"kcf": "TrackerKCF_create", "csrt": "TrackerCSRT_create", "mosse": "TrackerMOSSE_create"}
+from opencv_real import factory, round_half_up, track_template
 
-
-def factory(name: str):
-    """The tracker's factory from cv2, else cv2.legacy (as scripts/opencv_real.py), and its name."""
-    attr = FACTORIES[name]
-    for mod, label in ((cv2, "cv2"), (getattr(cv2, "legacy", None), "cv2.legacy")):
-        if mod is not None and hasattr(mod, attr):
-            return getattr(mod, attr), f"{label}.{attr}"
-    raise RuntimeError(f"this OpenCV ({cv2.__version__}) has no {attr}")
+TRACKERS = ("kcf", "csrt", "mosse")
 
 
 def gray(img: np.ndarray | None, what: str) -> np.ndarray:
@@ -69,28 +58,20 @@ def load(src: Path) -> list[np.ndarray]:
 
 
 def time_match(frames: list[np.ndarray], box, search: int) -> tuple[list[int], int]:
-    """Nanoseconds for each frame after the first, and the frames without a position."""
+    """Nanoseconds for each frame after the first, and the frames without a position:
+    opencv_real.py's track_template itself, fed one frame at a time (the time between two
+    frames it takes is the previous frame's step)."""
     x, y, tw, th = box
-    tpl = frames[0][y:y + th, x:x + tw].copy()
-    last, times, lost = (float(x), float(y)), [], 0  # `last`: top-left of the last box
-    for img in frames[1:]:
-        t0 = time.perf_counter_ns()
-        h, w = img.shape
-        lx, ly = math.floor(last[0] + 0.5), math.floor(last[1] + 0.5)
-        x0, y0 = max(0, lx - search), max(0, ly - search)
-        x1, y1 = min(w, lx + tw + search), min(h, ly + th + search)
-        ok = x1 - x0 >= tw and y1 - y0 >= th
-        if ok:
-            res = cv2.matchTemplate(img[y0:y1, x0:x1], tpl, cv2.TM_CCOEFF_NORMED)
-            _, score, _, (px, py) = cv2.minMaxLoc(res)
-            ok = bool(np.isfinite(score) and score >= MIN_SCORE)
-            if ok:
-                dx = parabola(res[py, px - 1], res[py, px], res[py, px + 1]) if 0 < px < res.shape[1] - 1 else 0.0
-                dy = parabola(res[py - 1, px], res[py, px], res[py + 1, px]) if 0 < py < res.shape[0] - 1 else 0.0
-                last = (x0 + px + dx, y0 + py + dy)
-        times.append(time.perf_counter_ns() - t0)
-        lost += not ok
-    return times, lost
+    stamps: list[int] = []
+
+    def feed():
+        for img in frames[1:]:
+            stamps.append(time.perf_counter_ns())
+            yield img
+        stamps.append(time.perf_counter_ns())
+
+    points = track_template(feed(), frames[0][y:y + th, x:x + tw].copy(), (x, y), search)
+    return [b - a for a, b in zip(stamps, stamps[1:])], sum(p is None for p in points[1:])
 
 
 def time_cv(name: str, frames: list[np.ndarray], box) -> tuple[list[int], int]:
@@ -119,8 +100,8 @@ def main() -> int:
     src = Path(args.frames)
     names = [t.strip() for t in args.trackers.split(",") if t.strip()]
     try:
-        if set(names) - {*FACTORIES, "match"} or args.repeats < 1:
-            raise RuntimeError(f"--trackers: only {','.join(FACTORIES)},match; --repeats: at least 1")
+        if set(names) - {*TRACKERS, "match"} or args.repeats < 1:
+            raise RuntimeError(f"--trackers: only {','.join(TRACKERS)},match; --repeats: at least 1")
         frames = load(src)
         if len(frames) < 2:
             raise RuntimeError(f"{src}: need at least 2 frames, found {len(frames)}")
@@ -130,7 +111,7 @@ def main() -> int:
             with open(src / "groundtruth.csv", newline="") as f:
                 row = next(csv.DictReader(f))
             p = float(row[f"{args.point}_x"]), float(row[f"{args.point}_y"])
-            box = math.floor(p[0] - 9.5 + 0.5), math.floor(p[1] - 9.5 + 0.5), 20, 20
+            box = round_half_up(p[0] - 9.5), round_half_up(p[1] - 9.5), 20, 20
         else:
             raise RuntimeError("a video needs --box X,Y,W,H")
     except (OSError, ValueError, RuntimeError, StopIteration, KeyError) as e:

@@ -155,10 +155,15 @@ fn bilinear(data: &[u8], stride: usize, w: usize, h: usize, x: f32, y: f32) -> O
     let (dx, dy) = (usize::from(x0 + 1 < w), if y0 + 1 < h { stride } else { 0 });
     let at = y0 * stride + x0;
     let p = |i: usize| data.get(i).map(|&v| f32::from(v));
-    let (p00, p10, p01, p11) = (p(at)?, p(at + dx)?, p(at + dy)?, p(at + dy + dx)?);
+    Some(lerp2x2([p(at)?, p(at + dx)?, p(at + dy)?, p(at + dy + dx)?], ax, ay))
+}
+
+/// The 2x2 block `[p00, p10, p01, p11]` interpolated at `(ax, ay)` from its top-left.
+#[inline(always)]
+fn lerp2x2([p00, p10, p01, p11]: [f32; 4], ax: f32, ay: f32) -> f32 {
     let top = p00 + ax * (p10 - p00);
     let bottom = p01 + ax * (p11 - p01);
-    Some(top + ay * (bottom - top))
+    top + ay * (bottom - top)
 }
 
 /// [`bilinear`] at an `(x, y)` known to lie inside the window (every sample of a pose whose
@@ -173,10 +178,7 @@ fn bilinear_inside(data: &[u8], stride: usize, x: f32, y: f32) -> Option<f32> {
     let at = y0 * stride + x0;
     let block = data.get(at..at.checked_add(stride)?.checked_add(2)?)?;
     let p = |i: usize| f32::from(block[i]);
-    let (p00, p10, p01, p11) = (p(0), p(1), p(stride), p(stride + 1));
-    let top = p00 + ax * (p10 - p00);
-    let bottom = p01 + ax * (p11 - p01);
-    Some(top + ay * (bottom - top))
+    Some(lerp2x2([p(0), p(1), p(stride), p(stride + 1)], ax, ay))
 }
 
 /// The window's sums of one iteration at a `pose` whose samples all lie inside the window

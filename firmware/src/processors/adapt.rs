@@ -192,6 +192,14 @@ mod tests {
     use crate::processors::testing::{cut, frame, square, template, TARGET};
     use crate::types::Decimation;
 
+    /// The block with two pixels of 200 beside it, point-symmetric about the target.
+    fn changed_look() -> std::vec::Vec<u8> {
+        let mut changed = frame(Some((30, 20)));
+        changed[21 * 64 + 29] = 200;
+        changed[22 * 64 + 34] = 200;
+        changed
+    }
+
     #[test]
     fn a_perfect_match_proposes_nothing_and_a_changed_one_is_cut_where_the_first_template_lands() {
         let mut a = Adaptive::<INTERIOR>::new(&template());
@@ -203,9 +211,7 @@ mod tests {
         // target, so the first template still lands exactly on it, with zero-mean NCC 0.923
         // (hand calculation: numpy over the 8x8 patches), between CONFIRM and RECLAIM. The
         // current point is 0.6 px off: the cut is put back at the target (drift corrected).
-        let mut changed = frame(Some((30, 20)));
-        changed[21 * 64 + 29] = 200;
-        changed[22 * 64 + 34] = 200;
+        let changed = changed_look();
         let off = Point { x: TARGET.x + 0.6, y: TARGET.y };
         a.propose(&cut(&changed, &win), off, 0.95, 8, false);
         let t = a.take().expect("a proposal");
@@ -247,9 +253,7 @@ mod tests {
         // first template scores 0.923 (hand calculation, numpy), between CONFIRM and RECLAIM.
         // The aligned point is the drift-free one: the cut is there, 0.3 px off the target,
         // not at a point searched again (the unaligned path would cut at the target).
-        let mut changed = frame(Some((30, 20)));
-        changed[21 * 64 + 29] = 200;
-        changed[22 * 64 + 34] = 200;
+        let changed = changed_look();
         let at = Point { x: TARGET.x + 0.3, y: TARGET.y };
         a.propose(&cut(&changed, &win), at, 0.95, 8, true);
         assert_eq!(a.take(), Template::capture(&cut(&changed, &win), at, 8));

@@ -41,21 +41,18 @@ struct NccFound {
     point: Point,
     score: f32,
     pinned: bool,
-    /// The parabola's placement (window pixels), and whether Lucas-Kanade refined `point` from
-    /// it yet.
+    /// The parabola's placement (window pixels), where Lucas-Kanade starts.
     sub: (f32, f32),
-    refined: bool,
 }
 
 impl NccFound {
     /// The point refined by Lucas-Kanade from the parabola's placement (the parabola's own
-    /// where it is refused), as it is or refined now. `lk` holds (or prepares) `tpl` over
-    /// `support`.
+    /// where it is refused). `lk` holds (or prepares) `tpl` over `support`.
     fn refine<const P: usize>(self, win: &WindowView<'_>, tpl: &Template, support: Option<&Support>, lk: &mut LkCache<P>) -> Self {
-        let Some(tv) = tpl.view().filter(|_| !self.refined) else { return self };
+        let Some(tv) = tpl.view() else { return self };
         let (ox, oy) = win.origin();
-        let Some((x, y)) = lk.prepared(&tv, support).refine(win, self.sub.0, self.sub.1) else { return NccFound { refined: true, ..self } };
-        NccFound { point: tpl.point_at(x + ox as f32, y + oy as f32), refined: true, ..self }
+        let Some((x, y)) = lk.prepared(&tv, support).refine(win, self.sub.0, self.sub.1) else { return self };
+        NccFound { point: tpl.point_at(x + ox as f32, y + oy as f32), ..self }
     }
 }
 
@@ -87,7 +84,7 @@ fn ncc_track<const P: usize>(win: &WindowView<'_>, tpl: &Template, support: Opti
         return (None, work);
     }
     let pinned = m.x == 0 || m.y == 0 || m.x + n >= win.width() || m.y + n >= win.height();
-    let found = NccFound { point: tpl.point_at(m.frame_x, m.frame_y), score, pinned, sub: (m.sub_x, m.sub_y), refined: false };
+    let found = NccFound { point: tpl.point_at(m.frame_x, m.frame_y), score, pinned, sub: (m.sub_x, m.sub_y) };
     (Some(if adapting { found } else { found.refine(win, tpl, support, lk) }), work)
 }
 
@@ -319,7 +316,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
                 self.shape = aligned.map(|(_, pose)| Shape { scale: pose.scale(), angle_deg: pose.angle().to_degrees() });
                 let found = match (found, aligned, self.template.as_ref()) {
                     (Some(f), Some((point, _)), _) => Some(NccFound { point, ..f }),
-                    (Some(f), None, Some(tpl)) => Some(f.refine(win, tpl, self.support.as_ref(), &mut self.lk)),
+                    (Some(f), None, Some(tpl)) if self.adapt.is_some() => Some(f.refine(win, tpl, self.support.as_ref(), &mut self.lk)),
                     (f, _, _) => f,
                 };
                 self.pinned = found.is_some_and(|f| f.pinned);
