@@ -2,7 +2,7 @@
 //! resolution around the tracked point; in COOP a master running NCC and a partner running
 //! the corner detector on the same coordinates, the master's [`Policy`] choosing each frame.
 use super::adapt::Adaptive;
-use super::coop::guard::{dist, Guard, GuardParams};
+use super::coop::guard::{dist, Guard, GuardParams, Measured};
 use super::coop::Policy;
 use super::messages::{Dest, Msg};
 use super::params::{Params, COAST_MARGIN, GROW_MARGIN, MAX_MARGIN, MISS_DECAY};
@@ -125,8 +125,9 @@ pub struct Foveal<const N: usize = MAX_DIM, const P: usize = INTERIOR> {
     tracking: Option<Point>,
     params: Params,
     coop: Policy,
-    /// COOP master: own result of the current window, waiting for the partner's.
-    own: Option<Option<(Point, f32)>>,
+    /// COOP master: own result of the current window (no corner yet), waiting for the
+    /// partner's.
+    own: Option<Measured>,
     partner: Option<Option<Point>>,
     /// With [`Params::adapt`]: the template's adaptation ([`super::adapt`]).
     adapt: Option<Adaptive<P>>,
@@ -326,7 +327,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
                 }
                 let own = found.map(|f| (f.point, f.score));
                 if self.kind == FovealKind::CoopMaster {
-                    self.own = Some(own);
+                    self.own = Some(Measured { ncc: own, corner: None, confirmed: aligned.is_some() });
                     self.decide(t, step);
                 } else {
                     self.follow(step, t, own.map(|(p, _)| p), Source::Ncc, own.map(|(_, s)| s));
@@ -342,7 +343,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         let (Some(own), Some(partner)) = (self.own, self.partner) else { return false };
         self.own = None;
         self.partner = None;
-        let chosen = self.coop.decide(t, own, partner);
+        let chosen = self.coop.decide(t, Measured { corner: partner, ..own });
         if let Some(q) = chosen.is_none().then(|| self.coop.coast(t)).flatten() {
             // Nothing measured the point: look where it should be next, report nothing.
             let side = self.params.foveal + 2 * COAST_MARGIN;
@@ -356,7 +357,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         self.predicted = None;
         let (found, source) = (chosen.map(|c| c.0), chosen.map_or(Source::Ncc, |c| c.1));
         // NCC vouches for the point it measured, or one fused with it.
-        let score = own.zip(found).filter(|((n, _), p)| dist(*n, *p) <= VOUCH).map(|((_, s), _)| s);
+        let score = own.ncc.zip(found).filter(|((n, _), p)| dist(*n, *p) <= VOUCH).map(|((_, s), _)| s);
         self.follow(step, t, found, source, score);
         match (step.request, found, step.lost) {
             (Some(req), Some(_), _) => {

@@ -27,11 +27,12 @@ pub enum Policy {
 }
 
 impl Policy {
-    /// The position to follow for one window's NCC result (point, score) and corner.
-    pub(super) fn decide(&mut self, t: f64, ncc: Option<(Point, f32)>, corner: Option<Point>) -> Option<(Point, Source)> {
+    /// The position to follow for one window's measurements.
+    pub(super) fn decide(&mut self, t: f64, m: Measured) -> Option<(Point, Source)> {
+        let Measured { ncc, corner, .. } = m;
         let smooth: &mut dyn ConfidencePolicy = match self {
             Policy::Guarded(g) => {
-                return g.decide(t, Measured { ncc, corner });
+                return g.decide(t, m);
             }
             Policy::Sse(p) => p,
             Policy::Kalman(p) => p,
