@@ -83,6 +83,17 @@ impl<const P: usize> Adaptive<P> {
         Adaptive { first: first.clone(), first_sim, pending: None, on_first: true, shape: (1.0, 0.0), first_match: None }
     }
 
+    /// The first template.
+    pub fn first(&self) -> &Template {
+        &self.first
+    }
+
+    /// The first template, to track with again (a re-detected object): nothing proposed.
+    pub fn back_to_first(&mut self) -> Template {
+        (self.pending, self.on_first) = (None, true);
+        self.first.clone()
+    }
+
     /// The point the current template measured `at` in `win`, refined by aligning the first
     /// template there under a similarity warp ([`crate::kernels::warp`]), and the first
     /// template's pose (frame coordinates); `None` when it does not align with a score of

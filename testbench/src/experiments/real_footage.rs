@@ -16,7 +16,7 @@ use super::ExperimentError;
 use crate::analysis::metrics::MAX_AGE;
 use crate::frames::video::{self, VideoFrames};
 use crate::frames::{FrameError, FrameSource};
-use crate::report::plot::{self, Chart, Series};
+use crate::report::plot::{self, Bars};
 use crate::system::cost::CostModel;
 use crate::system::{self, Strategy, SystemConfig};
 use crate::units::clocks::Clocks;
@@ -301,25 +301,21 @@ pub fn evaluate(dir: &Path, clips: &Path, progress: &mut dyn FnMut(&str)) -> Res
     std::fs::create_dir_all(dir).map_err(|source| ExperimentError::Io { action: "create", path: dir.into(), source })?;
     let path = dir.join("real-footage.csv");
     std::fs::write(&path, csv).map_err(|source| ExperimentError::Io { action: "write", path, source })?;
-    let chart = Chart {
+    let chart = Bars {
         title: "Real footage: frames with a position where CSRT reports the object (%)".into(),
-        x_label: format!("object (1-{}: {})", objects.len(), objects.iter().map(Object::id).collect::<Vec<_>>().join(", ")),
         y_label: "frames with a position (%)".into(),
+        groups: objects.iter().map(Object::id).collect(),
         series: labels
             .iter()
             .enumerate()
-            .map(|(j, l)| Series {
-                label: (*l).to_string(),
-                points: table
-                    .iter()
-                    .enumerate()
-                    .map(|(i, row)| (i as f64 + 1.0, row.get(j).filter(|f| f.csrt_frames > 0).map(|f| 100.0 * f.where_csrt as f64 / f.csrt_frames as f64)))
-                    .collect(),
+            .map(|(j, l)| {
+                let share = |row: &Vec<Figures>| row.get(j).filter(|f| f.csrt_frames > 0).map(|f| 100.0 * f.where_csrt as f64 / f.csrt_frames as f64);
+                ((*l).to_string(), table.iter().map(share).collect())
             })
             .collect(),
-        y_range: Some((0.0, 100.0)),
+        y_range: (0.0, 100.0),
     };
-    plot::write(&chart, dir, "real-footage")?;
+    plot::write_svg(&chart.svg(), dir, "real-footage")?;
     md.push_str("\nFiles: `real-footage.csv`, `real-footage.svg`, `real-footage.png`. OpenCV columns come from `fixtures/opencv/footage/` (`scripts/opencv_footage.py`).\n");
     Ok(md)
 }

@@ -1,4 +1,5 @@
-//! Line charts as SVG, and their PNG rendering (resvg), for the reports and experiments.
+//! Line charts and grouped bar charts as SVG, and their PNG rendering (resvg), for the
+//! reports and experiments.
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -114,6 +115,64 @@ impl Chart {
     }
 }
 
+/// A grouped bar chart: for each group (an object, a condition), one bar per series, side by
+/// side, the series named in a legend row under the title.
+pub struct Bars {
+    /// Title above the plot.
+    pub title: String,
+    /// Y axis label.
+    pub y_label: String,
+    /// The groups' labels, left to right; a `-` splits a label over two lines.
+    pub groups: Vec<String>,
+    /// The series: a label and a value a group (`None`: no bar).
+    pub series: Vec<(String, Vec<Option<f64>>)>,
+    /// The y range.
+    pub y_range: (f64, f64),
+}
+
+/// Height of a bar chart (a legend row and two-line group labels more than a line chart's).
+const BARS_H: f64 = 470.0;
+
+impl Bars {
+    /// The chart as an SVG document.
+    pub fn svg(&self) -> String {
+        let (top, bottom) = (T + 28.0, 62.0);
+        let (y0, y1) = if self.y_range.1 > self.y_range.0 { self.y_range } else { (0.0, 1.0) };
+        let py = |y: f64| BARS_H - bottom - (y.clamp(y0, y1) - y0) / (y1 - y0) * (BARS_H - top - bottom);
+        let groups = self.groups.len().max(1) as f64;
+        let slot = (W - L - R) / groups;
+        let bar = slot * 0.8 / self.series.len().max(1) as f64;
+        let mut s = String::new();
+        let _ = writeln!(s, r#"<svg xmlns="http://www.w3.org/2000/svg" width="{W}" height="{BARS_H}" font-family="DejaVu Sans, sans-serif" font-size="12">"#);
+        let _ = writeln!(s, r#"<rect width="100%" height="100%" fill="white"/>"#);
+        let _ = writeln!(s, r#"<text x="{}" y="24" font-size="15" text-anchor="middle">{}</text>"#, W / 2.0, esc(&self.title));
+        // Legend entries one after another, each as wide as its label (about 7 px a character).
+        let mut x = L;
+        for (i, (label, _)) in self.series.iter().enumerate() {
+            let _ = writeln!(s, r#"<rect x="{x:.1}" y="{}" width="12" height="12" fill="{}"/><text x="{:.1}" y="{}">{}</text>"#, T + 2.0, COLORS[i % COLORS.len()], x + 16.0, T + 12.0, esc(label));
+            x += 16.0 + 7.0 * label.chars().count() as f64 + 20.0;
+        }
+        for t in nice_ticks(y0, y1, 6) {
+            let _ = writeln!(s, r##"<line x1="{0}" y1="{1:.1}" x2="{2}" y2="{1:.1}" stroke="#ddd"/><text x="{3}" y="{4:.1}" text-anchor="end">{5}</text>"##, L, py(t), W - R, L - 6.0, py(t) + 4.0, fmt_tick(t));
+        }
+        for (g, label) in self.groups.iter().enumerate() {
+            let x0 = L + slot * g as f64 + slot * 0.1;
+            for (i, (_, values)) in self.series.iter().enumerate() {
+                if let Some(v) = values.get(g).copied().flatten() {
+                    let _ = writeln!(s, r#"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="{:.1}" fill="{}"/>"#, x0 + bar * i as f64, py(v), bar * 0.92, py(y0) - py(v), COLORS[i % COLORS.len()]);
+                }
+            }
+            let centre = L + slot * (g as f64 + 0.5);
+            let (first, second) = label.split_once('-').unwrap_or((label, ""));
+            let _ = writeln!(s, r#"<text x="{centre:.1}" y="{}" font-size="10" text-anchor="middle">{}</text><text x="{centre:.1}" y="{}" font-size="10" text-anchor="middle">{}</text>"#, BARS_H - bottom + 16.0, esc(first), BARS_H - bottom + 31.0, esc(second));
+        }
+        let _ = writeln!(s, r#"<rect x="{L}" y="{top}" width="{}" height="{}" fill="none" stroke="black"/>"#, W - L - R, BARS_H - top - bottom);
+        let _ = writeln!(s, r#"<text x="16" y="{0}" text-anchor="middle" transform="rotate(-90 16 {0})">{1}</text>"#, (top + BARS_H - bottom) / 2.0, esc(&self.y_label));
+        s.push_str("</svg>\n");
+        s
+    }
+}
+
 fn esc(t: &str) -> String {
     t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
 }
@@ -162,13 +221,17 @@ pub fn png(svg: &str) -> Result<Vec<u8>, PlotError> {
 
 /// Writes `name.svg` and `name.png` into `dir`.
 pub fn write(chart: &Chart, dir: &Path, name: &str) -> Result<(), PlotError> {
-    let svg = chart.svg();
+    write_svg(&chart.svg(), dir, name)
+}
+
+/// Writes the document `svg` as `name.svg` and `name.png` into `dir`.
+pub fn write_svg(svg: &str, dir: &Path, name: &str) -> Result<(), PlotError> {
     let file = |ext: &str, bytes: &[u8]| {
         let path = dir.join(format!("{name}.{ext}"));
         std::fs::write(&path, bytes).map_err(|source| PlotError::Io { path, source })
     };
     file("svg", svg.as_bytes())?;
-    file("png", &png(&svg)?)
+    file("png", &png(svg)?)
 }
 
 #[cfg(test)]
@@ -203,5 +266,30 @@ mod tests {
             p[2] > 150 && p[0] < 120
         }));
         assert!(near_blue);
+    }
+
+    #[test]
+    fn bars_stand_as_high_as_their_values_in_their_series_colour() {
+        let bars = Bars {
+            title: "t".into(),
+            y_label: "y".into(),
+            groups: vec!["one".into(), "two-lines".into()],
+            series: vec![("a".into(), vec![Some(100.0), Some(50.0)]), ("b".into(), vec![None, Some(25.0)])],
+            y_range: (0.0, 100.0),
+        };
+        let img = image::load_from_memory(&png(&bars.svg()).unwrap()).unwrap().to_rgb8();
+        assert_eq!((img.width(), img.height()), (720, BARS_H as u32));
+        // Hand calculation of the layout: plot rows from 68 (y = 100) to 408 (y = 0), two
+        // slots of 315 px from x = 70, bars 126 px wide from 10 % into a slot.
+        let blue = |x: u32, y: u32| {
+            let p = img.get_pixel(x, y);
+            p[2] > 150 && p[0] < 80
+        };
+        let (bar_a1, bar_a2, bar_b2) = (70 + 31 + 60, 70 + 315 + 31 + 60, 70 + 315 + 31 + 126 + 60);
+        assert!(blue(bar_a1, 75) && blue(bar_a1, 400), "the first bar reaches 100");
+        assert!(!blue(bar_a2, 230) && blue(bar_a2, 245), "the second stops at 50 (row 238)");
+        let orange_red = |x: u32, y: u32| img.get_pixel(x, y)[0] > 180 && img.get_pixel(x, y)[2] < 80;
+        assert!(!orange_red(bar_b2, 315) && orange_red(bar_b2, 330), "series b's bar stops at 25 (row 323)");
+        assert!(!blue(70 + 31 + 126 + 60, 300) && !orange_red(70 + 31 + 126 + 60, 300), "no bar where b has no value");
     }
 }
