@@ -172,12 +172,13 @@ def image_table(p, flash, ram, stack, bound, budget=65536):
 
 def one_image(p, argv, name, intro, budget=65536):
     """A one-processor image's paragraph and memory table; `intro` makes the paragraph from the
-    image's figures (a dict: lines, stack, bound, ram). Returns its run and stack analysis."""
+    image's figures (a dict: lines, stack, bound, ram). Returns its run, its stack analysis and
+    the RAM it leaves (the budget less static RAM and the stack bound)."""
     run, flash, ram, stack, _, bound, lines, sb = image(argv, name)
     p(wrap(intro(dict(lines=lines, stack=stack, bound=bound, ram=ram))))
     p()
     image_table(p, flash, ram, stack, bound, budget)
-    return run, sb
+    return run, sb, budget - ram - bound
 
 
 def worst(counts):
@@ -207,7 +208,7 @@ def per_processor(p, partner, peripheral, watch, master):
          "Watch's previous strip) and what a kernel packs a window into is RAM.")
     p()
     if partner:
-        run, _ = one_image(p, partner, "partner image", lambda f: (
+        run, _, _ = one_image(p, partner, "partner image", lambda f: (
             "**The COOP partner** (`partner`): the corner kernels and the partner alone on both "
             "replays' recorded windows (`suite::run_partner`), its own window the Foveal window centred "
             f"in the master's, where the master's `Follow` puts it. Its {f['lines']} result lines equal the "
@@ -220,7 +221,7 @@ def per_processor(p, partner, peripheral, watch, master):
                  f"over the {len(frames)} frames of both replays.")
             p()
     if peripheral:
-        run, _ = one_image(p, peripheral, "Peripheral image", lambda f: (
+        run, _, _ = one_image(p, peripheral, "Peripheral image", lambda f: (
             "**The Peripheral** (`peripheral`, `suite::run_peripheral`): its kernels (SSD and SAD of "
             "the 16x16 template in the 40x40 window, SSD at 25 %) and the `Peripheral` processor on the "
             "Watch benchmark's frame, its template captured there at the centre of the Watch's motion as "
@@ -246,7 +247,7 @@ def per_processor(p, partner, peripheral, watch, master):
                  "after both sizes failed, one tile a window, and the Foveal track waits for it either way.")
             p()
     if watch:
-        run, _ = one_image(p, watch, "Watch image", lambda f: (
+        run, _, _ = one_image(p, watch, "Watch image", lambda f: (
             "**The Watch** (`watch`, `suite::run_watch`). A 256x256 previous frame is 64 KiB: one "
             "Watch processor cannot hold it beside anything else in 64 KiB. As MPDF places several Watch "
             "windows, each on its own processor (2.3.3, Table 2.2: two 256x20 strips), the frame is "
@@ -268,7 +269,7 @@ def per_processor(p, partner, peripheral, watch, master):
             para(f"A strip's differencing takes {worst(strips)}, each strip on its own core.")
             p()
     if master:
-        run, sb = one_image(p, master, "NCC master image", lambda f: (
+        run, sb, left = one_image(p, master, "NCC master image", lambda f: (
             "**The NCC master** (`master`, `suite::run_master`): the COOP master alone on both "
             "replays' recorded windows, its partner's corner each frame read from the partner's own "
             "lines of `expected.txt` (what that image sends it over the link), printing the pair's "
@@ -285,7 +286,7 @@ def per_processor(p, partner, peripheral, watch, master):
         path = [(stack_bound.brief(funcs[a].name), add) for a, add, _ in sb["models"]["address-taken", sb["times"]]["path"]
                 if not isinstance(a, tuple)]
         para("Its deepest path (bytes each adds): " + ", ".join(f"`{n}` {v:,}" for n, v in path if v >= 512)
-             + ". It is within 64 KiB by less than 2 KiB: the NCC path's fixed-capacity buffers are "
+             + f". It leaves {left:,} bytes of the 64 KiB: the NCC path's fixed-capacity buffers are "
              "still sized for the largest window and placement count any processor matches (a 128x128 "
              "Peripheral window at 25 %, 1,024 placements: `best_match`'s frame, `row_dot_products`' "
              "strips), where the master's windows have 25 placements (20x20 in 24x24; an adapting "

@@ -62,6 +62,7 @@ impl NccFound {
 /// and its score, or `None` if the best score is under `ncc_min` (the target has left the
 /// window, or no longer looks like the template). `lk` holds the template prepared for the
 /// refinement; an `adapting` template is matched by zero-mean NCC ([`Params::correlation`]).
+#[inline(always)]
 fn ncc_track<const P: usize>(win: &WindowView<'_>, tpl: &Template, support: Option<&Support>, lk: &mut LkCache<P>, p: &Params, adapting: bool) -> (Option<NccFound>, Work) {
     let (method, acceptance) = p.correlation(adapting);
     let n = tpl.side();
@@ -310,12 +311,23 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
                 self.follow(step, t, found, Source::Cd, None);
             }
             FovealKind::Ncc | FovealKind::CoopMaster => {
-                let (found, work) = match &self.template {
-                    Some(tpl) => ncc_track(win, tpl, self.support.as_ref(), &mut self.lk, &self.params, self.adapt.is_some()),
-                    None => (None, Work::None),
-                };
+                // A track the Peripheral handed over tries its first template too (one call
+                // site: the NCC master's 64 KiB has no room for a second inlined search).
+                let handed = core::mem::take(&mut self.handed);
+                let first = self.adapt.as_ref().map(Adaptive::first).filter(|f| handed && Some(*f) != self.template.as_ref());
+                let (mut found, mut work, mut by_first) = (None, Work::None, false);
+                for (k, tpl) in self.template.iter().chain(first).enumerate() {
+                    let support = if k == 0 { self.support.as_ref() } else { None };
+                    let (f, w) = ncc_track(win, tpl, support, &mut self.lk, &self.params, self.adapt.is_some());
+                    if k == 0 {
+                        work = w;
+                    }
+                    if let Some(f) = f.filter(|f| found.is_none_or(|b: NccFound| f.score > b.score)) {
+                        (found, by_first) = (Some(f), k == 1);
+                    }
+                }
                 step.clear(work);
-                let found = if core::mem::take(&mut self.handed) { self.handed_over(win, found) } else { found };
+                let found = if handed { self.handed_over(found, by_first) } else { found };
                 // An adapting track's point is the first template's, aligned under a
                 // similarity warp from the match where it aligns; where it does not, the
                 // match refined by Lucas-Kanade, as a fixed template's.
@@ -342,24 +354,16 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         }
     }
 
-    /// The first window of an adapting track the Peripheral handed over, where the current
-    /// template matched `found`: the better of that and the first template's match, from
+    /// The first window of an adapting track the Peripheral handed over: `found`, the better
+    /// of the current template's match and the first template's (`by_first`), from
     /// [`REDETECT_MIN`] (the bar the Peripheral's re-detection cleared), the first template
-    /// taken back where it wins. The current template is the look the track lost the object
+    /// taken back where it won. The current template is the look the track lost the object
     /// with: on the earring of `Megamind.avi` it scores 0.24-0.49 where the Peripheral hands
     /// the stud over, the first 0.78-0.96, and wrong places 0.44-0.72.
-    fn handed_over(&mut self, win: &WindowView<'_>, found: Option<NccFound>) -> Option<NccFound> {
-        let first = self.adapt.as_ref().map(Adaptive::first).filter(|f| Some(*f) != self.template.as_ref());
-        let by_first = first.and_then(|f| ncc_track(win, f, None, &mut self.lk, &self.params, true).0);
-        let found = match (found, by_first) {
-            (f, Some(b)) if f.is_none_or(|f| b.score > f.score) => {
-                if let Some(t) = self.adapt.as_mut().map(Adaptive::back_to_first) {
-                    self.adopt(t);
-                }
-                Some(b)
-            }
-            (f, _) => f,
-        };
+    fn handed_over(&mut self, found: Option<NccFound>, by_first: bool) -> Option<NccFound> {
+        if let Some(t) = self.adapt.as_mut().filter(|_| by_first).map(Adaptive::back_to_first) {
+            self.adopt(t);
+        }
         found.filter(|f| f.score >= REDETECT_MIN)
     }
 

@@ -274,9 +274,13 @@ const FINE_REACH: usize = 2;
 /// searched as one range: 8x8 placements at most instead of two of 6x6.
 const FINE_JOIN: usize = 3;
 
-/// Capacity of [`best_match_pyramid`]'s half-resolution views: a 64x64 window (the adapting
+/// Capacity of [`best_match_pyramid`]'s half-resolution window: a 64x64 window (the adapting
 /// Foveal's widest is 52x52); a larger window is searched in full.
 const HALF_PIXELS: usize = 1024;
+
+/// Capacity of [`best_match_pyramid`]'s half-resolution template: a 32x32 template's (the
+/// largest a processor cuts); a larger one is searched in full.
+const HALF_TEMPLATE_PIXELS: usize = 256;
 
 /// [`best_match`] with a bounded cost (beyond the thesis, issue 21): a window with more than
 /// [`PYRAMID_FROM`] placements is searched at half resolution first (window and template
@@ -291,7 +295,7 @@ const HALF_PIXELS: usize = 1024;
 /// only, as the Foveal's).
 pub fn best_match_pyramid(method: Method, win: &WindowView<'_>, tpl: &WindowView<'_>) -> Result<Match, MatchError> {
     let (nx, ny) = placements(win, tpl)?;
-    let (mut wbuf, mut tbuf) = ([0u8; HALF_PIXELS], [0u8; HALF_PIXELS]);
+    let (mut wbuf, mut tbuf) = ([0u8; HALF_PIXELS], [0u8; HALF_TEMPLATE_PIXELS]);
     let halves = (nx * ny > PYRAMID_FROM).then(|| Some((halve(win, &mut wbuf)?, halve(tpl, &mut tbuf)?))).flatten();
     let Some((half_win, half_tpl)) = halves else { return best_match_full(method, win, tpl) };
     let coarse = best_match_full(method, &half_win, &half_tpl)?;
