@@ -73,6 +73,52 @@ fn scene_then_track_writes_the_csv_with_the_documented_columns() {
 }
 
 #[test]
+fn a_flat_target_is_refused_and_start_frame_tracks_from_a_later_frame() {
+    // A clip that opens on a black frame (as opencv-doc's Megamind.avi): the target's template
+    // there is flat, and the run is refused with the way out, not tracked to nothing.
+    let d = scratch("cli_start_frame");
+    let frames = d.join("frames");
+    let (ok, _, err) = coopwin(&["scene", "--path", "triangle", "--frames", "12", "--speed", "50", "--out", frames.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    let mut names: Vec<String> = std::fs::read_dir(&frames).unwrap().filter_map(|e| e.ok()?.file_name().into_string().ok()).filter(|n| n.ends_with(".png")).collect();
+    names.sort();
+    let (w, h) = image::image_dimensions(frames.join(&names[0])).unwrap();
+    image::GrayImage::new(w, h).save(frames.join(&names[0])).unwrap();
+    let truth = std::fs::read_to_string(frames.join("groundtruth.csv")).unwrap();
+    let corner = |k: usize| {
+        let f: Vec<f64> = truth.lines().nth(1 + k).unwrap().split(',').map(|v| v.parse().unwrap()).collect();
+        format!("{},{}", f[3], f[4])
+    };
+    let csv = d.join("t.csv");
+    let track = |extra: &[&str], target: &str| {
+        let mut args = vec!["track", "--frames", frames.to_str().unwrap(), "--target", target, "--out", csv.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        coopwin(&args)
+    };
+    let (ok, _, err) = track(&[], &corner(0));
+    assert!(!ok);
+    one_error_line(&err);
+    assert!(err.contains("flat on the first frame tracked (every pixel 0)") && err.contains("--start-frame"), "{err}");
+    assert!(!csv.exists(), "nothing written");
+    // From frame 1, where the target is: the rows keep the folder's numbers and file names.
+    let (ok, out, err) = track(&["--start-frame", "1"], &corner(1));
+    assert!(ok, "{err}");
+    assert!(out.contains("11 frames, 11 tracked"), "{out}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let rows: Vec<Vec<&str>> = text.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 11);
+    for (k, r) in rows.iter().enumerate() {
+        assert_eq!((r[0], r[6]), ((k + 1).to_string().as_str(), names[k + 1].as_str()));
+    }
+    assert_eq!(rows[0][5], "1", "measured in frame 1");
+    // A start past the end is an argument error.
+    let (ok, _, err) = track(&["--start-frame", "12"], &corner(1));
+    assert!(!ok);
+    one_error_line(&err);
+    assert!(err.contains("--start-frame 12: the input has 12 frames (0..11)"), "{err}");
+}
+
+#[test]
 fn bad_arguments_exit_non_zero() {
     for args in [
         vec!["waves", "--out", "x.vcd", "--window", "5,5,1,2"],

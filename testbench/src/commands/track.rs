@@ -9,13 +9,16 @@ use crate::analysis::audit::requests;
 use crate::analysis::metrics;
 use crate::frames::folder::FolderFrames;
 use crate::frames::video::{self, Scan, VideoError, VideoFrames};
-use crate::frames::{groundtruth, FrameError, FrameSource};
+use crate::frames::{groundtruth, FrameError, FrameSource, Skip};
 use crate::report::csv::{CsvBox, FrameInfo};
 use crate::report::{self, csv, overlay};
 use crate::system::{self, RunLog, SystemConfig};
 use crate::units::clocked::Trace;
 use crate::units::clocks::Clocks;
+use coopwin_firmware::kernels::view::WindowView;
+use coopwin_firmware::processors::template::Template;
 use coopwin_firmware::processors::Params;
+use coopwin_firmware::types::Point;
 use coopwin_hdl::sim::camera::Jitter;
 use std::io::{IsTerminal, Write};
 use std::ops::Range;
@@ -42,6 +45,11 @@ pub struct TrackArgs {
     /// reports a W x H box
     #[arg(long, value_name = "X,Y,W,H", value_parser = args::parse_box, allow_hyphen_values = true)]
     pub target_box: Option<(u32, u32, u32, u32)>,
+    /// First frame to track (0-based, in the order FFmpeg and OpenCV number a video's frames,
+    /// or the folder's order): --target and --target-box are on this frame, and the CSV keeps
+    /// the source's frame numbers (a clip that opens on black frames starts later)
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    pub start_frame: usize,
     /// Frames per second of the source [default: a video's own rate; 114 for PNG frames,
     /// the thesis's camera]
     #[arg(long, value_parser = args::parse_fps)]
@@ -102,7 +110,8 @@ pub struct TrackArgs {
     /// FILE.requests.csv beside it for `coopwin audit`
     #[arg(long, value_name = "FILE")]
     pub vcd: Option<PathBuf>,
-    /// With --vcd: trace only frames FIRST up to END (END excluded), e.g. 10..12
+    /// With --vcd: trace only frames FIRST up to END (END excluded, both counted from
+    /// --start-frame), e.g. 10..12
     #[arg(long, value_name = "FIRST..END", value_parser = args::parse_frames, requires = "vcd", allow_hyphen_values = true)]
     pub vcd_frames: Option<std::ops::Range<usize>>,
     /// Fault campaign: camera blanking that varies, up to LINE extra clocks before each line
@@ -233,11 +242,12 @@ impl RowFacts {
         }
     }
 
-    /// The rows' facts, frames `period` seconds apart where no timestamp says otherwise.
-    fn info(&self, period: f64) -> FrameInfo<'_> {
+    /// The rows' facts, frames `period` seconds apart where no timestamp says otherwise, the
+    /// run's frame 0 being the source's `first`.
+    fn info(&self, period: f64, first: usize) -> FrameInfo<'_> {
         match &self.video {
-            None => FrameInfo { files: Some(&self.names), period, ..FrameInfo::default() },
-            Some((times, damaged)) => FrameInfo { times: Some(times), damaged: Some(damaged), period, files: None },
+            None => FrameInfo { files: Some(&self.names), period, first, ..FrameInfo::default() },
+            Some((times, damaged)) => FrameInfo { times: Some(times), damaged: Some(damaged), period, first, files: None },
         }
     }
 }
@@ -341,6 +351,7 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
     let started = std::time::Instant::now();
     let truth_path = args.frames.join("groundtruth.csv");
     let truth = if args.frames.is_dir() && truth_path.exists() { Some(groundtruth::read(&truth_path)?) } else { None };
+    let truth = truth.map(|t| t.get(args.start_frame..).unwrap_or_default().to_vec());
     let shape = args.csv_box();
     let facts = RowFacts::of(&input);
     // The CSV is written a row as each frame ends (into a temporary file, put in place once
@@ -354,9 +365,10 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
         None => None,
     };
     let (log, vcd_stream) = {
-        let mut frames = input.frames()?;
+        let mut all = input.frames()?;
+        let mut frames = started_at(&mut all, args.start_frame)?;
         // The run's frame period, as the run computes it.
-        let info = facts.info(Clocks::for_frames(&frames, cfg.jitter).period() as f64 / cfg.pixel_clock_hz);
+        let info = facts.info(Clocks::for_frames(&frames, cfg.jitter).period() as f64 / cfg.pixel_clock_hz, args.start_frame);
         let mut on_record = |r: &system::FrameRecord| {
             if let Some((_, stream, error @ None)) = &mut csv_out {
                 *error = writeln!(stream, "{}", csv::track_row(r, info, shape)).err();
@@ -384,7 +396,8 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
     if let Some((kind, o)) = &overlay_out {
         let points = truth.as_ref().map(|t| metrics::true_points(&log, t));
         let fps = fps.unwrap_or(1.0 / log.frame_period);
-        let stream = kind.write(o, &mut interrupt::Interruptible(&mut input.frames()?), &log, points.as_deref(), shape.size, fps)?;
+        let mut all = input.frames()?;
+        let stream = kind.write(o, &mut interrupt::Interruptible(&mut started_at(&mut all, args.start_frame)?), &log, points.as_deref(), shape.size, fps)?;
         done.push((stream, Some(format!("wrote {}", o.path.display()))));
     }
     if interrupt::requested() {
@@ -434,6 +447,28 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
         say(report::summary_table(&[(cfg.strategy.name(), s)]));
     }
     Ok(())
+}
+
+/// The pixel value and the target of a template the run would cut flat (no variance: nothing
+/// for NCC to match, as on a clip's black first frame); `None` without a target or where the
+/// template has texture.
+fn flat_target(frames: &mut dyn FrameSource, cfg: &SystemConfig) -> Result<Option<(u8, (f64, f64))>, CliError> {
+    let Some((x, y)) = cfg.target else { return Ok(None) };
+    let (w, h) = frames.size();
+    let first = frames.frame(0).map_err(|e| CliError::new(e.to_string()))?;
+    let view = WindowView::packed(first, w, h).map_err(|e| CliError::new(format!("the first frame: {e}")))?;
+    let at = Point { x: x as f32, y: y as f32 };
+    let Some(tpl) = Template::capture(&view, at, usize::from(cfg.params.template)) else { return Ok(None) };
+    let Some(tv) = tpl.view() else { return Ok(None) };
+    let mut px = (0..tv.height()).filter_map(|r| tv.row(r)).flatten().copied();
+    let first = px.next();
+    Ok(first.filter(|&v| px.all(|p| p == v)).map(|v| (v, (x, y))))
+}
+
+/// `frames` from `--start-frame first` on.
+fn started_at<'a>(frames: &'a mut dyn FrameSource, first: usize) -> Result<Skip<'a>, CliError> {
+    let n = frames.len();
+    Skip::new(frames, first).ok_or_else(|| CliError::arg(format!("--start-frame {first}: the input has {n} frames (0..{})", n.saturating_sub(1))))
 }
 
 /// The overlay formats, told by the file's extension.
@@ -517,6 +552,12 @@ pub fn track_frames(
         if !(x.is_finite() && y.is_finite() && x >= 0.0 && y >= 0.0 && x <= (w - 1) as f64 && y <= (h - 1) as f64) {
             return Err(CliError::arg(format!("--target {x},{y} is outside the {w}x{h} frames (X 0..{}, Y 0..{})", w - 1, h - 1)));
         }
+    }
+    if let Some((value, (x, y))) = flat_target(frames, cfg)? {
+        let n = cfg.params.template;
+        return Err(CliError::new(format!(
+            "the {n}x{n} template around the target ({x}, {y}) is flat on the first frame tracked (every pixel {value}): there is nothing there to track. A clip that opens on black or blank frames: --start-frame N starts on the frame the target is on"
+        )));
     }
     if let Some(phase) = cfg.write_phase {
         let clocks = Clocks::camera_timing((w, h)).frame_clocks() as u64;

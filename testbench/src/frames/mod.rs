@@ -57,6 +57,31 @@ impl std::fmt::Display for FrameError {
 
 impl std::error::Error for FrameError {}
 
+/// `inner`'s frames from `first` on, numbered from 0 (a run that starts later in a clip).
+pub struct Skip<'a> {
+    inner: &'a mut dyn FrameSource,
+    first: usize,
+}
+
+impl<'a> Skip<'a> {
+    /// `inner` from frame `first`; `None` when it has no such frame.
+    pub fn new(inner: &'a mut dyn FrameSource, first: usize) -> Option<Skip<'a>> {
+        (first < inner.len()).then_some(Skip { inner, first })
+    }
+}
+
+impl FrameSource for Skip<'_> {
+    fn size(&self) -> (usize, usize) {
+        self.inner.size()
+    }
+    fn len(&self) -> usize {
+        self.inner.len() - self.first
+    }
+    fn frame(&mut self, k: usize) -> Result<&[u8], FrameError> {
+        self.inner.frame(k + self.first)
+    }
+}
+
 /// The last few frames made, for sources that decode or render on demand.
 #[derive(Default)]
 pub struct FrameCache {

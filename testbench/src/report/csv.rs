@@ -35,6 +35,9 @@ pub struct FrameInfo<'a> {
     pub period: f64,
     /// Each frame: damaged by a decoding error (a video tracked with `--allow-damaged`).
     pub damaged: Option<&'a [bool]>,
+    /// The source's number of the run's frame 0 (`track --start-frame`): the rows' frame
+    /// numbers, files and times are the source's.
+    pub first: usize,
 }
 
 /// Writes the CSV of a run, one line a frame (see [`TRACK_HEADER`] and [`track_row`]).
@@ -64,7 +67,8 @@ pub fn track_row(r: &FrameRecord, info: FrameInfo, shape: CsvBox) -> String {
     let (bw, bh) = shape.size;
     let shown = r.point.or(r.estimate);
     let (x, y) = shown.map(|(x, y)| (format!("{x:.3}"), format!("{y:.3}"))).unwrap_or_default();
-    let file = info.files.and_then(|f| f.get(r.frame)).map(|n| csv_field(n)).unwrap_or_default();
+    let frame = r.frame + info.first;
+    let file = info.files.and_then(|f| f.get(frame)).map(|n| csv_field(n)).unwrap_or_default();
     let measured = r.point.and(r.shape);
     // The box's side as the object's measured scale makes it (3 decimals), or as given.
     let side = |n: usize| match measured {
@@ -83,17 +87,16 @@ pub fn track_row(r: &FrameRecord, info: FrameInfo, shape: CsvBox) -> String {
     };
     let ok = r.measured_frame.is_some_and(|m| m <= r.frame && r.frame - m <= MAX_AGE) && r.point.is_some();
     let time = match info.times {
-        Some(t) => t.get(r.frame).copied().unwrap_or(f64::NAN),
-        None => r.frame as f64 * info.period,
+        Some(t) => t.get(frame).copied().unwrap_or(f64::NAN),
+        None => frame as f64 * info.period,
     };
     let time = if time.is_finite() { format!("{time:.6}") } else { String::new() };
-    let damaged = info.damaged.and_then(|d| d.get(r.frame)).copied().unwrap_or(false);
+    let damaged = info.damaged.and_then(|d| d.get(frame)).copied().unwrap_or(false);
     format!(
-        "{},{x},{y},{},{},{},{file},{boxed},{confidence},{},{time},{},{},{shaped}",
-        r.frame,
+        "{frame},{x},{y},{},{},{},{file},{boxed},{confidence},{},{time},{},{},{shaped}",
         mode_name(r.mode),
         r.source.map(algo_name).unwrap_or("none"),
-        r.measured_frame.map(|f| f.to_string()).unwrap_or_default(),
+        r.measured_frame.map(|f| (f + info.first).to_string()).unwrap_or_default(),
         u8::from(ok),
         u8::from(damaged),
         r.state.name()
