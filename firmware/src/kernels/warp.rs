@@ -148,14 +148,22 @@ fn bilinear(data: &[u8], stride: usize, w: usize, h: usize, x: f32, y: f32) -> O
     if !(x >= 0.0 && y >= 0.0 && x <= (w - 1) as f32 && y <= (h - 1) as f32) {
         return None;
     }
-    // Truncation is the floor here (x, y >= 0), exactly as `floorf` (a library call on the M4).
-    let (x0, y0) = (x as usize, y as usize);
-    let (ax, ay) = (x - x0 as f32, y - y0 as f32);
+    let (x0, y0, ax, ay) = floor_split(x, y);
     // On the last column or row the weight of the next is zero: read the same one.
     let (dx, dy) = (usize::from(x0 + 1 < w), if y0 + 1 < h { stride } else { 0 });
     let at = y0 * stride + x0;
     let p = |i: usize| data.get(i).map(|&v| f32::from(v));
     Some(lerp2x2([p(at)?, p(at + dx)?, p(at + dy)?, p(at + dy + dx)?], ax, ay))
+}
+
+/// The integer parts of `x, y >= 0` (truncation is the floor there, exactly as `floorf`, a
+/// library call on the M4) and their fractions. Through `i32`: a float's saturating
+/// conversion to `usize` is a dozen instructions on x86-64 (to `i32`, and back, one each),
+/// the same integers for a window's coordinates.
+#[inline(always)]
+fn floor_split(x: f32, y: f32) -> (usize, usize, f32, f32) {
+    let (x0, y0) = (x as i32, y as i32);
+    (x0 as usize, y0 as usize, x - x0 as f32, y - y0 as f32)
 }
 
 /// The 2x2 block `[p00, p10, p01, p11]` interpolated at `(ax, ay)` from its top-left.
@@ -173,8 +181,7 @@ fn lerp2x2([p00, p10, p01, p11]: [f32; 4], ax: f32, ay: f32) -> f32 {
 /// block reaches past `data` (the window's last row at the end of its buffer).
 #[inline(always)]
 fn bilinear_inside(data: &[u8], stride: usize, x: f32, y: f32) -> Option<f32> {
-    let (x0, y0) = (x as usize, y as usize);
-    let (ax, ay) = (x - x0 as f32, y - y0 as f32);
+    let (x0, y0, ax, ay) = floor_split(x, y);
     let at = y0 * stride + x0;
     let block = data.get(at..at.checked_add(stride)?.checked_add(2)?)?;
     let p = |i: usize| f32::from(block[i]);
