@@ -409,8 +409,11 @@ pub(super) use row_dot_products as dot_products;
 /// pixels `(w0, w1, w2, w3)` over two such pairs, `(w0, w2)` and `(w1, w3)`; so the template
 /// is rearranged once into those halves, `(t0, t2)` and `(t1, t3)` per group of four
 /// pixels, and four placements of a column (rows `py..py+4`) share each template word. A
-/// row's last `tw % 4` pixels and the last `ny % 4` placement rows are summed one at a time.
-/// The sums stay under `4096·255² < 2³¹`.
+/// row's last `tw % 4` pixels make a last group padded with zero pixels, multiplied with the
+/// window's four pixels from there wherever they are in the window's memory (the pixels past
+/// the patch count zero times); where they are not (the last placements of the window's last
+/// rows), those pixels are summed one at a time. The last `ny % 4` placement rows go four
+/// placements of a row at a time. The sums stay under `4096·255² < 2³¹`.
 #[cfg(any(test, target_arch = "arm"))]
 pub(super) fn row_dot_products(win: &WindowView<'_>, tpl: &WindowView<'_>, dots: &mut Vec<u32, SCORE_CACHE>) -> Option<()> {
     let (tw, th, ww, wh) = (tpl.width(), tpl.height(), win.width(), win.height());
@@ -420,29 +423,38 @@ pub(super) fn row_dot_products(win: &WindowView<'_>, tpl: &WindowView<'_>, dots:
         return None;
     }
     let body = tw - tw % 4;
+    // Pixels a row's groups cover, the last padded.
+    let padded = tw.div_ceil(4) * 4;
     let mut words: Vec<u32, { STRIP_CAP / 2 }> = Vec::new();
     for v in 0..th {
-        for g in tpl.row(v)?.get(..body)?.chunks_exact(4) {
+        let (groups, rest) = tpl.row(v)?.split_at_checked(body)?;
+        for g in groups.chunks_exact(4) {
             if let &[t0, t1, t2, t3] = g {
-                let half = |p: u8| i16::from(p);
-                words.push(pair(half(t0), half(t2))).ok()?;
-                words.push(pair(half(t1), half(t3))).ok()?;
+                words.push(pair(i16::from(t0), i16::from(t2))).ok()?;
+                words.push(pair(i16::from(t1), i16::from(t3))).ok()?;
             }
         }
+        if !rest.is_empty() {
+            let px = |i: usize| rest.get(i).map_or(0, |&p| i16::from(p));
+            words.push(pair(px(0), px(2))).ok()?;
+            words.push(pair(px(1), px(3))).ok()?;
+        }
     }
+    let rows = Rows { words: &words, per_row: padded / 2, th };
     let (data, stride) = win.raw()?;
     dots.clear();
     dots.resize(nx * ny, 0).ok()?;
-    // Stores placement `(px, py)`'s dot product from the sum of its rows' bodies and their
-    // last `tw % 4` pixels.
-    let mut store = |px: usize, py: usize, sum: i32| -> Option<()> {
+    // Patch pixels each call multiplies: the padded groups where the last of the calls' `span`
+    // patches (at `at + span`) has them in `data`, else the groups of four only.
+    let len = |at: usize, span: usize| if at + span + (th - 1) * stride + padded <= data.len() { padded } else { body };
+    // Stores placement `(px, py)`'s dot product from the sum of its rows' groups, adding its
+    // last `tw % 4` pixels one at a time unless `len` covered them.
+    let mut store = |px: usize, py: usize, sum: i32, len: usize| -> Option<()> {
         let mut tail = 0u32;
-        // Tested once, not per row: this closure is not always inlined (LTO decides), and a
-        // loop of empty rows cost 80 instructions a placement on the Cortex-M4.
-        if body < tw {
+        if len < tw {
             for v in 0..th {
                 let start = (py + v) * stride + px;
-                let (t, w) = (tpl.row(v)?.get(body..)?, data.get(start + body..start + tw)?);
+                let (t, w) = (tpl.row(v)?.get(len..)?, data.get(start + len..start + tw)?);
                 tail = t.iter().zip(w).fold(tail, |s, (&t, &w)| s.wrapping_add(u32::from(t) * u32::from(w)));
             }
         }
@@ -454,23 +466,28 @@ pub(super) fn row_dot_products(win: &WindowView<'_>, tpl: &WindowView<'_>, dots:
     let full = ny - ny % 4;
     for px in 0..nx {
         for py in (0..full).step_by(4) {
-            let sums = dot_rows4(&words, data, stride, stride, py * stride + px, tw, th)?;
+            let at = py * stride + px;
+            let n = len(at, 3 * stride);
+            let sums = rows.dot4(data, stride, stride, at, n)?;
             for (j, &sum) in sums.iter().enumerate() {
-                store(px, py + j, sum)?;
+                store(px, py + j, sum, n)?;
             }
         }
     }
     for py in full..ny {
         let mut px = 0;
         while px < nx {
+            let at = py * stride + px;
             if px + 4 <= nx {
-                let sums = dot_rows4(&words, data, stride, 1, py * stride + px, tw, th)?;
+                let n = len(at, 3);
+                let sums = rows.dot4(data, stride, 1, at, n)?;
                 for (j, &sum) in sums.iter().enumerate() {
-                    store(px + j, py, sum)?;
+                    store(px + j, py, sum, n)?;
                 }
                 px += 4;
             } else {
-                store(px, py, dot_rows(&words, data, stride, py * stride + px, tw, th)?)?;
+                let n = len(at, 0);
+                store(px, py, rows.dot(data, stride, at, n)?, n)?;
                 px += 1;
             }
         }
@@ -478,41 +495,49 @@ pub(super) fn row_dot_products(win: &WindowView<'_>, tpl: &WindowView<'_>, dots:
     Some(())
 }
 
-/// The products of the template words (halves `(t0, t2)`, `(t1, t3)` per group of four
-/// pixels, row by row, see [`row_dot_products`]) with the patches at `at`, `at + step`,
-/// `at + 2·step` and `at + 3·step` of the window pixels `data` (rows `stride` apart): four
-/// placements sharing each word, down a column (`step = stride`) or along a row
-/// (`step = 1`); a row's last `tw % 4` pixels are left out. Zipped chunks let LLVM load each
-/// window word at once.
+/// The template words of [`row_dot_products`] (halves `(t0, t2)`, `(t1, t3)` per group of
+/// four pixels, each row's last group padded with zeros): `per_row` words a row, `th` rows.
 #[cfg(any(test, target_arch = "arm"))]
-#[inline(never)]
-fn dot_rows4(words: &[u32], data: &[u8], stride: usize, step: usize, at: usize, tw: usize, th: usize) -> Option<[i32; 4]> {
-    let mut a = [0i32; 4];
-    for (v, t) in words.chunks(2 * (tw / 4).max(1)).take(th).enumerate() {
-        let row = |k: usize| data.get(at + v * stride + k * step..at + v * stride + k * step + tw);
-        let it = t.chunks_exact(2).zip(row(0)?.chunks_exact(4)).zip(row(1)?.chunks_exact(4)).zip(row(2)?.chunks_exact(4)).zip(row(3)?.chunks_exact(4));
-        for ((((t, c0), c1), c2), c3) in it {
-            if let &[even, odd] = t {
-                a = [group(a[0], even, odd, c0), group(a[1], even, odd, c1), group(a[2], even, odd, c2), group(a[3], even, odd, c3)];
-            }
-        }
-    }
-    Some(a)
+struct Rows<'w> {
+    words: &'w [u32],
+    per_row: usize,
+    th: usize,
 }
 
-/// [`dot_rows4`] for the one placement at `at`.
 #[cfg(any(test, target_arch = "arm"))]
-#[inline(never)]
-fn dot_rows(words: &[u32], data: &[u8], stride: usize, at: usize, tw: usize, th: usize) -> Option<i32> {
-    let mut a = 0i32;
-    for (v, t) in words.chunks(2 * (tw / 4).max(1)).take(th).enumerate() {
-        let row = data.get(at + v * stride..at + v * stride + tw)?;
-        a = t.chunks_exact(2).zip(row.chunks_exact(4)).fold(a, |s, (t, c)| match t {
-            &[even, odd] => group(s, even, odd, c),
-            _ => s,
-        });
+impl Rows<'_> {
+    /// The products with the patches at `at`, `at + step`, `at + 2·step` and `at + 3·step` of
+    /// the window pixels `data` (rows `stride` apart), over each row's first `len` pixels
+    /// (whole groups): four placements sharing each word, down a column (`step = stride`) or
+    /// along a row (`step = 1`). Zipped chunks let LLVM load each window word at once.
+    #[inline(never)]
+    fn dot4(&self, data: &[u8], stride: usize, step: usize, at: usize, len: usize) -> Option<[i32; 4]> {
+        let mut a = [0i32; 4];
+        for (v, t) in self.words.chunks(self.per_row.max(1)).take(self.th).enumerate() {
+            let row = |k: usize| data.get(at + v * stride + k * step..at + v * stride + k * step + len);
+            let it = t.chunks_exact(2).zip(row(0)?.chunks_exact(4)).zip(row(1)?.chunks_exact(4)).zip(row(2)?.chunks_exact(4)).zip(row(3)?.chunks_exact(4));
+            for ((((t, c0), c1), c2), c3) in it {
+                if let &[even, odd] = t {
+                    a = [group(a[0], even, odd, c0), group(a[1], even, odd, c1), group(a[2], even, odd, c2), group(a[3], even, odd, c3)];
+                }
+            }
+        }
+        Some(a)
     }
-    Some(a)
+
+    /// [`Rows::dot4`] for the one placement at `at`.
+    #[inline(never)]
+    fn dot(&self, data: &[u8], stride: usize, at: usize, len: usize) -> Option<i32> {
+        let mut a = 0i32;
+        for (v, t) in self.words.chunks(self.per_row.max(1)).take(self.th).enumerate() {
+            let row = data.get(at + v * stride..at + v * stride + len)?;
+            a = t.chunks_exact(2).zip(row.chunks_exact(4)).fold(a, |s, (t, c)| match t {
+                &[even, odd] => group(s, even, odd, c),
+                _ => s,
+            });
+        }
+        Some(a)
+    }
 }
 
 /// `acc` plus the products of one group: the window word's pixels `(w0, w1, w2, w3)` spread

@@ -297,3 +297,38 @@ fn ssd_elimination_is_exact() {
         assert_eq!((m.sub_x, m.sub_y), ((bx as f64 + dx) as f32, (by as f64 + dy) as f32), "case {case}");
     }
 }
+
+/// A map over the score cache (a Peripheral sweep's 64x64 window at 25 % with a 10x10
+/// template: 3,025 placements, the cache 1,024) is summed a band of placement rows at a time:
+/// every placement's NCC and ZNCC against a direct computation from the formulas in the
+/// module docs, in `f64` from exact integer sums.
+#[test]
+fn a_map_larger_than_the_score_cache_is_scored_in_bands_exactly() {
+    let mut px = lcg(777);
+    let (tw, th, ww, wh) = (10, 10, 64, 64);
+    let w: std::vec::Vec<u8> = (0..ww * wh).map(|_| px()).collect();
+    let t: std::vec::Vec<u8> = (0..tw * th).map(|_| px()).collect();
+    let (nx, ny) = (ww - tw + 1, wh - th + 1);
+    assert!(nx * ny > SCORE_CACHE);
+    for method in [Method::Ncc, Method::Zncc] {
+        let mut map = std::vec![0.0f64; nx * ny];
+        assert_eq!(score_map(method, &v(&w, ww, wh), &v(&t, tw, th), &mut map), Ok((nx, ny)));
+        let n = (tw * th) as f64;
+        for (k, &got) in map.iter().enumerate() {
+            let (ox, oy) = (k % nx, k / nx);
+            let patch = |i: usize| f64::from(w[(oy + i / tw) * ww + ox + i % tw]);
+            let (mut ri, mut ii, mut i1) = (0.0, 0.0, 0.0);
+            for i in 0..tw * th {
+                ri += f64::from(t[i]) * patch(i);
+                ii += patch(i) * patch(i);
+                i1 += patch(i);
+            }
+            let (rr, r1) = (t.iter().map(|&r| f64::from(r) * f64::from(r)).sum::<f64>(), t.iter().map(|&r| f64::from(r)).sum::<f64>());
+            let want = match method {
+                Method::Ncc => ri / (rr * ii).sqrt(),
+                _ => (n * ri - r1 * i1) / ((n * rr - r1 * r1) * (n * ii - i1 * i1)).sqrt(),
+            };
+            assert!((got - want).abs() < 1e-9, "{method:?} placement ({ox}, {oy}): {got} against {want}");
+        }
+    }
+}
