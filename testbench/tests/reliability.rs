@@ -250,6 +250,25 @@ fn a_truncated_frame_is_named_before_the_run() {
     assert!(!r.stdout.contains("tracked"), "the run started: {}", r.stdout);
 }
 
+#[test]
+fn a_frame_damaged_inside_is_named_when_reached_and_nothing_is_written() {
+    // Its header and its end are whole, so the folder's check before the run passes; its
+    // pixel data is not, and decoding it (once, when tracked) names it.
+    let d = scratch("damaged_inside");
+    let frames = d.join("frames");
+    let r = coopwin(&["scene", "--frames", "10", "--out", s(&frames)]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    let victim = frames.join("frame_00005.png");
+    let mut bytes = std::fs::read(&victim).unwrap();
+    let mid = bytes.len() / 2;
+    bytes[mid - 32..mid + 32].fill(0xff);
+    std::fs::write(&victim, &bytes).unwrap();
+    let out = d.join("t.csv");
+    let r = coopwin(&["track", "--frames", s(&frames), "--target", &target_of(&frames), "--out", s(&out)]);
+    fails(&r, 1, &["frame_00005.png"], "PNG damaged inside");
+    assert!(!out.exists(), "a CSV was written for a folder with a bad frame");
+}
+
 // ---- arguments -------------------------------------------------------------------------
 
 #[test]

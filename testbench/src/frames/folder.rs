@@ -34,6 +34,8 @@ pub enum FolderError {
         /// The decoder's reason.
         source: image::ImageError,
     },
+    /// A frame's file ends before its PNG end marker (the `IEND` chunk): cut short.
+    Truncated(PathBuf),
     /// The first frame's size is outside [`SIDES`].
     BadSize {
         /// The file.
@@ -56,6 +58,7 @@ impl std::fmt::Display for FolderError {
             FolderError::Unreadable { dir, source } => write!(f, "cannot read the frames folder {}: {source}", dir.display()),
             FolderError::NoFrames(dir) => write!(f, "no PNG frames in {}", dir.display()),
             FolderError::NotPng { path, source } => write!(f, "{}: not a readable PNG ({source})", path.display()),
+            FolderError::Truncated(path) => write!(f, "{}: not a readable PNG (the file ends before its IEND chunk: cut short)", path.display()),
             FolderError::BadSize { path, size } => {
                 write!(f, "{}: frames must be {1}x{1} to {2}x{2}, this one is {3}x{4}", path.display(), SIDES.start(), SIDES.end(), size.0, size.1)
             }
@@ -77,8 +80,10 @@ impl std::error::Error for FolderError {}
 
 impl FolderFrames {
     /// Lists and checks the folder: it must hold PNG frames, all of one size within
-    /// [`SIDES`]. Every frame is decoded now, so a bad file (unreadable, truncated, another
-    /// size) is named with the reason before tracking starts.
+    /// [`SIDES`]. Every frame's header and end are read now, so a bad file (unreadable, not a
+    /// PNG, cut short, another size) is named with the reason before tracking starts; the
+    /// pixels are decoded once, when tracked (a file damaged inside is named then, and no
+    /// output is written).
     pub fn open(dir: &Path) -> Result<Self, FolderError> {
         let entries = std::fs::read_dir(dir).map_err(|source| FolderError::Unreadable { dir: dir.into(), source })?;
         let mut paths: Vec<PathBuf> = entries
@@ -106,10 +111,35 @@ impl FolderFrames {
     }
 }
 
-/// Decodes the whole of `p` (a truncated or corrupt file fails here) and returns its size.
+/// The size in `p`'s header, once a PNG is known to end with the `IEND` chunk (a file cut
+/// short does not): its pixels are decoded when tracked, not twice.
 fn decoded_size(p: &Path) -> Result<(usize, usize), FolderError> {
-    let img = image::open(p).map_err(|source| FolderError::NotPng { path: p.into(), source })?;
-    Ok((img.width() as usize, img.height() as usize))
+    let not_png = |source| FolderError::NotPng { path: p.into(), source };
+    let io = |e| not_png(image::ImageError::IoError(e));
+    let reader = image::ImageReader::open(p).map_err(io)?.with_guessed_format().map_err(io)?;
+    // Another format under a .png name is decoded as what it is, as before.
+    let png = reader.format() == Some(image::ImageFormat::Png);
+    let (w, h) = reader.into_dimensions().map_err(not_png)?;
+    if png && !ends_with_iend(p).map_err(io)? {
+        return Err(FolderError::Truncated(p.into()));
+    }
+    Ok((w as usize, h as usize))
+}
+
+/// The last 12 bytes of every PNG: the empty `IEND` chunk (length 0, its type, its CRC).
+const IEND: [u8; 12] = [0, 0, 0, 0, b'I', b'E', b'N', b'D', 0xAE, 0x42, 0x60, 0x82];
+
+/// Whether the file `p` ends with [`IEND`].
+fn ends_with_iend(p: &Path) -> std::io::Result<bool> {
+    use std::io::{Read, Seek, SeekFrom};
+    let mut f = std::fs::File::open(p)?;
+    if f.metadata()?.len() < IEND.len() as u64 {
+        return Ok(false);
+    }
+    f.seek(SeekFrom::End(-(IEND.len() as i64)))?;
+    let mut tail = [0u8; IEND.len()];
+    f.read_exact(&mut tail)?;
+    Ok(tail == IEND)
 }
 
 /// Orders names as a person would: runs of digits compare by their value, so `img2` comes
