@@ -234,17 +234,24 @@ fn frames_are_taken_in_natural_order_listed_on_request_and_named_in_the_csv() {
     assert_eq!(files, want);
 }
 
-#[test]
-fn a_truncated_frame_is_named_before_the_run() {
-    let d = scratch("truncated");
+/// A 10-frame scene with `damage` done to the bytes of its frame_00005.png, tracked: the run
+/// and where its CSV would be.
+fn track_with_a_damaged_frame(name: &str, damage: impl FnOnce(&mut Vec<u8>)) -> (Run, PathBuf) {
+    let d = scratch(name);
     let frames = d.join("frames");
     let r = coopwin(&["scene", "--frames", "10", "--out", s(&frames)]);
     assert_eq!(r.code, 0, "{}", r.stderr);
     let victim = frames.join("frame_00005.png");
-    let bytes = std::fs::read(&victim).unwrap();
-    std::fs::write(&victim, &bytes[..bytes.len() / 2]).unwrap();
+    let mut bytes = std::fs::read(&victim).unwrap();
+    damage(&mut bytes);
+    std::fs::write(&victim, &bytes).unwrap();
     let out = d.join("t.csv");
-    let r = coopwin(&["track", "--frames", s(&frames), "--target", &target_of(&frames), "--out", s(&out)]);
+    (coopwin(&["track", "--frames", s(&frames), "--target", &target_of(&frames), "--out", s(&out)]), out)
+}
+
+#[test]
+fn a_truncated_frame_is_named_before_the_run() {
+    let (r, out) = track_with_a_damaged_frame("truncated", |b| b.truncate(b.len() / 2));
     fails(&r, 1, &["frame_00005.png", "not a readable PNG"], "truncated PNG");
     assert!(!out.exists(), "a CSV was written for a folder with a bad frame");
     assert!(!r.stdout.contains("tracked"), "the run started: {}", r.stdout);
@@ -254,17 +261,10 @@ fn a_truncated_frame_is_named_before_the_run() {
 fn a_frame_damaged_inside_is_named_when_reached_and_nothing_is_written() {
     // Its header and its end are whole, so the folder's check before the run passes; its
     // pixel data is not, and decoding it (once, when tracked) names it.
-    let d = scratch("damaged_inside");
-    let frames = d.join("frames");
-    let r = coopwin(&["scene", "--frames", "10", "--out", s(&frames)]);
-    assert_eq!(r.code, 0, "{}", r.stderr);
-    let victim = frames.join("frame_00005.png");
-    let mut bytes = std::fs::read(&victim).unwrap();
-    let mid = bytes.len() / 2;
-    bytes[mid - 32..mid + 32].fill(0xff);
-    std::fs::write(&victim, &bytes).unwrap();
-    let out = d.join("t.csv");
-    let r = coopwin(&["track", "--frames", s(&frames), "--target", &target_of(&frames), "--out", s(&out)]);
+    let (r, out) = track_with_a_damaged_frame("damaged_inside", |b| {
+        let mid = b.len() / 2;
+        b[mid - 32..mid + 32].fill(0xff);
+    });
     fails(&r, 1, &["frame_00005.png"], "PNG damaged inside");
     assert!(!out.exists(), "a CSV was written for a folder with a bad frame");
 }
