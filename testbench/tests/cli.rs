@@ -111,6 +111,10 @@ fn a_flat_target_is_refused_and_start_frame_tracks_from_a_later_frame() {
         assert_eq!((r[0], r[6]), ((k + 1).to_string().as_str(), names[k + 1].as_str()));
     }
     assert_eq!(rows[0][5], "1", "measured in frame 1");
+    // Times are the source's too: frame 1 one period after frame 0, not at 0.
+    let time = |r: &Vec<&str>| r[13].parse::<f64>().unwrap();
+    let period = time(&rows[1]) - time(&rows[0]);
+    assert!(period > 0.0 && (time(&rows[0]) - period).abs() < 1e-5, "{} {period}", time(&rows[0]));
     // A start past the end is an argument error.
     let (ok, _, err) = track(&["--start-frame", "12"], &corner(1));
     assert!(!ok);

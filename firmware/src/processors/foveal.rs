@@ -319,8 +319,10 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
                 for (k, tpl) in self.template.iter().chain(first).enumerate() {
                     let support = if k == 0 { self.support.as_ref() } else { None };
                     let (f, w) = ncc_track(win, tpl, support, &mut self.lk, &self.params, self.adapt.is_some());
-                    if k == 0 {
-                        work = w;
+                    // The work of both searches (same template size: their placements add up).
+                    match (&mut work, w) {
+                        (Work::Match { placements, .. }, Work::Match { placements: more, .. }) => *placements += more,
+                        (_, w) => work = w,
                     }
                     if let Some(f) = f.filter(|f| found.is_none_or(|b: NccFound| f.score > b.score)) {
                         (found, by_first) = (Some(f), k == 1);
@@ -357,14 +359,16 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     /// The first window of an adapting track the Peripheral handed over: `found`, the better
     /// of the current template's match and the first template's (`by_first`), from
     /// [`REDETECT_MIN`] (the bar the Peripheral's re-detection cleared), the first template
-    /// taken back where it won. The current template is the look the track lost the object
+    /// taken back where it won and cleared it. The current template is the look the track lost the object
     /// with: on the earring of `Megamind.avi` it scores 0.24-0.49 where the Peripheral hands
     /// the stud over, the first 0.78-0.96, and wrong places 0.44-0.72.
     fn handed_over(&mut self, found: Option<NccFound>, by_first: bool) -> Option<NccFound> {
-        if let Some(t) = self.adapt.as_mut().filter(|_| by_first).map(Adaptive::back_to_first) {
+        let found = found.filter(|f| f.score >= REDETECT_MIN);
+        // Refused, the track keeps the look it had (the Peripheral's last trusted one).
+        if let Some(t) = self.adapt.as_mut().filter(|_| by_first && found.is_some()).map(Adaptive::back_to_first) {
             self.adopt(t);
         }
-        found.filter(|f| f.score >= REDETECT_MIN)
+        found
     }
 
     /// COOP: once both results of a window are in, feed the confidence measure and follow
@@ -563,6 +567,8 @@ mod tests {
         };
         let (mut f, req) = handed(&look);
         let s = f.on_window(&cut(&frame(Some((30, 20))), &req), 0.0);
+        // Both searches are charged: twice the 21x21 placements of an 8x8 template in 28x28.
+        assert_eq!(s.work, Work::Match { method: Method::Zncc, template: 64, placements: 2 * 21 * 21 });
         let (p, _) = s.report.expect("re-locked");
         assert!(near(p, TARGET), "{p:?}");
         assert!(f.template == Some(template()), "the first template is taken back");
@@ -576,6 +582,10 @@ mod tests {
         let (mut f, req) = handed(&template());
         let s = f.on_window(&cut(&small, &req), 0.0);
         assert_eq!((s.report, s.lost), (None, Some(TARGET)));
+        // Refused, a track keeps the look it had, even where the first template scored higher.
+        let (mut f, req) = handed(&look);
+        assert!(f.on_window(&cut(&small, &req), 0.0).report.is_none());
+        assert!(f.template == Some(look.clone()), "the adapted look is kept");
         // The same window in a running track is accepted.
         let mut running = Foveal::new(FovealKind::Ncc, params().adaptive(), Some(template()));
         let req = running.start_at(TARGET).request.unwrap();

@@ -76,7 +76,7 @@ pub fn write_report(out: &Path) -> Result<(), CliError> {
     summary_md.write(table.as_bytes())?;
     let coop = &logs[0].1;
     let points = true_points(coop, &truth);
-    OverlayKind::Gif.write(&overlay, &mut SceneFrames::new(scene), coop, Some(&points), shape.size, 1.0 / coop.frame_period)?.finish()?;
+    OverlayKind::Gif.write(&overlay, &mut SceneFrames::new(scene), coop, Some(&points), shape.size, (1.0 / coop.frame_period, 0))?.finish()?;
     println!("wrote {0}/coop.csv, {0}/summary.md, {0}/error.svg, {0}/error.png, {0}/overlay.gif", out.display());
     Ok(())
 }

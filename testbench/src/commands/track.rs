@@ -397,7 +397,8 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
         let points = truth.as_ref().map(|t| metrics::true_points(&log, t));
         let fps = fps.unwrap_or(1.0 / log.frame_period);
         let mut all = input.frames()?;
-        let stream = kind.write(o, &mut interrupt::Interruptible(&mut started_at(&mut all, args.start_frame)?), &log, points.as_deref(), shape.size, fps)?;
+        let mut frames = started_at(&mut all, args.start_frame)?;
+        let stream = kind.write(o, &mut interrupt::Interruptible(&mut frames), &log, points.as_deref(), shape.size, (fps, args.start_frame))?;
         done.push((stream, Some(format!("wrote {}", o.path.display()))));
     }
     if interrupt::requested() {
@@ -429,7 +430,7 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
         log.frames.len() as f64 / secs.max(1e-9)
     ));
     if let Some((k, (x, y))) = log.locked_on {
-        say(format!("locked on in frame {k}: tracking the object's point at ({x:.1}, {y:.1}) there, the centre of the first motion seen"));
+        say(format!("locked on in frame {}: tracking the object's point at ({x:.1}, {y:.1}) there, the centre of the first motion seen", k + args.start_frame));
     }
     if !(log.losses.is_empty() && log.watchdog.is_empty() && log.refused.is_empty()) {
         say(format!(
@@ -491,10 +492,11 @@ impl OverlayKind {
     }
 
     /// Draws the overlay of `log` over `frames` and writes it to `out`, a frame at a time,
-    /// returning the stream for the caller to finish. A GIF shows each frame for `1/fps` s
+    /// labelling the run's frame 0 as the source's `first`, and returns the stream for the
+    /// caller to finish. A GIF shows each frame for `1/fps` s
     /// rounded to hundredths, at least 0.02 s (browsers slow anything shorter).
-    pub fn write(self, out: &OutFile, frames: &mut dyn FrameSource, log: &RunLog, truth: Option<&[(f64, f64)]>, size: (usize, usize), fps: f64) -> Result<Stream, CliError> {
-        let painter = overlay::Painter::new(log, truth, size);
+    pub fn write(self, out: &OutFile, frames: &mut dyn FrameSource, log: &RunLog, truth: Option<&[(f64, f64)]>, size: (usize, usize), (fps, first): (f64, usize)) -> Result<Stream, CliError> {
+        let painter = overlay::Painter::new(log, truth, size).numbered_from(first);
         let stream = out.stream()?;
         let err = |e: &dyn std::fmt::Display| CliError::new(e.to_string());
         let stream = match self {
@@ -571,7 +573,7 @@ pub fn track_frames(
         Some((out, range)) => {
             let range = range.unwrap_or(0..n);
             if range.end > n {
-                return Err(CliError::arg(format!("--vcd-frames {}..{}: the folder has frames 0..{n} (the end is excluded)", range.start, range.end)));
+                return Err(CliError::arg(format!("--vcd-frames {}..{}: the run has frames 0..{n} (the end is excluded; counted from --start-frame)", range.start, range.end)));
             }
             // Measured on 2026-12-01: 455 MB for 4 frames of 256x256 with COOP's 4 units, so
             // about 110 MB a frame, in proportion to the pixels and the units.

@@ -34,7 +34,7 @@ pub enum FolderError {
         /// The decoder's reason.
         source: image::ImageError,
     },
-    /// A frame's file ends before its PNG end marker (the `IEND` chunk): cut short.
+    /// A PNG frame's file has no end marker (the `IEND` chunk) near its end: cut short.
     Truncated(PathBuf),
     /// The first frame's size is outside [`SIDES`].
     BadSize {
@@ -58,7 +58,7 @@ impl std::fmt::Display for FolderError {
             FolderError::Unreadable { dir, source } => write!(f, "cannot read the frames folder {}: {source}", dir.display()),
             FolderError::NoFrames(dir) => write!(f, "no PNG frames in {}", dir.display()),
             FolderError::NotPng { path, source } => write!(f, "{}: not a readable PNG ({source})", path.display()),
-            FolderError::Truncated(path) => write!(f, "{}: not a readable PNG (the file ends before its IEND chunk: cut short)", path.display()),
+            FolderError::Truncated(path) => write!(f, "{}: not a readable PNG (no IEND chunk at its end: cut short)", path.display()),
             FolderError::BadSize { path, size } => {
                 write!(f, "{}: frames must be {1}x{1} to {2}x{2}, this one is {3}x{4}", path.display(), SIDES.start(), SIDES.end(), size.0, size.1)
             }
@@ -92,12 +92,12 @@ impl FolderFrames {
             .collect();
         paths.sort_by(|a, b| natural_cmp(&a.to_string_lossy(), &b.to_string_lossy()));
         let first = paths.first().ok_or_else(|| FolderError::NoFrames(dir.into()))?;
-        let size = decoded_size(first)?;
+        let size = header_size(first)?;
         if !SIDES.contains(&size.0) || !SIDES.contains(&size.1) {
             return Err(FolderError::BadSize { path: first.clone(), size });
         }
         for p in &paths[1..] {
-            let d = decoded_size(p)?;
+            let d = header_size(p)?;
             if d != size {
                 return Err(FolderError::MixedSizes { first: (first.clone(), size), other: (p.clone(), d) });
             }
@@ -111,35 +111,36 @@ impl FolderFrames {
     }
 }
 
-/// The size in `p`'s header, once a PNG is known to end with the `IEND` chunk (a file cut
-/// short does not): its pixels are decoded when tracked, not twice.
-fn decoded_size(p: &Path) -> Result<(usize, usize), FolderError> {
+/// The size in `p`'s header, once a PNG is known to hold its `IEND` chunk near its end (a
+/// file cut short does not): its pixels are decoded when tracked, not twice.
+fn header_size(p: &Path) -> Result<(usize, usize), FolderError> {
     let not_png = |source| FolderError::NotPng { path: p.into(), source };
     let io = |e| not_png(image::ImageError::IoError(e));
     let reader = image::ImageReader::open(p).map_err(io)?.with_guessed_format().map_err(io)?;
     // Another format under a .png name is decoded as what it is, as before.
     let png = reader.format() == Some(image::ImageFormat::Png);
     let (w, h) = reader.into_dimensions().map_err(not_png)?;
-    if png && !ends_with_iend(p).map_err(io)? {
+    if png && !has_iend(p).map_err(io)? {
         return Err(FolderError::Truncated(p.into()));
     }
     Ok((w as usize, h as usize))
 }
 
-/// The last 12 bytes of every PNG: the empty `IEND` chunk (length 0, its type, its CRC).
+/// The empty `IEND` chunk that ends every PNG (length 0, its type, its CRC).
 const IEND: [u8; 12] = [0, 0, 0, 0, b'I', b'E', b'N', b'D', 0xAE, 0x42, 0x60, 0x82];
 
-/// Whether the file `p` ends with [`IEND`].
-fn ends_with_iend(p: &Path) -> std::io::Result<bool> {
+/// Bytes at the end of a PNG searched for [`IEND`]: some encoders append data after it.
+const IEND_SEARCH: u64 = 4096;
+
+/// Whether the last [`IEND_SEARCH`] bytes of the file `p` hold [`IEND`].
+fn has_iend(p: &Path) -> std::io::Result<bool> {
     use std::io::{Read, Seek, SeekFrom};
     let mut f = std::fs::File::open(p)?;
-    if f.metadata()?.len() < IEND.len() as u64 {
-        return Ok(false);
-    }
-    f.seek(SeekFrom::End(-(IEND.len() as i64)))?;
-    let mut tail = [0u8; IEND.len()];
-    f.read_exact(&mut tail)?;
-    Ok(tail == IEND)
+    let len = f.metadata()?.len();
+    f.seek(SeekFrom::Start(len.saturating_sub(IEND_SEARCH)))?;
+    let mut tail = Vec::new();
+    f.read_to_end(&mut tail)?;
+    Ok(tail.windows(IEND.len()).any(|w| w == IEND))
 }
 
 /// Orders names as a person would: runs of digits compare by their value, so `img2` comes

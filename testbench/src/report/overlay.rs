@@ -215,12 +215,19 @@ pub struct Painter<'a> {
     truth: Option<&'a [(f64, f64)]>,
     size: (usize, usize),
     windows: std::iter::Peekable<std::slice::Iter<'a, (usize, usize, coopwin_firmware::types::WindowRequest)>>,
+    /// The source's number of the run's frame 0 (`track --start-frame`), for the labels.
+    first: usize,
 }
 
 impl<'a> Painter<'a> {
     /// A painter of `log`'s frames, with the true points `truth` when known.
     pub fn new(log: &'a RunLog, truth: Option<&'a [(f64, f64)]>, size: (usize, usize)) -> Self {
-        Painter { log, truth, size, windows: log.windows_delivered.iter().peekable() }
+        Painter { log, truth, size, windows: log.windows_delivered.iter().peekable(), first: 0 }
+    }
+
+    /// The same painter, labelling the run's frame 0 as the source's frame `first`.
+    pub fn numbered_from(self, first: usize) -> Self {
+        Painter { first, ..self }
     }
 
     /// Draws every record of the log over its frame from `frames`, handing each canvas to
@@ -266,7 +273,7 @@ impl<'a> Painter<'a> {
                 Mode::Track => "COAST",
             },
         };
-        c.text(1, 1, &format!("{} {label}", rec.frame), Colour::White);
+        c.text(1, 1, &format!("{} {label}", rec.frame + self.first), Colour::White);
     }
 }
 

@@ -277,9 +277,13 @@ fn for_each_score_in<C: ColSum>(
     let needs_energy = method != Method::Sad;
     // The dot products of a band of placement rows at a time, as many as the cache holds: a
     // map larger than it (a Peripheral sweep's 64x64 window at 25 %, 3,025 placements) keeps
-    // the fast path. `None` where the first band has none (then every placement is summed
-    // with the padded template, or row by row).
-    let band = (SCORE_CACHE / nx.max(1)).clamp(1, ny.max(1));
+    // the fast path. Several bands are whole groups of four rows where they can be (the M4
+    // sums four placement rows at once). `banded` is false where the first band has no dot
+    // products (then every placement is summed with the padded template, or row by row).
+    let band = match (SCORE_CACHE / nx.max(1)).clamp(1, ny.max(1)) {
+        b if b >= 4 && b < ny => b - b % 4,
+        b => b,
+    };
     let mut dots = Vec::new();
     let band_dots = |py: usize, dots: &mut Vec<u32, SCORE_CACHE>| {
         let rows = band.min(ny - py);

@@ -48,6 +48,30 @@ fn the_arm_row_dot_products_equal_the_strip_ones() {
     }
 }
 
+/// The row dot products over sub-views of a larger frame (a band of a map over the score
+/// cache, a window cut from the frame: the row pitch is the frame's), where a row's last
+/// `tw % 4` pixels are read as one padded group while the frame's memory holds them and one
+/// at a time at its very end: against the direct sums.
+#[test]
+fn the_arm_row_dot_products_of_sub_views_are_the_direct_sums() {
+    let mut px = lcg(2024);
+    let frame: std::vec::Vec<u8> = (0..64 * 48).map(|_| px()).collect();
+    let full = v(&frame, 64, 48);
+    // (x, y, w, h) of the sub-view, template side: inside the frame, and at its bottom-right
+    // corner (the last placements' padded reads would pass the frame's end).
+    for ((x, y, w, h), (tw, th)) in [((30, 20, 20, 24), (10, 10)), ((44, 24, 20, 24), (10, 10)), ((57, 41, 7, 7), (5, 3)), ((0, 0, 40, 30), (13, 7))] {
+        let t: std::vec::Vec<u8> = (0..tw * th).map(|_| px()).collect();
+        let sub = full.sub(x, y, w, h).unwrap();
+        let mut dots = Vec::new();
+        assert_eq!(row_dot_products(&sub, &v(&t, tw, th), &mut dots), Some(()), "{w}x{h} at ({x}, {y})");
+        let (nx, ny) = (w - tw + 1, h - th + 1);
+        let want: std::vec::Vec<u32> = (0..nx * ny)
+            .map(|k| (0..tw * th).map(|i| u32::from(t[i]) * u32::from(frame[(y + k / nx + i / tw) * 64 + x + k % nx + i % tw])).sum())
+            .collect();
+        assert_eq!(&dots[..], &want[..], "{w}x{h} at ({x}, {y})");
+    }
+}
+
 fn v<'a>(d: &'a [u8], w: usize, h: usize) -> WindowView<'a> {
     WindowView::packed(d, w, h).unwrap()
 }

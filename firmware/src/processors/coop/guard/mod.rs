@@ -40,10 +40,10 @@
 //!    `gate / 2` px of it: a step of `jump` at a time would let a corner creep onto clutter.
 //! 5. **Coasting.** When neither source measures the point (an occluder passes over it), the
 //!    track coasts for up to `coast` seconds: the next window is placed at the prediction and
-//!    nothing is reported; an NCC match within `reacquire` px of the prediction scoring at
-//!    least `resume`, or one the first template confirms (an adapting track's `confirmed`), (a
-//!    corner alone: within `gate / 2` px) resumes the track. After `coast` seconds the target
-//!    is lost.
+//!    nothing is reported. An NCC match within `reacquire` px of the prediction resumes the
+//!    track if it scores at least `resume` or the first template confirms it (an adapting
+//!    track's `confirmed`); a corner alone resumes it within `gate / 2` px. After `coast`
+//!    seconds the target is lost.
 //!
 //! Everything is `f32`/`f64` arithmetic on a few values: no allocation, no panic.
 
@@ -93,7 +93,8 @@ impl GuardParams {
     /// thesis's fixed template keeps on a rigid one, while each frame's point is checked by
     /// aligning the first template; from [`ADAPT_TRUST`] NCC is trusted, so a corner found
     /// elsewhere in the window does not make a fast object's track coast. A coasting track
-    /// resumes only on a trusted match: its weak matches (from the low acceptance of
+    /// resumes on a trusted match, or on a weaker one the first template confirms
+    /// ([`Measured::confirmed`]): its other weak matches (from the low acceptance of
     /// [`crate::processors::ADAPT_NCC_MIN`]) followed a neck or a shoulder after a blink.
     pub fn adapting() -> Self {
         GuardParams { trust: ADAPT_TRUST, resume: ADAPT_TRUST, ..Self::default() }
@@ -205,8 +206,9 @@ impl Guard {
             }
         }
         // A coasting track has lost its look: a weak match is as likely something else, unless
-        // the first template aligns on it (on the real clips the first view scores 0.58-0.76
-        // where the track resumes rightly, at most 0.13 on a neck or a cheek).
+        // the first template aligns on it (on the real clips the first view scores 0.58-0.76 at
+        // the current template's point where the track resumes rightly, at most 0.13 on a
+        // neck or a cheek).
         let m = Measured { ncc: m.ncc.filter(|(_, s)| self.coasted == 0 || *s >= self.params.resume || m.confirmed), ..m };
         let trusted = m.ncc.filter(|(_, s)| *s >= self.params.trust).map(|(p, _)| p);
         if let (Some(n), Some(c), false) = (trusted, m.corner, self.anchored) {
