@@ -450,10 +450,10 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// The pixel value and the target of a template the run would cut flat (no variance: nothing
+/// The pixel value of a template the run would cut flat at its target (no variance: nothing
 /// for NCC to match, as on a clip's black first frame); `None` without a target or where the
 /// template has texture.
-fn flat_target(frames: &mut dyn FrameSource, cfg: &SystemConfig) -> Result<Option<(u8, (f64, f64))>, CliError> {
+fn flat_target(frames: &mut dyn FrameSource, cfg: &SystemConfig) -> Result<Option<u8>, CliError> {
     let Some((x, y)) = cfg.target else { return Ok(None) };
     let (w, h) = frames.size();
     let first = frames.frame(0).map_err(|e| CliError::new(e.to_string()))?;
@@ -463,7 +463,7 @@ fn flat_target(frames: &mut dyn FrameSource, cfg: &SystemConfig) -> Result<Optio
     let Some(tv) = tpl.view() else { return Ok(None) };
     let mut px = (0..tv.height()).filter_map(|r| tv.row(r)).flatten().copied();
     let first = px.next();
-    Ok(first.filter(|&v| px.all(|p| p == v)).map(|v| (v, (x, y))))
+    Ok(first.filter(|&v| px.all(|p| p == v)))
 }
 
 /// `frames` from `--start-frame first` on.
@@ -555,7 +555,7 @@ pub fn track_frames(
             return Err(CliError::arg(format!("--target {x},{y} is outside the {w}x{h} frames (X 0..{}, Y 0..{})", w - 1, h - 1)));
         }
     }
-    if let Some((value, (x, y))) = flat_target(frames, cfg)? {
+    if let (Some(value), Some((x, y))) = (flat_target(frames, cfg)?, cfg.target) {
         let n = cfg.params.template;
         return Err(CliError::new(format!(
             "the {n}x{n} template around the target ({x}, {y}) is flat on the first frame tracked (every pixel {value}): there is nothing there to track. A clip that opens on black or blank frames: --start-frame N starts on the frame the target is on"

@@ -342,8 +342,8 @@ fn a_map_larger_than_the_score_cache_is_scored_in_bands_exactly() {
             let (ox, oy) = (k % nx, k / nx);
             let patch = |i: usize| f64::from(w[(oy + i / tw) * ww + ox + i % tw]);
             let (mut ri, mut ii, mut i1) = (0.0, 0.0, 0.0);
-            for i in 0..tw * th {
-                ri += f64::from(t[i]) * patch(i);
+            for (i, &r) in t.iter().enumerate() {
+                ri += f64::from(r) * patch(i);
                 ii += patch(i) * patch(i);
                 i1 += patch(i);
             }
