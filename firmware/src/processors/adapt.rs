@@ -28,7 +28,7 @@
 //! ([`Adaptive::take`]); a frame in which the COOP decision followed something else discards it.
 use super::coop::guard::dist;
 use super::template::Template;
-use crate::kernels::matching::{best_match_near, Method};
+use crate::kernels::matching::{best_match_near, score_at, Method};
 use crate::kernels::refine::INTERIOR;
 use crate::kernels::view::WindowView;
 use crate::kernels::warp::{Pose, SimilarityTemplate};
@@ -164,10 +164,14 @@ impl<const P: usize> Adaptive<P> {
         (placement(at.x, ox, self.first.anchor().x), placement(at.y, oy, self.first.anchor().y))
     }
 
-    /// The first template's translated (zero-mean NCC) score at its placement nearest `at`.
+    /// The first template's translated (zero-mean NCC) score at its placement nearest `at`
+    /// (the last one where `at` lies beyond it).
     fn first_score(&self, win: &WindowView<'_>, at: Point) -> Option<f32> {
-        let p = self.placement_at(win, at);
-        best_match_near(Method::Zncc, win, &self.first.view()?, p, p, 0).ok().map(|m| m.score as f32)
+        let tv = self.first.view()?;
+        let (x, y) = self.placement_at(win, at);
+        let last = |w: usize, t: usize| w.checked_sub(t);
+        let p = (x.min(last(win.width(), tv.width())?), y.min(last(win.height(), tv.height())?));
+        score_at(Method::Zncc, win, &tv, p).ok().map(|s| s as f32)
     }
 
     /// The first template's point in `win` and its score, when it still matches (score `>=`

@@ -147,6 +147,19 @@ pub fn score_map(
     })
 }
 
+/// The score of the one placement `(px, py)` of `tpl` in `win` (both full resolution), as
+/// [`best_match`] scores it (the same exact sums), without a search's setup: a tracker
+/// measuring a template where it expects it. [`MatchError::TemplateLarger`] where the
+/// template does not fit there, [`MatchError::NoMatch`] on a flat patch (as `best_match`).
+pub fn score_at(method: Method, win: &WindowView<'_>, tpl: &WindowView<'_>, (px, py): (usize, usize)) -> Result<f64, MatchError> {
+    if win.step() != 1 || tpl.step() != 1 {
+        return Err(MatchError::Strided);
+    }
+    let scorer = Scorer::new(method, tpl)?;
+    let sums = sums_at(method, win, tpl, px, py).ok_or(MatchError::TemplateLarger)?;
+    scorer.score(&sums).ok_or(MatchError::NoMatch)
+}
+
 /// Runs `f` on step-1 versions of both views, packing strided views into fixed buffers.
 fn with_packed<R>(
     win: &WindowView<'_>,

@@ -356,3 +356,24 @@ fn a_map_larger_than_the_score_cache_is_scored_in_bands_exactly() {
         }
     }
 }
+
+/// One placement's score is the map's at that placement, for every measure, and `best_match`'s
+/// at the best one; a placement past the last is refused.
+#[test]
+fn one_placement_scores_as_the_map_does() {
+    let mut px = lcg(31);
+    let (tw, th, ww, wh) = (7, 5, 16, 12);
+    let w: std::vec::Vec<u8> = (0..ww * wh).map(|_| px()).collect();
+    let t: std::vec::Vec<u8> = (0..tw * th).map(|_| px()).collect();
+    let (wv, tv) = (v(&w, ww, wh), v(&t, tw, th));
+    for method in [Method::Ssd, Method::Sad, Method::Ncc, Method::Zncc] {
+        let mut map = std::vec![0.0; 100];
+        let (nx, ny) = score_map(method, &wv, &tv, &mut map).unwrap();
+        for (k, &want) in map.iter().take(nx * ny).enumerate() {
+            assert_eq!(score_at(method, &wv, &tv, (k % nx, k / nx)), Ok(want), "{method:?} placement {k}");
+        }
+        let m = best_match(method, &wv, &tv).unwrap();
+        assert_eq!(score_at(method, &wv, &tv, (m.x, m.y)), Ok(m.score));
+        assert_eq!(score_at(method, &wv, &tv, (nx, 0)), Err(MatchError::TemplateLarger));
+    }
+}
