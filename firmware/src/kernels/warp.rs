@@ -183,9 +183,8 @@ fn lerp2x2([p00, p10, p01, p11]: [f32; 4], ax: f32, ay: f32) -> f32 {
 fn bilinear_inside(data: &[u8], stride: usize, x: f32, y: f32) -> Option<f32> {
     let (x0, y0, ax, ay) = floor_split(x, y);
     let at = y0 * stride + x0;
-    let block = data.get(at..at.checked_add(stride)?.checked_add(2)?)?;
-    let p = |i: usize| f32::from(block[i]);
-    Some(lerp2x2([p(0), p(1), p(stride), p(stride + 1)], ax, ay))
+    let (&[p00, p10, ..], &[p01, p11, ..]) = (data.get(at..)?, data.get(at + stride..)?) else { return None };
+    Some(lerp2x2([p00, p10, p01, p11].map(f32::from), ax, ay))
 }
 
 /// The window's sums of one iteration at a `pose` whose samples all lie inside the window
