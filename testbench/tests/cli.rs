@@ -49,12 +49,19 @@ fn track_refuses_bad_folders_with_one_clear_line() {
     track_fails(&tiny, "64x64 to 4096x4096");
 }
 
+/// A `frames`-frame triangle scene at 50 px/s written by `coopwin scene` into a scratch
+/// folder `name`: the folder and the frames' folder in it.
+fn triangle_scene(name: &str, frames: u32) -> (PathBuf, PathBuf) {
+    let d = scratch(name);
+    let out = d.join("frames");
+    let (ok, _, err) = coopwin(&["scene", "--path", "triangle", "--frames", &frames.to_string(), "--speed", "50", "--out", out.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    (d, out)
+}
+
 #[test]
 fn scene_then_track_writes_the_csv_with_the_documented_columns() {
-    let d = scratch("cli_scene");
-    let frames = d.join("frames");
-    let (ok, _, err) = coopwin(&["scene", "--path", "triangle", "--frames", "40", "--speed", "50", "--out", frames.to_str().unwrap()]);
-    assert!(ok, "{err}");
+    let (d, frames) = triangle_scene("cli_scene", 40);
     let truth = std::fs::read_to_string(frames.join("groundtruth.csv")).unwrap();
     let first: Vec<f64> = truth.lines().nth(1).unwrap().split(',').map(|v| v.parse().unwrap()).collect();
     let target = format!("{},{}", first[3], first[4]);
@@ -76,10 +83,7 @@ fn scene_then_track_writes_the_csv_with_the_documented_columns() {
 fn a_flat_target_is_refused_and_start_frame_tracks_from_a_later_frame() {
     // A clip that opens on a black frame (as opencv-doc's Megamind.avi): the target's template
     // there is flat, and the run is refused with the way out, not tracked to nothing.
-    let d = scratch("cli_start_frame");
-    let frames = d.join("frames");
-    let (ok, _, err) = coopwin(&["scene", "--path", "triangle", "--frames", "12", "--speed", "50", "--out", frames.to_str().unwrap()]);
-    assert!(ok, "{err}");
+    let (d, frames) = triangle_scene("cli_start_frame", 12);
     let mut names: Vec<String> = std::fs::read_dir(&frames).unwrap().filter_map(|e| e.ok()?.file_name().into_string().ok()).filter(|n| n.ends_with(".png")).collect();
     names.sort();
     let (w, h) = image::image_dimensions(frames.join(&names[0])).unwrap();

@@ -456,14 +456,14 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
 fn flat_target(frames: &mut dyn FrameSource, cfg: &SystemConfig) -> Result<Option<u8>, CliError> {
     let Some((x, y)) = cfg.target else { return Ok(None) };
     let (w, h) = frames.size();
-    let first = frames.frame(0).map_err(|e| CliError::new(e.to_string()))?;
-    let view = WindowView::packed(first, w, h).map_err(|e| CliError::new(format!("the first frame: {e}")))?;
+    let frame0 = frames.frame(0).map_err(|e| CliError::new(e.to_string()))?;
+    let view = WindowView::packed(frame0, w, h).map_err(|e| CliError::new(format!("the first frame: {e}")))?;
     let at = Point { x: x as f32, y: y as f32 };
     let Some(tpl) = Template::capture(&view, at, usize::from(cfg.params.template)) else { return Ok(None) };
     let Some(tv) = tpl.view() else { return Ok(None) };
     let mut px = (0..tv.height()).filter_map(|r| tv.row(r)).flatten().copied();
-    let first = px.next();
-    Ok(first.filter(|&v| px.all(|p| p == v)))
+    let value = px.next();
+    Ok(value.filter(|&v| px.all(|p| p == v)))
 }
 
 /// `frames` from `--start-frame first` on.

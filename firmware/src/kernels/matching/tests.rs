@@ -11,13 +11,18 @@ fn lcg(seed: u32) -> impl FnMut() -> u8 {
     }
 }
 
+/// `n` pixels from `px`.
+fn pixels(px: &mut impl FnMut() -> u8, n: usize) -> std::vec::Vec<u8> {
+    (0..n).map(|_| px()).collect()
+}
+
 /// The Cortex-M4's paired row dot product against the byte-at-a-time one, and a hand sum.
 #[test]
 fn the_arm_row_dot_product_is_the_bytewise_one() {
     let mut px = lcg(987);
     for (la, lb) in [(0, 0), (1, 1), (3, 3), (4, 4), (7, 7), (24, 24), (255, 255), (9, 6), (6, 9), (40, 41)] {
-        let a: std::vec::Vec<u8> = (0..la).map(|_| px()).collect();
-        let b: std::vec::Vec<u8> = (0..lb).map(|_| px()).collect();
+        let a = pixels(&mut px, la);
+        let b = pixels(&mut px, lb);
         let want: u64 = a.iter().zip(&b).map(|(&p, &q)| u64::from(p) * u64::from(q)).sum();
         assert_eq!((dot_row_pairs(&a, &b), dot_row_bytes(&a, &b)), (want, want), "{la} {lb}");
     }
@@ -32,8 +37,8 @@ fn the_arm_row_dot_products_equal_the_strip_ones() {
     let mut px = lcg(12345);
     let sizes = [(20, 20, 24, 24), (16, 16, 40, 40), (8, 8, 20, 20), (7, 5, 13, 11), (20, 20, 20, 20), (33, 3, 40, 9), (3, 6, 9, 9), (64, 64, 64, 64)];
     for (tw, th, ww, wh) in sizes {
-        let t: std::vec::Vec<u8> = (0..tw * th).map(|_| px()).collect();
-        let w: std::vec::Vec<u8> = (0..ww * wh).map(|_| px()).collect();
+        let t = pixels(&mut px, tw * th);
+        let w = pixels(&mut px, ww * wh);
         let (tv, wv) = (v(&t, tw, th), v(&w, ww, wh));
         let (mut rows, mut strips) = (Vec::new(), Vec::new());
         let (r, s) = (row_dot_products(&wv, &tv, &mut rows), strip_dot_products(&wv, &tv, &mut strips));
@@ -60,7 +65,7 @@ fn the_arm_row_dot_products_of_sub_views_are_the_direct_sums() {
     // (x, y, w, h) of the sub-view, template side: inside the frame, and at its bottom-right
     // corner (the last placements' padded reads would pass the frame's end).
     for ((x, y, w, h), (tw, th)) in [((30, 20, 20, 24), (10, 10)), ((44, 24, 20, 24), (10, 10)), ((57, 41, 7, 7), (5, 3)), ((0, 0, 40, 30), (13, 7))] {
-        let t: std::vec::Vec<u8> = (0..tw * th).map(|_| px()).collect();
+        let t = pixels(&mut px, tw * th);
         let sub = full.sub(x, y, w, h).unwrap();
         let mut dots = Vec::new();
         assert_eq!(row_dot_products(&sub, &v(&t, tw, th), &mut dots), Some(()), "{w}x{h} at ({x}, {y})");
@@ -277,7 +282,7 @@ fn the_pyramid_finds_what_the_full_search_finds() {
 fn ssd_elimination_is_exact() {
     let mut px = lcg(4242);
     for (case, (tw, th, ww, wh)) in [(16, 16, 40, 40), (8, 8, 20, 20), (12, 9, 30, 21), (16, 16, 40, 40), (8, 8, 20, 20), (16, 16, 40, 40), (8, 8, 20, 20), (16, 16, 40, 40), (16, 16, 48, 48)].into_iter().enumerate() {
-        let mut w: std::vec::Vec<u8> = (0..ww * wh).map(|_| px()).collect();
+        let mut w = pixels(&mut px, ww * wh);
         match case {
             // Repeated 4x4 tiles: many placements tie with the minimum.
             3 => w.iter_mut().enumerate().for_each(|(i, p)| *p = ((i % ww) % 4 * 60 + (i / ww) % 4 * 3) as u8),
@@ -330,8 +335,8 @@ fn ssd_elimination_is_exact() {
 fn a_map_larger_than_the_score_cache_is_scored_in_bands_exactly() {
     let mut px = lcg(777);
     let (tw, th, ww, wh) = (10, 10, 64, 64);
-    let w: std::vec::Vec<u8> = (0..ww * wh).map(|_| px()).collect();
-    let t: std::vec::Vec<u8> = (0..tw * th).map(|_| px()).collect();
+    let w = pixels(&mut px, ww * wh);
+    let t = pixels(&mut px, tw * th);
     let (nx, ny) = (ww - tw + 1, wh - th + 1);
     assert!(nx * ny > SCORE_CACHE);
     for method in [Method::Ncc, Method::Zncc] {
@@ -363,8 +368,8 @@ fn a_map_larger_than_the_score_cache_is_scored_in_bands_exactly() {
 fn one_placement_scores_as_the_map_does() {
     let mut px = lcg(31);
     let (tw, th, ww, wh) = (7, 5, 16, 12);
-    let w: std::vec::Vec<u8> = (0..ww * wh).map(|_| px()).collect();
-    let t: std::vec::Vec<u8> = (0..tw * th).map(|_| px()).collect();
+    let w = pixels(&mut px, ww * wh);
+    let t = pixels(&mut px, tw * th);
     let (wv, tv) = (v(&w, ww, wh), v(&t, tw, th));
     for method in [Method::Ssd, Method::Sad, Method::Ncc, Method::Zncc] {
         let mut map = std::vec![0.0; 100];

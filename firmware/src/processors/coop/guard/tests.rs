@@ -5,22 +5,32 @@ fn p(x: f32, y: f32) -> Point {
 }
 
 fn both(n: Point, score: f32, c: Point) -> Measured {
-    Measured { ncc: Some((n, score)), corner: Some(c), confirmed: false }
+    Measured { corner: Some(c), ..ncc(n, score) }
+}
+
+/// NCC's match alone, not confirmed by the first template.
+fn ncc(n: Point, score: f32) -> Measured {
+    Measured { ncc: Some((n, score)), ..Measured::default() }
+}
+
+/// The corner alone.
+fn corner(c: Point) -> Measured {
+    Measured { corner: Some(c), ..Measured::default() }
 }
 
 #[test]
 fn cd_is_not_followed_before_its_offset_is_learnt() {
     // The template's point sits 10 px right of the corner: a raw corner is 10 px off.
     let mut g = Guard::new(GuardParams::default());
-    g.decide(0.0, Measured { ncc: Some((p(50.0, 50.0), 0.999)), corner: None, confirmed: false });
-    let got = g.decide(0.01, Measured { ncc: None, corner: Some(p(40.0, 50.0)), confirmed: false });
+    g.decide(0.0, ncc(p(50.0, 50.0), 0.999));
+    let got = g.decide(0.01, corner(p(40.0, 50.0)));
     assert_eq!(got, None, "no offset yet: CD alone is not the tracked point");
 }
 
 #[test]
 fn offset_is_learnt_then_cd_carries_the_track_through_an_ncc_dropout() {
     let mut g = Guard::new(GuardParams::default());
-    g.decide(0.0, Measured { ncc: Some((p(50.0, 50.0), 0.999)), corner: None, confirmed: false });
+    g.decide(0.0, ncc(p(50.0, 50.0), 0.999));
     // Moving 1 px a frame right; the corner is (-10, +2) from the tracked point.
     for k in 1..=8 {
         let x = 50.0 + k as f32;
@@ -30,25 +40,25 @@ fn offset_is_learnt_then_cd_carries_the_track_through_an_ncc_dropout() {
     let o = g.offset().expect("learnt after 8 consistent frames");
     assert!((o.x - 10.0).abs() < 1e-4 && (o.y + 2.0).abs() < 1e-4, "{o:?}");
     // NCC drops out (occluder): the CD candidate, corner + offset, is followed.
-    let got = g.decide(0.09, Measured { ncc: None, corner: Some(p(49.0, 52.0)), confirmed: false });
+    let got = g.decide(0.09, corner(p(49.0, 52.0)));
     assert_eq!(got, Some((p(59.0, 50.0), Source::Cd)));
 }
 
 #[test]
 fn a_corner_far_from_the_prediction_is_refused() {
     let mut g = Guard::new(GuardParams::default());
-    g.decide(0.0, Measured { ncc: Some((p(50.0, 50.0), 0.999)), corner: None, confirmed: false });
+    g.decide(0.0, ncc(p(50.0, 50.0), 0.999));
     for k in 1..=8 {
         g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.995, p(40.0, 50.0)));
     }
     // CD jumps to another corner 8 px away while NCC is out: no position rather than a wrong one.
-    assert_eq!(g.decide(0.09, Measured { ncc: None, corner: Some(p(48.0, 50.0)), confirmed: false }), None);
+    assert_eq!(g.decide(0.09, corner(p(48.0, 50.0))), None);
 }
 
 #[test]
 fn untrusted_sources_that_disagree_are_not_believed() {
     let mut g = Guard::new(GuardParams::default());
-    g.decide(0.0, Measured { ncc: Some((p(50.0, 50.0), 0.999)), corner: None, confirmed: false });
+    g.decide(0.0, ncc(p(50.0, 50.0), 0.999));
     for k in 1..=8 {
         g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.995, p(40.0, 50.0)));
     }
@@ -75,7 +85,7 @@ fn of_two_untrusted_sources_the_one_the_motion_bears_out_is_followed() {
 #[test]
 fn a_corner_that_keeps_disagreeing_is_unlearnt() {
     let mut g = Guard::new(GuardParams::default());
-    g.decide(0.0, Measured { ncc: Some((p(50.0, 50.0), 0.999)), corner: None, confirmed: false });
+    g.decide(0.0, ncc(p(50.0, 50.0), 0.999));
     for k in 1..=8 {
         g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.995, p(40.0, 50.0)));
     }
@@ -161,7 +171,7 @@ fn a_corner_away_from_the_start_point_does_not_anchor() {
 #[test]
 fn agreeing_sources_are_fused_by_their_steadiness() {
     let mut g = Guard::new(GuardParams::default());
-    g.decide(0.0, Measured { ncc: Some((p(50.0, 50.0), 0.999)), corner: None, confirmed: false });
+    g.decide(0.0, ncc(p(50.0, 50.0), 0.999));
     // A static target seen by an anchored CD; NCC jitters by +-0.4 px, CD by +-0.1 px.
     g.begin(p(50.0, 50.0), true);
     g.decide(0.0, both(p(50.0, 50.0), 0.999, p(50.0, 50.0)));
@@ -180,9 +190,9 @@ fn agreeing_sources_are_fused_by_their_steadiness() {
 #[test]
 fn prediction_extrapolates_constant_velocity() {
     let mut g = Guard::new(GuardParams::default());
-    g.decide(0.0, Measured { ncc: Some((p(0.0, 0.0), 0.999)), corner: None, confirmed: false });
-    g.decide(1.0, Measured { ncc: Some((p(2.0, 1.0), 0.999)), corner: None, confirmed: false });
-    g.decide(2.0, Measured { ncc: Some((p(4.0, 2.0), 0.999)), corner: None, confirmed: false });
+    g.decide(0.0, ncc(p(0.0, 0.0), 0.999));
+    g.decide(1.0, ncc(p(2.0, 1.0), 0.999));
+    g.decide(2.0, ncc(p(4.0, 2.0), 0.999));
     // Hand calculation: the points lie on (2t, t), so at t = 3: (6, 3).
     let q = g.predict(3.0).expect("three positions");
     assert!((q.x - 6.0).abs() < 1e-5 && (q.y - 3.0).abs() < 1e-5, "{q:?}");
@@ -193,7 +203,7 @@ fn a_track_coasts_through_an_occlusion_and_resumes() {
     let mut g = Guard::new(GuardParams::default());
     let at = |k: usize| 0.01 * k as f64;
     for k in 0..8 {
-        g.decide(at(k), Measured { ncc: Some((p(10.0 + k as f32, 20.0), 0.999)), corner: None, confirmed: false });
+        g.decide(at(k), ncc(p(10.0 + k as f32, 20.0), 0.999));
     }
     // Occluded for 10 windows (0.1 s): each coasting step looks one interval ahead.
     for k in 8..18 {
@@ -202,7 +212,7 @@ fn a_track_coasts_through_an_occlusion_and_resumes() {
         assert_eq!(g.decide(at(k + 1), Measured::default()), None);
     }
     // The object shows again 6 px from the prediction: inside the re-acquisition reach.
-    let got = g.decide(at(19), Measured { ncc: Some((p(35.0, 20.0), 0.98)), corner: None, confirmed: false });
+    let got = g.decide(at(19), ncc(p(35.0, 20.0), 0.98));
     assert_eq!(got, Some((p(35.0, 20.0), Source::Ncc)));
 }
 
@@ -215,19 +225,19 @@ fn an_adapting_track_resumes_only_on_a_trusted_or_confirmed_match() {
     let coasting = |params| {
         let mut g = Guard::new(params);
         for k in 0..8 {
-            g.decide(0.01 * k as f64, Measured { ncc: Some((p(10.0 + k as f32, 20.0), 0.999)), corner: None, confirmed: false });
+            g.decide(0.01 * k as f64, ncc(p(10.0 + k as f32, 20.0), 0.999));
         }
         assert!(g.coast(0.08).is_some());
         g
     };
-    let resumed = |params, score, confirmed| coasting(params).decide(0.09, Measured { ncc: Some((p(19.0, 20.0), score)), corner: None, confirmed });
+    let resumed = |params, score, confirmed| coasting(params).decide(0.09, Measured { confirmed, ..ncc(p(19.0, 20.0), score) });
     let on_ncc = Some((p(19.0, 20.0), Source::Ncc));
     assert_eq!(resumed(GuardParams::adapting(), 0.6, false), None);
     assert_eq!(resumed(GuardParams::adapting(), 0.6, true), on_ncc);
     assert_eq!(resumed(GuardParams::adapting(), 0.9, false), on_ncc);
     assert_eq!(resumed(GuardParams::default(), 0.6, false), on_ncc);
     // Confirmed or not, a match beyond `reacquire` (8 px) of the prediction is refused.
-    let far = coasting(GuardParams::adapting()).decide(0.09, Measured { ncc: Some((p(29.0, 20.0), 0.6)), corner: None, confirmed: true });
+    let far = coasting(GuardParams::adapting()).decide(0.09, Measured { confirmed: true, ..ncc(p(29.0, 20.0), 0.6) });
     assert_eq!(far, None);
 }
 
@@ -235,8 +245,8 @@ fn an_adapting_track_resumes_only_on_a_trusted_or_confirmed_match() {
 fn coasting_ends_after_its_limit() {
     let params = GuardParams { coast: 1.5, ..GuardParams::default() };
     let mut g = Guard::new(params);
-    g.decide(0.0, Measured { ncc: Some((p(0.0, 0.0), 0.999)), corner: None, confirmed: false });
-    g.decide(1.0, Measured { ncc: Some((p(1.0, 0.0), 0.999)), corner: None, confirmed: false });
+    g.decide(0.0, ncc(p(0.0, 0.0), 0.999));
+    g.decide(1.0, ncc(p(1.0, 0.0), 0.999));
     // Last position at t = 1 s: coasting holds until 1.5 s later.
     assert!(g.coast(1.0).is_some() && g.coast(2.5).is_some());
     assert_eq!(g.coast(2.6), None);
