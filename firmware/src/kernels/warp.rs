@@ -177,13 +177,15 @@ fn lerp2x2([p00, p10, p01, p11]: [f32; 4], ax: f32, ay: f32) -> f32 {
 /// [`bilinear`] at an `(x, y)` known to lie inside the window (every sample of a pose whose
 /// interior corners do, [`SimilarityTemplate::align`]), bit for bit: the checks against the
 /// window's sides are left out, and on the last column or row the next pixel is read as it
-/// is in memory, its weight being exactly zero (`p + 0 * d` is `p`). `None` where the 2x2
+/// is in memory, its weight being exactly zero (`p + 0 * d` is `p`). The block is one slice
+/// from `p00` to `p11`, so one bounds check covers its four pixels. `None` where the 2x2
 /// block reaches past `data` (the window's last row at the end of its buffer).
 #[inline(always)]
 fn bilinear_inside(data: &[u8], stride: usize, x: f32, y: f32) -> Option<f32> {
     let (x0, y0, ax, ay) = floor_split(x, y);
     let at = y0 * stride + x0;
-    let (&[p00, p10, ..], &[p01, p11, ..]) = (data.get(at..)?, data.get(at + stride..)?) else { return None };
+    let (top, bottom) = data.get(at..at.checked_add(stride)?.checked_add(2)?)?.split_at_checked(stride)?;
+    let (&[p00, p10, ..], &[p01, p11]) = (top, bottom) else { return None };
     Some(lerp2x2([p00, p10, p01, p11].map(f32::from), ax, ay))
 }
 
@@ -356,15 +358,16 @@ impl<const P: usize> LkTemplate<P> {
     fn each_used(&self, mut f: impl FnMut(f32, f32, f32, [f32; 4])) -> Option<()> {
         let (iw, used, tg, t_mean) = self.interior()?;
         let c = (iw as f32 - 1.0) / 2.0;
-        let mut k = 0;
+        // The bits of a row's `iw` pixels: a clear bit costs nothing below.
+        let row = u32::MAX.checked_shr(32 - iw.min(32) as u32).unwrap_or(0);
+        let mut tg = tg.iter();
         for (j, &bits) in used.iter().enumerate() {
             let v = j as f32 - c;
-            for i in 0..iw {
-                if bits >> i & 1 == 0 {
-                    continue;
-                }
-                let [t, gx, gy] = *tg.get(k)?;
-                k += 1;
+            let mut rest = bits & row;
+            while rest != 0 {
+                let i = rest.trailing_zeros();
+                rest &= rest - 1;
+                let &[t, gx, gy] = tg.next()?;
                 let u = i as f32 - c;
                 f(u, v, t - t_mean, [gx * u + gy * v, gy * u - gx * v, gx, gy]);
             }
