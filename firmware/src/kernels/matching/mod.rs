@@ -32,7 +32,7 @@ mod tests;
 use crate::kernels::view::WindowView;
 use heapless::Vec;
 use elimination::search;
-use scores::{for_each_score, placements, sums_at, Scorer, Sums};
+use scores::{for_each_score, placements, sums_at, Ranked, Scorer, Sums};
 pub(crate) use subpixel::parabola;
 
 /// Maximum number of placements along x (window width - template width + 1) and of
@@ -50,7 +50,7 @@ const SCORE_CACHE: usize = 1024;
 /// Placements whose sums [`best_match`] keeps for the sub-pixel fit: the Foveal window's 25
 /// (20x20 in 24x24) and any map up to 64. A larger map (the Peripheral's 625) recomputes the
 /// best placement's four neighbours instead, the same exact sums: 1.5 KiB of stack, not 24.
-const SUMS_CACHE: usize = 64;
+const SUMS_CACHE: usize = 81;
 
 /// A matching measure of thesis 2.4 (or ZNCC beyond it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -312,11 +312,14 @@ pub fn best_match_pyramid(method: Method, win: &WindowView<'_>, tpl: &WindowView
     let halves = (nx * ny > PYRAMID_FROM).then(|| Some((halve(win, &mut wbuf)?, halve(tpl, &mut tbuf)?))).flatten();
     let Some((half_win, half_tpl)) = halves else { return best_match_full(method, win, tpl) };
     let coarse = best_match_full(method, &half_win, &half_tpl)?;
-    // A coarse placement stands for full-resolution `2c` and `2c + 1`; close to the centre's,
-    // one search covers both.
+    // A coarse placement stands for full-resolution `2c` and `2c + 1`. The two ranges are
+    // searched as one where that costs no more placements (close together, or side by side):
+    // one search's setup instead of two.
     let (centre, found) = (((nx - 1) / 2, (ny - 1) / 2), (2 * coarse.x, 2 * coarse.y));
     let (from, to) = ((centre.0.min(found.0), centre.1.min(found.1)), (centre.0.max(found.0) + 1, centre.1.max(found.1) + 1));
-    if to.0 - from.0 <= FINE_JOIN && to.1 - from.1 <= FINE_JOIN {
+    let count = |from, to| near_range(from, to, FINE_REACH, (nx, ny)).count();
+    let one = |p: (usize, usize)| count(p, (p.0 + 1, p.1 + 1));
+    if (to.0 - from.0 <= FINE_JOIN && to.1 - from.1 <= FINE_JOIN) || count(from, to) <= one(centre) + one(found) {
         return best_match_near(method, win, tpl, from, to, FINE_REACH);
     }
     let fine = |(x, y): (usize, usize)| best_match_near(method, win, tpl, (x, y), (x + 1, y + 1), FINE_REACH);
@@ -325,6 +328,30 @@ pub fn best_match_pyramid(method: Method, win: &WindowView<'_>, tpl: &WindowView
         (Ok(m), Err(_)) | (Err(_), Ok(m)) => Ok(m),
         (Err(e), Err(_)) => Err(e),
     }
+}
+
+/// The placements from `from - reach` to `to + reach` (top-left pixels, inclusive) clipped
+/// to the `(nx, ny)` placements of a window.
+#[derive(Clone, Copy)]
+struct NearRange {
+    x: (usize, usize),
+    y: (usize, usize),
+}
+
+impl NearRange {
+    /// How many placements the range holds.
+    fn count(self) -> usize {
+        (self.x.1 - self.x.0 + 1) * (self.y.1 - self.y.0 + 1)
+    }
+}
+
+/// [`NearRange`] of `from`, `to` and `reach` in a window of `(nx, ny)` placements (both at least 1).
+fn near_range(from: (usize, usize), to: (usize, usize), reach: usize, (nx, ny): (usize, usize)) -> NearRange {
+    let range = |lo: usize, hi: usize, n: usize| {
+        let (lo, hi) = (lo.saturating_sub(reach).min(n - 1), hi.saturating_add(reach).min(n - 1));
+        (lo.min(hi), hi)
+    };
+    NearRange { x: range(from.0, to.0, nx), y: range(from.1, to.1, ny) }
 }
 
 /// [`best_match`] over the placements from `from - reach` to `to + reach` (top-left pixels,
@@ -339,10 +366,7 @@ pub fn best_match_near(
     to: (usize, usize),
     reach: usize,
 ) -> Result<Match, MatchError> {
-    let (nx, ny) = placements(win, tpl)?;
-    let range = |lo: usize, hi: usize, n: usize| (lo.saturating_sub(reach).min(n - 1), hi.saturating_add(reach).min(n - 1));
-    let ((x0, x1), (y0, y1)) = (range(from.0, to.0, nx), range(from.1, to.1, ny));
-    let (x0, y0) = (x0.min(x1), y0.min(y1));
+    let NearRange { x: (x0, x1), y: (y0, y1) } = near_range(from, to, reach, placements(win, tpl)?);
     let sub = win.sub(x0, y0, x1 - x0 + tpl.width(), y1 - y0 + tpl.height()).ok_or(MatchError::TooLarge)?;
     let m = best_match_full(method, &sub, tpl)?;
     Ok(Match { x: m.x + x0, y: m.y + y0, sub_x: m.sub_x + x0 as f32, sub_y: m.sub_y + y0 as f32, ..m })
@@ -377,17 +401,19 @@ fn rank_all(
     tpl: &WindowView<'_>,
     cache: &mut Vec<Sums, SUMS_CACHE>,
 ) -> Result<(Option<(usize, usize, Sums)>, bool), MatchError> {
-    let mut best: Option<(usize, usize, Sums)> = None;
+    let mut best: Option<(usize, usize, Ranked)> = None;
     let mut cached = true;
     for_each_score(scorer, win, tpl, |px, py, x| {
         if cached {
             cached = cache.push(x).is_ok();
         }
-        if scorer.scores(&x) && best.as_ref().is_none_or(|b| scorer.better(&x, &b.2)) {
-            best = Some((px, py, x));
+        if let Some(x) = scorer.ranked(x) {
+            if best.as_ref().is_none_or(|b| scorer.better(&x, &b.2)) {
+                best = Some((px, py, x));
+            }
         }
     })?;
-    Ok((best, cached))
+    Ok((best.map(|(x, y, r)| (x, y, r.sums)), cached))
 }
 
 /// The 25 %-resolution match of the Peripheral window (thesis 2.3): both views are

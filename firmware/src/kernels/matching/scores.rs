@@ -48,6 +48,13 @@ pub(super) struct Sums {
     pub(super) s: u64,
 }
 
+/// A placement's sums, with its ZNCC rank where it has one ([`Scorer::ranked`]).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Ranked {
+    pub(super) sums: Sums,
+    rank: Option<f32>,
+}
+
 /// Scores placements of one template under one method (see the module formulas).
 pub(super) struct Scorer {
     method: Method,
@@ -87,22 +94,38 @@ impl Scorer {
         }
     }
 
-    /// Whether placement `x` has a score (see [`Scorer::score`]).
-    pub(super) fn scores(&self, x: &Sums) -> bool {
-        match self.method {
-            Method::Sad | Method::Ssd => true,
-            Method::Ncc => x.e != 0,
+    /// Placement `x` with what [`Scorer::better`] compares, or `None` when it has no score
+    /// (see [`Scorer::score`]). A search ranks each placement once and keeps the best's.
+    pub(super) fn ranked(&self, x: Sums) -> Option<Ranked> {
+        let (scores, rank) = match self.method {
+            Method::Sad | Method::Ssd => (true, None),
+            Method::Ncc => (x.e != 0, None),
             // The template's variance is positive ([`Scorer::new`]): the window's decides.
-            Method::Zncc => self.zncc_parts64(x).map_or_else(|| self.zncc_parts(x).1, |(_, v)| i128::from(v)) > 0,
-        }
+            Method::Zncc => match self.zncc_parts64(&x) {
+                // The rank `n |n| / v` in single precision (within 5e-7 of the exact one: two
+                // conversions and two roundings), without the 128-bit products of
+                // [`Scorer::zncc_parts`] (library calls on the M4).
+                Some((n, v)) => (v > 0, Some({
+                    let n = to_f32(n);
+                    n * n.abs() / to_f32(v)
+                })),
+                None => (self.zncc_parts(&x).1 > 0, None),
+            },
+        };
+        scores.then_some(Ranked { sums: x, rank })
     }
 
-    /// Whether `x` scores strictly better than `y` (both with a score), from their exact
-    /// integer sums, without computing a score: for NCC `a_x / sqrt(e_x) > a_y / sqrt(e_y)`
-    /// as `a_x² e_y > a_y² e_x` (dot products are not negative), for ZNCC the same with the
-    /// numerator's sign and the window's variance (`f64` scores only if the products
-    /// overflow, for templates of tens of thousands of pixels).
-    pub(super) fn better(&self, x: &Sums, y: &Sums) -> bool {
+    /// Whether `x` scores strictly better than `y`, from their exact integer sums, without
+    /// computing a score: for NCC `a_x / sqrt(e_x) > a_y / sqrt(e_y)` as
+    /// `a_x² e_y > a_y² e_x` (dot products are not negative), for ZNCC the same with the
+    /// numerator's sign and the window's variance, where the single-precision ranks do not
+    /// decide (a near-tie; `f64` scores only if the products overflow, for templates of
+    /// tens of thousands of pixels).
+    pub(super) fn better(&self, x: &Ranked, y: &Ranked) -> bool {
+        let (x, y) = match (x.rank, y.rank) {
+            (Some(rx), Some(ry)) if (rx - ry).abs() > 1e-5 * rx.abs().max(ry.abs()) => return rx > ry,
+            _ => (&x.sums, &y.sums),
+        };
         match self.method {
             Method::Sad => x.a < y.a,
             Method::Ssd => self.ssd(x) < self.ssd(y),
@@ -111,19 +134,6 @@ impl Scorer {
                 side(x.a, y.e) > side(y.a, x.e)
             }
             Method::Zncc => {
-                // The ranks `n |n| / v` in single precision (within 5e-7 of the exact ones:
-                // two conversions and two roundings) decide all but near-ties, without the 128-bit products
-                // below (library calls on the M4).
-                if let (Some((nx, vx)), Some((ny, vy))) = (self.zncc_parts64(x), self.zncc_parts64(y)) {
-                    let rank = |n: i64, v: i64| {
-                        let n = to_f32(n);
-                        n * n.abs() / to_f32(v)
-                    };
-                    let (rx, ry) = (rank(nx, vx), rank(ny, vy));
-                    if (rx - ry).abs() > 1e-5 * rx.abs().max(ry.abs()) {
-                        return rx > ry;
-                    }
-                }
                 let (nx, vx) = self.zncc_parts(x);
                 let (ny, vy) = self.zncc_parts(y);
                 // |n|² v: both variances are positive (the placements have scores).
