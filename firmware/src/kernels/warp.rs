@@ -184,8 +184,8 @@ fn lerp2x2([p00, p10, p01, p11]: [f32; 4], ax: f32, ay: f32) -> f32 {
 fn bilinear_inside(data: &[u8], stride: usize, x: f32, y: f32) -> Option<f32> {
     let (x0, y0, ax, ay) = floor_split(x, y);
     let at = y0 * stride + x0;
-    let (top, bottom) = data.get(at..at.checked_add(stride)?.checked_add(2)?)?.split_at_checked(stride)?;
-    let (&[p00, p10, ..], &[p01, p11]) = (top, bottom) else { return None };
+    let block = data.get(at..)?.get(..stride.wrapping_add(2))?;
+    let (&[p00, p10, ..], Some(&[p01, p11])) = (block, block.last_chunk::<2>()) else { return None };
     Some(lerp2x2([p00, p10, p01, p11].map(f32::from), ax, ay))
 }
 
