@@ -143,13 +143,24 @@ impl WindowSums {
 }
 
 /// `v` sampled bilinearly at `(x, y)` of `win` (`data` from its top-left, row pitch
-/// `stride`), or `None` outside `[0, w - 1] x [0, h - 1]`.
+/// `stride`), or `None` outside `[0, w - 1] x [0, h - 1]`: [`bilinear_inside`] once the point
+/// is known to be inside (it reads the 2x2 block as one slice), [`bilinear_edge`] where that
+/// block reaches past `data`.
+#[inline(always)]
 fn bilinear(data: &[u8], stride: usize, w: usize, h: usize, x: f32, y: f32) -> Option<f32> {
     if !(x >= 0.0 && y >= 0.0 && x <= (w - 1) as f32 && y <= (h - 1) as f32) {
         return None;
     }
+    bilinear_inside(data, stride, x, y).or_else(|| bilinear_edge(data, stride, w, h, x, y))
+}
+
+/// [`bilinear`] at a point inside the window whose 2x2 block reaches past `data` (the last
+/// row of a window at the end of its buffer): on the last column or row the weight of the
+/// next is zero, so the same pixel is read again.
+#[cold]
+#[inline(never)]
+fn bilinear_edge(data: &[u8], stride: usize, w: usize, h: usize, x: f32, y: f32) -> Option<f32> {
     let (x0, y0, ax, ay) = floor_split(x, y);
-    // On the last column or row the weight of the next is zero: read the same one.
     let (dx, dy) = (usize::from(x0 + 1 < w), if y0 + 1 < h { stride } else { 0 });
     let at = y0 * stride + x0;
     let p = |i: usize| data.get(i).map(|&v| f32::from(v));
