@@ -478,12 +478,13 @@ def main():
         p("multiply-add), and the board's results stay bit-identical to the host's.")
         p()
     if "coop_frame" in counts:
-        coop_frames(p, counts, prof)
+        coop_frames(p, counts, prof, extra)
 
 
-def coop_frames(p, counts, prof):
+def coop_frames(p, counts, prof, extra):
     """The section on whole COOP frames against the 8.8 ms update, at one and at the
-    estimated cycles per instruction."""
+    estimated cycles per instruction; `extra` the per-processor images (as `per_processor`'s),
+    whose partner's and master's own frames bound the pair on two processors."""
     budget = FRAME / MARGIN * HZ
     prof_replays = replays(prof)
     cpi = {k: r[3] for k, r in zip(("coop_frame", "coop_frame_adaptive"), prof_replays)}
@@ -536,6 +537,21 @@ def coop_frames(p, counts, prof):
             c = cpi["coop_frame_adaptive"]
             p(f"At the estimated {c:.2f} cycles per instruction the worst frame takes {fmt_t(wa * c / HZ)}")
             p(f"(a {FRAME / (wa * c / HZ):.1f}x margin).")
+        if extra[0] and extra[3]:
+            # The processors' own images: the master's frames (its window and its partner's
+            # result to its decision) and the partner's (both replays: the larger is the bound).
+            ms = metered(open(extra[3][0]).read(), "master_frame_adaptive")
+            ps = metered(open(extra[0][0]).read(), "partner_frame")
+            if ms and ps:
+                path = max(max(ms), max(ps))
+                verdict2 = "inside" if path <= budget else "**outside**"
+                p("On two processors, as the thesis places the two Foveal windows (issue 22's")
+                p("per-processor images, below), the critical path is the longer of the master's frame")
+                p(f"alone ({max(ms):,} at most, its own image) and the partner's ({max(ps):,}):")
+                p(f"**{fmt_t(path / HZ)}, a {FRAME / (path / HZ):.1f}x margin**, {verdict2} the {MARGIN}x margin;")
+                if "coop_frame_adaptive" in cpi:
+                    c = cpi["coop_frame_adaptive"]
+                    p(f"{fmt_t(path * c / HZ)} (a {FRAME / (path * c / HZ):.1f}x margin) at {c:.2f} cycles per instruction.")
         if wa > budget:
             p("Where those instructions go is the profile's second table below: the alignment's")
             p("bilinear samples and sums, 2 to 4 iterations of the template's 324 pixels")
