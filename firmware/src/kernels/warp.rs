@@ -195,6 +195,7 @@ fn lerp2x2([p00, p10, p01, p11]: [f32; 4], ax: f32, ay: f32) -> f32 {
 fn bilinear_inside(data: &[u8], stride: usize, x: f32, y: f32) -> Option<f32> {
     let (x0, y0, ax, ay) = floor_split(x, y);
     let at = y0 * stride + x0;
+    // A stride within 2 of `usize::MAX` wraps to an empty block, refused below.
     let block = data.get(at..)?.get(..stride.wrapping_add(2))?;
     let (&[p00, p10, ..], Some(&[p01, p11])) = (block, block.last_chunk::<2>()) else { return None };
     Some(lerp2x2([p00, p10, p01, p11].map(f32::from), ax, ay))

@@ -48,8 +48,9 @@ pub const MAX_PACKED_PIXELS: usize = 4096;
 const SCORE_CACHE: usize = 1024;
 
 /// Placements whose sums [`best_match`] keeps for the sub-pixel fit: the Foveal window's 25
-/// (20x20 in 24x24) and any map up to 64. A larger map (the Peripheral's 625) recomputes the
-/// best placement's four neighbours instead, the same exact sums: 1.5 KiB of stack, not 24.
+/// (20x20 in 24x24), the pyramid's 9x9 coarse map and its joined fine ranges (11x6), any map
+/// up to 81. A larger map (the Peripheral's 625) recomputes the best placement's four
+/// neighbours instead, the same exact sums: 1.9 KiB of stack, not 24.
 const SUMS_CACHE: usize = 81;
 
 /// A matching measure of thesis 2.4 (or ZNCC beyond it).
@@ -300,10 +301,11 @@ const HALF_TEMPLATE_PIXELS: usize = 256;
 /// [`halve`]d), then at full resolution within [`FINE_REACH`] px of the two placements the
 /// coarse one stands for, and as far around the window's centre, where a tracker's
 /// prediction puts the target (a repeating texture's near-copy can win the coarse search);
-/// the better of the two fine matches (the centre's on a tie), or one search where the two
-/// are close. A 20x20 template in a 52x52 window costs 289 placements of 100 pixels and at
-/// most 72 of 400 instead of 1,089 of 400; in a 28x28 window 25 of 100 and about 40 of 400
-/// instead of 81 of 400. The result is in `win`'s pixels, as [`best_match`]'s; a smaller
+/// the better of the two fine matches (the centre's on a tie), or one search over both where
+/// that costs no more placements (the two close together, or side by side). A 20x20
+/// template in a 52x52 window costs 289 placements of 100 pixels and at most 72 of 400
+/// instead of 1,089 of 400; in a 28x28 window 25 of 100 and about 40 of 400 instead of 81
+/// of 400. The result is in `win`'s pixels, as [`best_match`]'s; a smaller
 /// window (or one too large to halve) is [`best_match_full`] itself (full-resolution views
 /// only, as the Foveal's).
 pub fn best_match_pyramid(method: Method, win: &WindowView<'_>, tpl: &WindowView<'_>) -> Result<Match, MatchError> {
