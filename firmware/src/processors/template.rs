@@ -88,3 +88,28 @@ impl Template {
         Point { x: x + self.anchor.x, y: y + self.anchor.y }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Equality as the derived one would have it over every byte (reference: the fields
+    /// compared by hand): a captured template equals the same side, anchor and pixels sent
+    /// over a link, and differs in any one of them.
+    #[test]
+    fn equal_templates_have_equal_sides_anchors_and_pixels() {
+        let frame: [u8; 64] = core::array::from_fn(|k| (k * 37 % 251) as u8);
+        let view = WindowView::packed(&frame, 8, 8).unwrap();
+        let t = Template::capture(&view, Point { x: 3.5, y: 3.5 }, 4).unwrap();
+        let same = Template::from_parts(4, t.anchor(), t.pixels()).unwrap();
+        assert_eq!(t, same);
+        assert_eq!((t.px, t.n, t.anchor), (same.px, same.n, same.anchor));
+        let mut pixels = [0u8; 16];
+        pixels.copy_from_slice(t.pixels());
+        pixels[15] ^= 1;
+        assert_ne!(t, Template::from_parts(4, t.anchor(), &pixels).unwrap());
+        assert_ne!(t, Template::from_parts(4, Point { x: 1.0, ..t.anchor() }, t.pixels()).unwrap());
+        let (small, large) = (Template::from_parts(1, t.anchor(), &[0]).unwrap(), Template::from_parts(2, t.anchor(), &[0; 4]).unwrap());
+        assert_ne!(small, large);
+    }
+}
