@@ -69,6 +69,67 @@ fn lanes_dot<'a, const N: usize>(chunks: impl Iterator<Item = (&'a [u8], &'a [u8
     lanes.iter().fold(0u32, |acc, &l| acc.wrapping_add(l))
 }
 
+/// `(Σ R·I, Σ I²)` of the template `tpl` over `win`'s patch at `(px, py)`, for templates a
+/// multiple of 8 pixels wide: SSE2 multiply-adds (`pmaddwd`) into four `i32` lanes kept
+/// across the rows and summed once, not a reduction per row as [`dot_row`]'s (LLVM's own
+/// vectorisation of such loops came and went with the code around them). `None` for other
+/// widths, a patch outside the window or one larger than [`DOT_CHUNK`] pixels (so no lane,
+/// nor their sum, can pass 2³¹).
+#[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+pub(super) fn patch_dots(tpl: &WindowView<'_>, win: &WindowView<'_>, px: usize, py: usize) -> Option<(u64, u64)> {
+    // SAFETY: the only requirement of a `target_feature` function is that the CPU has the
+    // feature, and this is compiled only where SSE2 is part of the build's target.
+    #[allow(unsafe_code)]
+    unsafe {
+        patch_dots_sse2(tpl, win, px, py)
+    }
+}
+
+/// [`patch_dots`] itself (the intrinsics are safe to call inside).
+#[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+#[target_feature(enable = "sse2")]
+fn patch_dots_sse2(tpl: &WindowView<'_>, win: &WindowView<'_>, px: usize, py: usize) -> Option<(u64, u64)> {
+    use core::arch::x86_64::{__m128i, _mm_add_epi32, _mm_madd_epi16, _mm_set_epi64x, _mm_setzero_si128, _mm_unpackhi_epi64, _mm_unpacklo_epi8};
+    let (tw, th) = (tpl.width(), tpl.height());
+    if tw % 8 != 0 || tw.checked_mul(th)? > DOT_CHUNK {
+        return None;
+    }
+    let zero = _mm_setzero_si128();
+    // Eight pixels as a 64-bit word.
+    let word = |p: &[u8]| <[u8; 8]>::try_from(p).ok().map(i64::from_le_bytes);
+    let (mut a, mut e) = (zero, zero);
+    // Eight pixels of each, widened to `i16`.
+    let mut add = |t: __m128i, w: __m128i| {
+        let (t, w) = (_mm_unpacklo_epi8(t, zero), _mm_unpacklo_epi8(w, zero));
+        a = _mm_add_epi32(a, _mm_madd_epi16(t, w));
+        e = _mm_add_epi32(e, _mm_madd_epi16(w, w));
+    };
+    for v in 0..th {
+        let (t, w) = (tpl.row(v)?.get(..tw)?, win.row(py + v)?.get(px..px + tw)?);
+        let (ct, cw) = (t.chunks_exact(16), w.chunks_exact(16));
+        let (rt, rw) = (ct.remainder(), cw.remainder());
+        for (x, y) in ct.zip(cw) {
+            let (x, y) = (_mm_set_epi64x(word(x.get(8..)?)?, word(x.get(..8)?)?), _mm_set_epi64x(word(y.get(8..)?)?, word(y.get(..8)?)?));
+            add(x, y);
+            add(_mm_unpackhi_epi64(x, x), _mm_unpackhi_epi64(y, y));
+        }
+        if let (Some(x), Some(y)) = (word(rt), word(rw)) {
+            add(_mm_set_epi64x(0, x), _mm_set_epi64x(0, y));
+        }
+    }
+    Some((lane_sum(a), lane_sum(e)))
+}
+
+/// The sum of four `i32` lanes of non-negative sums, as `u64`.
+#[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+#[target_feature(enable = "sse2")]
+fn lane_sum(l: core::arch::x86_64::__m128i) -> u64 {
+    use core::arch::x86_64::{_mm_add_epi32, _mm_cvtsi128_si32, _mm_shuffle_epi32};
+    let l = _mm_add_epi32(l, _mm_shuffle_epi32::<0b0100_1110>(l));
+    let l = _mm_add_epi32(l, _mm_shuffle_epi32::<0b1011_0001>(l));
+    u64::from(_mm_cvtsi128_si32(l) as u32)
+}
+
 /// [`dot_row`] four pixels at a time on the Cortex-M4: each word's pixels spread over two
 /// words of 16-bit halves and multiplied in pairs by `SMLAD` (see [`group`]).
 #[cfg(any(test, target_arch = "arm"))]

@@ -27,40 +27,38 @@ const BOX_CAP: usize = 2048;
 /// Most template blocks (a bound must also stay under 2³², see [`Elimination::new`]).
 const BLOCK_CAP: usize = 256;
 
-/// The block sums of a template and the box sums of a window, for the bound `L`.
-pub(super) struct Elimination {
+/// The block sums of a template and the box sums of a window, for the bound `L`, in buffers
+/// the caller holds (4 KiB, built in place rather than copied there).
+pub(super) struct Elimination<'a> {
     /// `Σ I` over the `B x B` box at each window position `(x, y)`, row-major with `cols`
     /// columns (at most `8²·255`, so differences and their squares fit `i16` and `i32`).
-    boxes: Vec<i16, BOX_CAP>,
+    boxes: &'a [i16],
     cols: usize,
     /// `Σ R` over each template block, row-major with `bw` columns.
-    blocks: Vec<i16, BLOCK_CAP>,
+    blocks: &'a [i16],
     bw: usize,
     b: usize,
 }
 
-impl Elimination {
+impl<'a> Elimination<'a> {
     /// The bound's sums for `tpl` in `win` (both step 1), with blocks of half the template's
     /// shorter side rounded down to a power of two, at most 8 (four 8x8 blocks for 16x16, four
-    /// 4x4 for 8x8: a bound costs four multiply-adds); `None` (search every placement) for templates under 4 pixels on
-    /// a side (blocks of one pixel would cost the SSD itself), windows or maps too large for
-    /// the buffers, or
-    /// with so many blocks that a bound, at most `blocks · (B²·255)²`, could pass 2³².
-    /// Inlined: the caller's frame holds the sums (4 KiB), not a copy returned.
-    #[inline(always)]
-    fn new(win: &WindowView<'_>, tpl: &WindowView<'_>) -> Option<Self> {
+    /// 4x4 for 8x8: a bound costs four multiply-adds); `None` (search every placement) for
+    /// templates under 4 pixels on a side (blocks of one pixel would cost the SSD itself),
+    /// windows or maps too large for the buffers, or with so many blocks that a bound, at most
+    /// `blocks · (B²·255)²`, could pass 2³².
+    fn new(win: &WindowView<'_>, tpl: &WindowView<'_>, boxes: &'a mut Vec<i16, BOX_CAP>, blocks: &'a mut Vec<i16, BLOCK_CAP>) -> Option<Self> {
         let (tw, th, ww, wh) = (tpl.width(), tpl.height(), win.width(), win.height());
         // A power of two, so a box sum is `log2 B` doublings.
         let b = 1usize << (tw.min(th) / 2).clamp(1, 8).ilog2();
         let most = ((b * b * 255) as u64).pow(2);
-        if b < 2 || tw > ww || th > wh || ww > MAX_SEARCH_WIDTH || ((tw / b) * (th / b)) as u64 * most > u64::from(u32::MAX) {
+        if b < 2 || tw > ww || th > wh || ww > MAX_SEARCH_WIDTH || ((tw / b) * (th / b)) as u64 * most >= u64::from(NOT_PLACED) {
             return None;
         }
         let (cols, rows) = (ww - b + 1, wh - b + 1);
-        if cols.checked_mul(rows)? > BOX_CAP || (ww - tw + 1) * (wh - th + 1) > PLACEMENT_CAP {
+        if cols.checked_mul(rows)? > BOX_CAP || (wh - th) * cols + (ww - tw + 1) > PLACEMENT_CAP {
             return None;
         }
-        let mut blocks = Vec::new();
         for by in 0..th / b {
             for bx in 0..tw / b {
                 let mut s = 0i16;
@@ -71,8 +69,10 @@ impl Elimination {
             }
         }
         // Box sums: the sums of `b` rows down each column (one row in, one out), then of `b`
-        // of those along the row (both loops over whole rows: SIMD on the host).
-        let mut boxes = Vec::new();
+        // of those along the row (both loops over whole rows: SIMD on the host), the last
+        // doubling written straight into the box row.
+        boxes.clear();
+        boxes.resize(cols * rows, 0).ok()?;
         let (mut col, mut buf, mut spare) = ([0i16; MAX_SEARCH_WIDTH], [0i16; MAX_SEARCH_WIDTH], [0i16; MAX_SEARCH_WIDTH]);
         let (col, buf, spare) = (col.get_mut(..ww)?, buf.get_mut(..ww)?, spare.get_mut(..ww)?);
         for v in 0..b {
@@ -83,24 +83,23 @@ impl Elimination {
             let sums = src.iter().zip(src.get(width..).unwrap_or(&[])).map(|(&x, &y)| x + y);
             dst.iter_mut().zip(sums).for_each(|(d, s)| *d = s);
         };
-        for y in 0..rows {
+        for (y, out) in boxes.chunks_exact_mut(cols).enumerate() {
             if y > 0 {
                 let (add, sub) = (win.row(y + b - 1)?, win.row(y - 1)?);
                 col.iter_mut().zip(add.iter().zip(sub)).for_each(|(c, (&a, &s))| *c += i16::from(a) - i16::from(s));
             }
             // Sums of 2, 4, ..., b columns, each of two of the previous width.
-            double(buf, col, 1);
-            let (mut width, mut in_buf) = (2, true);
-            while width < b {
-                if in_buf {
-                    double(spare, buf, width);
-                } else {
-                    double(buf, spare, width);
+            // `from`: where the sums of `width` columns are (0 `col`, 1 `buf`, 2 `spare`).
+            let (mut from, mut width) = (0, 1);
+            while 2 * width < b {
+                match from {
+                    0 => double(buf, col, width),
+                    1 => double(spare, buf, width),
+                    _ => double(buf, spare, width),
                 }
-                (width, in_buf) = (2 * width, !in_buf);
+                (from, width) = (if from == 1 { 2 } else { 1 }, 2 * width);
             }
-            let run = if in_buf { &buf[..] } else { &spare[..] };
-            boxes.extend_from_slice(run.get(..cols)?).ok()?;
+            double(out, [&*col, &*buf, &*spare].get(from).copied().unwrap_or(&[]), width);
         }
         Some(Self { boxes, cols, blocks, bw: tw / b, b })
     }
@@ -110,14 +109,16 @@ impl Elimination {
         (self.b * self.b) as u64
     }
 
-    /// The bounds `L` of the placements `(0, py)` to `(out.len() - 1, py)` into `out`, a
-    /// block at a time along the row (contiguous box sums: SIMD on the host).
-    fn bounds(&self, py: usize, out: &mut [u32]) {
+    /// The bounds `L` into `out`, placement `(x, y)` at `y · cols + x` as its box sums are:
+    /// a block at a time over the whole map as one run (SIMD on the host, no remainder per
+    /// row). The columns from the last placement's on are no placements (the caller marks
+    /// them [`NOT_PLACED`]).
+    fn bounds(&self, out: &mut [u32]) {
         out.iter_mut().for_each(|l| *l = 0);
         let n = out.len();
         for (j, row) in self.blocks.chunks(self.bw.max(1)).enumerate() {
             for (i, &t) in row.iter().enumerate() {
-                let at = (py + j * self.b) * self.cols + i * self.b;
+                let at = j * self.b * self.cols + i * self.b;
                 let Some(boxes) = self.boxes.get(at..at + n) else { continue };
                 for (l, &w) in out.iter_mut().zip(boxes) {
                     let d = i32::from(t - w);
@@ -128,9 +129,14 @@ impl Elimination {
     }
 }
 
-/// Most placements searched (a 40x40 window has 625 of a 16x16 template); their bounds are
-/// kept, each computed once. Larger maps are searched exhaustively.
+/// Most bounds kept, each computed once: a 40x40 window's 625 placements of a 16x16 template,
+/// in rows as long as the box rows (817 bounds, see [`Elimination::bounds`]). Larger maps
+/// are searched exhaustively.
 const PLACEMENT_CAP: usize = 1024;
+
+/// The bound of a column that is no placement: above every bound (see [`Elimination::new`])
+/// and every cut-off, so it is never searched.
+const NOT_PLACED: u32 = u32::MAX;
 
 /// A placement summed alone costs about this many times its share of the exhaustive search
 /// (which sums rows of placements together): where the first bound keeps more than this
@@ -154,7 +160,8 @@ pub(super) fn search<S>(
     sums: impl FnMut(usize, usize) -> Option<S>,
     ssd: impl Fn(&S) -> u64,
 ) -> Option<Option<(usize, usize, S)>> {
-    let el = Elimination::new(win, tpl)?;
+    let (mut boxes, mut blocks) = (Vec::new(), Vec::new());
+    let el = Elimination::new(win, tpl, &mut boxes, &mut blocks)?;
     search_with(&el, nx, ny, sums, ssd)
 }
 
@@ -166,44 +173,52 @@ fn search_with<S>(
     mut sums: impl FnMut(usize, usize) -> Option<S>,
     ssd: impl Fn(&S) -> u64,
 ) -> Option<Option<(usize, usize, S)>> {
-    let n = el.block_pixels();
+    let (n, cols) = (el.block_pixels(), el.cols);
+    if nx == 0 || ny == 0 || nx > cols {
+        return None;
+    }
+    // Placement `(x, y)`'s bound at `y · cols + x`; the last row ends at its last placement.
     let mut bounds: Vec<u32, PLACEMENT_CAP> = Vec::new();
-    bounds.resize(nx.checked_mul(ny)?, 0).ok()?;
-    for (py, row) in bounds.chunks_exact_mut(nx.max(1)).enumerate() {
-        el.bounds(py, row);
+    bounds.resize((ny - 1) * cols + nx, 0).ok()?;
+    el.bounds(&mut bounds);
+    for row in bounds.chunks_mut(cols) {
+        row.get_mut(nx..).unwrap_or(&mut []).fill(NOT_PLACED);
     }
     // The smallest bound first (the first in raster order): its SSD bounds the search from the
-    // start.
-    let (mut first, mut least) = (0, u32::MAX);
-    for (k, &l) in bounds.iter().enumerate() {
-        if l < least {
-            (first, least) = (k, l);
-        }
-    }
-    let Some(x) = sums(first % nx, first / nx) else { return Some(None) };
+    // start. The least value, then where it is first: two passes over whole vectors, not one
+    // carried through every compare.
+    let least = bounds.iter().copied().min()?;
+    let first = bounds.iter().position(|&l| l == least)?;
+    let Some(x) = sums(first % cols, first / cols) else { return Some(None) };
     let mut limit = ssd(&x);
-    if bounds.iter().filter(|&&l| u64::from(l) <= n.saturating_mul(limit)).count() * KEPT_MOST > bounds.len() {
+    // A placement can beat `limit` only if its bound is at most `n · limit` (compared in
+    // `u32`, as the bounds are: vector compares on the host).
+    let cut = |limit: u64| u32::try_from(n.saturating_mul(limit)).map_or(NOT_PLACED - 1, |c| c.min(NOT_PLACED - 1));
+    let mut most = cut(limit);
+    if bounds.iter().filter(|&&l| l <= most).count() * KEPT_MOST > nx * ny {
         return None;
     }
     let mut start = Some(x);
     let mut best: Option<(usize, S, u64)> = None;
     for (k, &l) in bounds.iter().enumerate() {
-        if u64::from(l) > n.saturating_mul(limit) {
+        if l > most {
             continue;
         }
         // The first placement scored is not summed twice.
         let x = match start.take_if(|_| k == first) {
             Some(x) => x,
-            None => match sums(k % nx, k / nx) {
+            None => match sums(k % cols, k / cols) {
                 Some(x) => x,
                 None => return Some(None),
             },
         };
         let s = ssd(&x);
-        limit = limit.min(s);
+        if s < limit {
+            (limit, most) = (s, cut(s));
+        }
         if best.as_ref().is_none_or(|b| s < b.2) {
             best = Some((k, x, s));
         }
     }
-    Some(best.map(|(k, x, _)| (k % nx, k / nx, x)))
+    Some(best.map(|(k, x, _)| (k % cols, k / cols, x)))
 }

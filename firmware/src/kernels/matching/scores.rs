@@ -1,6 +1,8 @@
 //! Scores of placements from exact integer sums (thesis 2.4's SSD, SAD and NCC, and ZNCC): the
 //! window energies from running column sums, the dot products from [`super::dot`].
 use super::dot::{dot_placement, dot_products, dot_row, sad_row, PaddedTemplate};
+#[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+use super::dot::patch_dots;
 use super::{MatchError, Method, MAX_SEARCH_WIDTH, SCORE_CACHE};
 use crate::kernels::view::WindowView;
 use heapless::Vec;
@@ -374,6 +376,12 @@ pub(super) fn sums_at(method: Method, win: &WindowView<'_>, tpl: &WindowView<'_>
     let (tw, th) = (tpl.width(), tpl.height());
     if px + tw > win.width() || py + th > win.height() {
         return None;
+    }
+    #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+    if matches!(method, Method::Ssd | Method::Ncc) {
+        if let Some((a, e)) = patch_dots(tpl, win, px, py) {
+            return Some(Sums { a, e, s: 0 });
+        }
     }
     let mut x = Sums::default();
     for v in 0..th {

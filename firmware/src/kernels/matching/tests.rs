@@ -1,4 +1,6 @@
 use super::dot::{dot_row_bytes, dot_row_pairs, row_dot_products, strip_dot_products};
+#[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+use super::dot::patch_dots;
 use super::subpixel::parabola;
 use super::*;
 
@@ -28,6 +30,35 @@ fn the_arm_row_dot_product_is_the_bytewise_one() {
     }
     let full = [255u8; 256];
     assert_eq!(dot_row_pairs(&full, &full), 256 * 65025);
+}
+
+/// A placement's SSE2 sums (`Σ R·I`, `Σ I²` in lanes kept across rows) against the same sums
+/// taken pixel by pixel here: widths 8 and multiples of 16 (one and several vectors a row,
+/// the 8-pixel rest), odd heights, placements off the window's origin in a window with a
+/// stride, all-255 pixels at the largest patch taken (16,384 pixels: the lanes' limit), and
+/// the widths and sizes it leaves to the per-row path (`None`).
+#[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+#[test]
+fn patch_sums_are_the_pixel_sums() {
+    let mut px = lcg(2024);
+    for (tw, th, px0, py0) in [(8, 8, 0, 0), (8, 5, 3, 7), (16, 16, 9, 2), (24, 3, 1, 1), (32, 7, 0, 5), (40, 9, 2, 0), (48, 1, 4, 4)] {
+        let (stride, ww, wh) = (70, 64, 20);
+        let (t, w) = (pixels(&mut px, tw * th), pixels(&mut px, stride * wh));
+        let (tv, wv) = (WindowView::new(&t, tw, th, tw, 0, 0).unwrap(), WindowView::new(&w, ww, wh, stride, 0, 0).unwrap());
+        let at = |i: usize| u64::from(w[(py0 + i / tw) * stride + px0 + i % tw]);
+        let want = ((0..tw * th).map(|i| u64::from(t[i]) * at(i)).sum(), (0..tw * th).map(|i| at(i) * at(i)).sum());
+        assert_eq!(patch_dots(&tv, &wv, px0, py0), Some(want), "{tw}x{th} at ({px0}, {py0})");
+    }
+    let full = [255u8; 128 * 128];
+    let v = WindowView::new(&full, 128, 128, 128, 0, 0).unwrap();
+    assert_eq!(patch_dots(&v, &v, 0, 0), Some((16384 * 65025, 16384 * 65025)));
+    let big = [255u8; 128 * 136];
+    let wide = WindowView::new(&big, 128, 136, 128, 0, 0).unwrap();
+    let (t12, t16) = (WindowView::new(&full, 12, 4, 12, 0, 0).unwrap(), WindowView::new(&full, 16, 4, 16, 0, 0).unwrap());
+    assert_eq!(patch_dots(&wide, &wide, 0, 0), None, "over 16,384 pixels");
+    assert_eq!(patch_dots(&t12, &v, 0, 0), None, "12 pixels wide");
+    assert_eq!(patch_dots(&t16, &v, 113, 0), None, "outside the window");
+    assert!(patch_dots(&t16, &v, 112, 124).is_some(), "at the window's corner");
 }
 
 #[test]
