@@ -59,6 +59,7 @@ impl<'a> Elimination<'a> {
         if cols.checked_mul(rows)? > BOX_CAP || (wh - th) * cols + (ww - tw + 1) > PLACEMENT_CAP {
             return None;
         }
+        blocks.clear();
         for by in 0..th / b {
             for bx in 0..tw / b {
                 let mut s = 0i16;
