@@ -22,18 +22,22 @@ const NARROW: u64 = 1 << 23;
 /// Template statistics that do not depend on the placement.
 struct TemplateStats {
     energy: u64,
+    /// `Σ R`, which only ZNCC reads (0 for the other methods).
     sum: u64,
     n: u64,
 }
 
-fn template_stats(tpl: &WindowView<'_>) -> TemplateStats {
+/// `Σ R²`, and `Σ R` where `with_sum` (ZNCC).
+fn template_stats(tpl: &WindowView<'_>, with_sum: bool) -> TemplateStats {
     let mut energy = 0u64;
     let mut sum = 0u64;
     for v in 0..tpl.height() {
         let r = tpl.row(v).unwrap_or(&[]);
         energy += dot_row(r, r);
         // Σ p as Σ p·1: the dot product's fast path (a row is at most MAX_SEARCH_WIDTH wide).
-        sum += dot_row(r, &ONES);
+        if with_sum {
+            sum += dot_row(r, &ONES);
+        }
     }
     TemplateStats {
         energy,
@@ -67,7 +71,7 @@ impl Scorer {
     /// The scorer of `tpl` under `method`; [`MatchError::ZeroEnergy`] for an NCC template
     /// without energy or a ZNCC one without variance.
     pub(super) fn new(method: Method, tpl: &WindowView<'_>) -> Result<Self, MatchError> {
-        let t = template_stats(tpl);
+        let t = template_stats(tpl, method == Method::Zncc);
         match method {
             Method::Ncc if t.energy == 0 => Err(MatchError::ZeroEnergy),
             Method::Zncc if (t.n as u128) * (t.energy as u128) == (t.sum as u128).pow(2) => Err(MatchError::ZeroEnergy),
