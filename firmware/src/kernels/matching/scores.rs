@@ -27,15 +27,15 @@ struct TemplateStats {
     n: u64,
 }
 
-/// `Σ R²`, and `Σ R` where `with_sum` (ZNCC).
-fn template_stats(tpl: &WindowView<'_>, with_sum: bool) -> TemplateStats {
+/// `Σ R²`, and `Σ R` where `SUM` (ZNCC; a constant, so the other measures' loop has no test).
+fn template_stats<const SUM: bool>(tpl: &WindowView<'_>) -> TemplateStats {
     let mut energy = 0u64;
     let mut sum = 0u64;
     for v in 0..tpl.height() {
         let r = tpl.row(v).unwrap_or(&[]);
         energy += dot_row(r, r);
         // Σ p as Σ p·1: the dot product's fast path (a row is at most MAX_SEARCH_WIDTH wide).
-        if with_sum {
+        if SUM {
             sum += dot_row(r, &ONES);
         }
     }
@@ -71,7 +71,7 @@ impl Scorer {
     /// The scorer of `tpl` under `method`; [`MatchError::ZeroEnergy`] for an NCC template
     /// without energy or a ZNCC one without variance.
     pub(super) fn new(method: Method, tpl: &WindowView<'_>) -> Result<Self, MatchError> {
-        let t = template_stats(tpl, method == Method::Zncc);
+        let t = if method == Method::Zncc { template_stats::<true>(tpl) } else { template_stats::<false>(tpl) };
         match method {
             Method::Ncc if t.energy == 0 => Err(MatchError::ZeroEnergy),
             Method::Zncc if (t.n as u128) * (t.energy as u128) == (t.sum as u128).pow(2) => Err(MatchError::ZeroEnergy),
