@@ -12,6 +12,8 @@ use coopwin_testbench::analysis::metrics::auroc;
 use coopwin_testbench::experiments::appearance::{conditions, judge, run};
 use coopwin_testbench::experiments::real_images::{opencv_score, simulate_configured, OPENCV};
 use coopwin_testbench::system::{CoopPolicy, Strategy};
+mod common;
+use common::assert_rows_are_honest;
 
 /// (condition, measured RMS px, measured loss %) of COOP with the adapting template.
 const MEASURED: [(&str, f64, f64); 7] = [
@@ -64,6 +66,7 @@ fn the_adapting_track_reports_the_objects_turn_and_scale() {
         let c = conditions().into_iter().find(|c| c.name == name).expect("condition");
         let mut frames = c.render();
         let log = simulate_configured(&c, &mut frames, Strategy::Coop, CoopPolicy::Guarded, true).expect("runs");
+        assert_rows_are_honest(name, &log);
         let look = &c.scene.appearance;
         let at = |k: usize| look.pose(k as f64 / c.scene.frames as f64).angle_scale();
         let (angle0, scale0) = at(0);
@@ -92,6 +95,8 @@ fn confidence_tells_the_bad_frames_better_than_the_psr_baseline() {
     for c in conditions() {
         let mut frames = c.render();
         let log = simulate_configured(&c, &mut frames, Strategy::Coop, CoopPolicy::Guarded, false).expect("runs");
+        // The fixed template loses and re-finds the object many times: every kind of row.
+        assert_rows_are_honest(&c.name, &log);
         let j = judge(&c, &log, &mut frames, Params::default().correlation(false).1);
         let area = auroc(&j.confidence).expect("good and bad frames");
         eprintln!("{}: confidence {area:.3}, PSR {:?}", c.name, auroc(&j.psr));

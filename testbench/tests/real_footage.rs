@@ -57,6 +57,10 @@ fn coop_on_the_opencv_doc_clips_holds_the_rigid_objects_as_csrt_does() {
         let (_, clip) = decoded.as_ref().expect("decoded");
         let csrt = opencv_runs(&o, "csrt").expect("CSRT fixture").forward;
         let f = figures(&o, &clip.runs(&o).expect("runs"), &csrt);
+        // The earring is lost in a fast pan and found again at once: a re-found frame's row.
+        if o.id() == "Megamind-earring" {
+            common::assert_rows_are_honest(&o.id(), &clip.forward_log(&o).expect("runs"));
+        }
         let (_, measured) = MEASURED.iter().copied().find(|m| m.0 == o.id()).expect("a measured figure");
         eprintln!("{}: {f:?}", o.id());
         assert!(f.positions * 10 >= measured * 9, "{}: {} positions of {}, measured {measured}", o.id(), f.positions, f.frames);

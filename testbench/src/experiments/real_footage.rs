@@ -18,7 +18,7 @@ use crate::frames::video::{self, VideoFrames};
 use crate::frames::{FrameError, FrameSource};
 use crate::report::plot::{self, Bars};
 use crate::system::cost::CostModel;
-use crate::system::{self, Strategy, SystemConfig};
+use crate::system::{self, RunLog, Strategy, SystemConfig};
 use crate::units::clocks::Clocks;
 use coopwin_firmware::processors::Params;
 use std::fmt::Write as _;
@@ -56,6 +56,11 @@ impl Object {
     pub fn centre(&self) -> (f64, f64) {
         let (x, y, w, h) = self.bbox;
         (f64::from(x) + (f64::from(w) - 1.0) / 2.0, f64::from(y) + (f64::from(h) - 1.0) / 2.0)
+    }
+
+    /// The template side `track --target-box` takes: the box's shorter side, up to 32.
+    fn side(&self) -> u16 {
+        self.bbox.2.min(self.bbox.3).min(32) as u16
     }
 }
 
@@ -166,13 +171,18 @@ impl Clip {
     }
 
     /// `track`'s default run on `frames` (indices into the clip) from `start`, with a
-    /// template of `side`: the trusted position of each frame.
-    fn track(&self, frames: impl Iterator<Item = usize>, start: (f64, f64), side: u16) -> Result<Track, ExperimentError> {
+    /// template of `side`, as its log.
+    fn simulate(&self, frames: impl Iterator<Item = usize>, start: (f64, f64), side: u16) -> Result<RunLog, ExperimentError> {
         let mut source = Frames { frames: frames.filter_map(|k| self.frames.get(k).map(Vec::as_slice)).collect(), size: self.size };
         let params = Params { template: side, foveal: side + 2 * 2, ..Params::default() }.adaptive();
         let mut cfg = SystemConfig { params, target: Some(start), ..SystemConfig::thesis(Strategy::Coop, CostModel::NATIVE, None) };
         cfg.pixel_clock_hz = Clocks::camera_timing(self.size).frame_clocks() as f64 * self.fps;
-        let log = system::simulate(&cfg, &mut source, &mut |_| {}).map_err(ExperimentError::Run)?;
+        system::simulate(&cfg, &mut source, &mut |_| {}).map_err(ExperimentError::Run)
+    }
+
+    /// [`Clip::simulate`]'s trusted position of each frame.
+    fn track(&self, frames: impl Iterator<Item = usize>, start: (f64, f64), side: u16) -> Result<Track, ExperimentError> {
+        let log = self.simulate(frames, start, side)?;
         Ok(log
             .frames
             .iter()
@@ -180,10 +190,16 @@ impl Clip {
             .collect())
     }
 
+    /// `track`'s forward run on `o`, as its log.
+    pub fn forward_log(&self, o: &Object) -> Result<RunLog, ExperimentError> {
+        let (first, last) = o.frames;
+        self.simulate(first..=last, o.centre(), o.side())
+    }
+
     /// `track`'s forward and backward runs on `o`.
     pub fn runs(&self, o: &Object) -> Result<Runs, ExperimentError> {
         let (first, last) = o.frames;
-        let side = o.bbox.2.min(o.bbox.3).min(32) as u16;
+        let side = o.side();
         let forward = self.track(first..=last, o.centre(), side)?;
         let backward = match forward.last().copied().flatten() {
             Some(end) => {

@@ -141,7 +141,8 @@ pub(super) struct Recorder {
     pub(super) log: RunLog,
     robot: FramedPositionSink<VecDeque<u8>>,
     last: Option<Report>,
-    /// The last position reported, kept through a loss.
+    /// The last position reported, kept through a loss, or where the Peripheral last found
+    /// the target for the Foveal window.
     last_seen: Option<Point>,
 }
 
@@ -161,6 +162,9 @@ impl Recorder {
                 let centre = |a: u16, b: u16| f64::from(f32::from(a + b) / 2.0);
                 self.log.locked_on = Some((frame, (centre(*xmin, *xmax), centre(*ymin, *ymax))));
             }
+        }
+        if let Some(Msg::Approx(p)) = step.sends.iter().map(|(_, m)| m).find(|m| matches!(m, Msg::Approx(_))) {
+            self.last_seen = Some(*p);
         }
         if let Some((point, algo)) = step.report {
             let r = Report { t, frame, point, algo, score: step.score, shape: step.shape };
@@ -191,6 +195,8 @@ impl Recorder {
         let tracked = if mode == Mode::Track && !coasting { self.last } else { None };
         let (state, estimate) = match mode {
             Mode::Track if coasting => (TrackState::Predicted, roster.predicted().or(self.last_seen)),
+            // Re-found, with its first Foveal window still to come: still searching.
+            Mode::Track if tracked.is_none() => (TrackState::Searching, self.last_seen),
             Mode::Track => (TrackState::Tracking, None),
             Mode::Detect => (TrackState::Searching, self.last_seen),
             Mode::Watch => (TrackState::Lost, self.last_seen),

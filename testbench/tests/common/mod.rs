@@ -1,9 +1,19 @@
-//! Helpers shared by the testbench's tests: the fault tests' dropout, and the rule for a
-//! missing EDA tool.
+//! Helpers shared by the testbench's tests: the fault tests' dropout, the rule for a missing
+//! EDA tool, and what every track's rows must say.
 // Each test binary that includes this module uses only part of it.
 #![allow(dead_code)]
 use coopwin_testbench::frames::scene::SceneFrames;
 use coopwin_testbench::frames::{FrameError, FrameSource};
+use coopwin_testbench::system::{RunLog, TrackState};
+
+/// Issue 21, item 2: every frame's row has a position, a measured one exactly when its state
+/// is `tracking` (else the predicted one, or where the target was last seen).
+pub fn assert_rows_are_honest(name: &str, log: &RunLog) {
+    for r in &log.frames {
+        assert_eq!(r.point.is_some(), r.state == TrackState::Tracking, "{name}, frame {}: {:?} with point {:?}", r.frame, r.state, r.point);
+        assert!(r.point.or(r.estimate).is_some(), "{name}, frame {}: {:?} row without a position", r.frame, r.state);
+    }
+}
 
 /// The scene with frames `dark` replaced by all zeros (a camera dropout).
 pub struct Dropout {
