@@ -40,7 +40,8 @@ pub enum TrackState {
     /// No measurement (an occluder, a blurred or changed look): the position is predicted
     /// from the motion, and the Foveal window looks there.
     Predicted,
-    /// The Foveal window gave the target up: the Peripheral window searches for it.
+    /// The Foveal window gave the target up: the Peripheral window searches for it (or has
+    /// found it, and the Foveal window has yet to measure it).
     Searching,
     /// No window on the target: waiting for motion.
     Lost,
