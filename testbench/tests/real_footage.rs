@@ -6,7 +6,8 @@
 //! docs/results.md): positions at least 90 % of the measured count (the tracker is
 //! deterministic: the margin is for a legitimate change's frame or two), and on the
 //! objects COOP holds as CSRT does, issue 21's 95 % of the frames CSRT reports, with at least
-//! 97.5 % of the reports within 5 px of CSRT's (measured 98.9-100: 2x margin on the rest);
+//! 97.5 % of the reports within 5 px of CSRT's (measured 98.9-100: 2x margin on the rest), or
+//! where CSRT's point drifts off the object, a forward-backward error no larger than CSRT's;
 //! on every object, reports within 10 px of CSRT's on average (no false re-lock).
 mod common;
 
@@ -16,7 +17,7 @@ use std::path::Path;
 /// (object, measured positions of its frames).
 const MEASURED: [(&str, usize); 8] = [
     ("Megamind-eye", 26),
-    ("Megamind-earring", 88),
+    ("Megamind-earring", 95),
     ("Megamind-hinge", 70),
     ("Megamind_bugy-eye", 26),
     ("Megamind_bugy-candle", 94),
@@ -28,9 +29,12 @@ const MEASURED: [(&str, usize); 8] = [
 /// Largest mean distance, px, of an object's reports from CSRT's.
 const STRAY_PX: f64 = 10.0;
 
-/// Objects COOP holds as CSRT does (rigid, or nearly, and the leaves' gap through the shaking
-/// camera).
-const HELD: [&str; 4] = ["Megamind_bugy-candle", "Megamind_bugy-bridge", "tree-gap", "tree-frame"];
+/// Objects COOP holds as CSRT does (rigid, or nearly, the leaves' gap through the shaking
+/// camera, and the earring through the head's whip), and whether CSRT's point stays on the
+/// object's: on the earring it sits about 6 px off the stud from frame 20 (crops with both
+/// points, docs/results.md), so there the forward-backward error is held to CSRT's instead.
+const HELD: [(&str, bool); 5] =
+    [("Megamind-earring", false), ("Megamind_bugy-candle", true), ("Megamind_bugy-bridge", true), ("tree-gap", true), ("tree-frame", true)];
 
 /// The SHA-256 of a clip, by `sha256sum`.
 fn sha256(path: &Path) -> String {
@@ -55,8 +59,9 @@ fn coop_on_the_opencv_doc_clips_holds_the_rigid_objects_as_csrt_does() {
             decoded = Some((o.clip.clone(), Clip::decode(&path).expect("decodes")));
         }
         let (_, clip) = decoded.as_ref().expect("decoded");
-        let csrt = opencv_runs(&o, "csrt").expect("CSRT fixture").forward;
-        let f = figures(&o, &clip.runs(&o).expect("runs"), &csrt);
+        let csrt_runs = opencv_runs(&o, "csrt").expect("CSRT fixture");
+        let csrt = &csrt_runs.forward;
+        let f = figures(&o, &clip.runs(&o).expect("runs"), csrt);
         // The earring is lost in a fast pan and found again at once: a re-found frame's row.
         if o.id() == "Megamind-earring" {
             common::assert_rows_are_honest(&o.id(), &clip.forward_log(&o).expect("runs"));
@@ -69,10 +74,16 @@ fn coop_on_the_opencv_doc_clips_holds_the_rigid_objects_as_csrt_does() {
         if let Some((mean, _)) = f.to_csrt {
             assert!(mean <= STRAY_PX, "{}: reports {mean:.1} px from CSRT's on average", o.id());
         }
-        if HELD.contains(&o.id().as_str()) {
+        if let Some(&(_, on_point)) = HELD.iter().find(|h| h.0 == o.id()) {
             assert!(f.where_csrt * 100 >= 95 * f.csrt_frames, "{}: {} of CSRT's {} frames", o.id(), f.where_csrt, f.csrt_frames);
-            let (_, within) = f.to_csrt.expect("reports beside CSRT's");
-            assert!(within >= 97.5, "{}: {within:.1} % within 5 px of CSRT", o.id());
+            if on_point {
+                let (_, within) = f.to_csrt.expect("reports beside CSRT's");
+                assert!(within >= 97.5, "{}: {within:.1} % within 5 px of CSRT", o.id());
+            } else {
+                let theirs = figures(&o, &csrt_runs, csrt).fb_mean.expect("CSRT's backward run");
+                let ours = f.fb_mean.expect("a backward run");
+                assert!(ours <= theirs, "{}: forward-backward {ours:.3} px, CSRT's {theirs:.3}", o.id());
+            }
         }
     }
 }

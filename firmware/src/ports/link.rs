@@ -26,6 +26,7 @@ mod tag {
     pub const FOLLOW: u8 = 7;
     pub const TEMPLATE: u8 = 8;
     pub const TEMPLATE_PIXELS: u8 = 9;
+    pub const COASTING: u8 = 10;
 }
 
 /// Template pixels in one chunk payload (after its tag and sequence number).
@@ -84,6 +85,7 @@ impl Iterator for MessagePayloads<'_> {
             Msg::Approx(p) => single(point_payload(tag::APPROX, p)),
             Msg::Tracked(p) => single(point_payload(tag::TRACKED, p)),
             Msg::Lost(p) => single(point_payload(tag::LOST, p)),
+            Msg::Coasting(p) => single(point_payload(tag::COASTING, p)),
             Msg::Result(None) => single(Vec::from_slice(&[tag::NO_RESULT]).unwrap_or_default()),
             Msg::Result(Some(p)) => single(point_payload(tag::RESULT, p)),
             Msg::Follow(p) => single(point_payload(tag::FOLLOW, p)),
@@ -175,6 +177,7 @@ fn single(t: u8, b: &[u8]) -> Result<Msg, DecodeError> {
         tag::APPROX => payload_point(b).map(Msg::Approx),
         tag::TRACKED => payload_point(b).map(Msg::Tracked),
         tag::LOST => payload_point(b).map(Msg::Lost),
+        tag::COASTING => payload_point(b).map(Msg::Coasting),
         tag::NO_RESULT if b.len() == 1 => Ok(Msg::Result(None)),
         tag::RESULT => payload_point(b).map(|p| Msg::Result(Some(p))),
         tag::FOLLOW => payload_point(b).map(Msg::Follow),
@@ -285,6 +288,7 @@ mod tests {
             Msg::Approx(p),
             Msg::Tracked(p),
             Msg::Lost(p),
+            Msg::Coasting(p),
             Msg::Result(None),
             Msg::Result(Some(p)),
             Msg::Follow(p),

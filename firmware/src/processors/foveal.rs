@@ -257,6 +257,12 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         matches!(&self.coop, Policy::Guarded(g) if g.coasting())
     }
 
+    /// Whether an adapting track restarts where the Peripheral found the target, its first
+    /// window still to come.
+    pub fn restarting(&self) -> bool {
+        self.handed
+    }
+
     /// Whether it is tracking.
     pub fn mode(&self) -> Mode {
         if self.tracking.is_some() {
@@ -279,7 +285,11 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         step.clear(Work::None);
         match m {
             Msg::Template(tpl) => self.set_template(tpl.clone()),
-            Msg::Approx(p) if self.tracking.is_none() => self.start(*p, false, step),
+            // An adapting track that coasts restarts where the Peripheral found the target.
+            Msg::Approx(p) if self.tracking.is_none() || (self.adapt.is_some() && self.coasting()) => {
+                self.predicted = None;
+                self.start(*p, false, step);
+            }
             Msg::Follow(p) => {
                 self.tracking = Some(*p);
                 step.ask(Some(self.params.foveal_window(*p)));
@@ -382,6 +392,9 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         if let Some(q) = chosen.is_none().then(|| self.coop.coast(t)).flatten() {
             // Nothing measured the point: look where it should be next, report nothing.
             let side = self.params.foveal + 2 * COAST_MARGIN;
+            if self.adapt.is_some() && self.predicted.is_none() {
+                step.send(Dest::Peripheral, Msg::Coasting(q));
+            }
             self.predicted = Some(q);
             if let Some(a) = self.adapt.as_mut() {
                 a.discard();
@@ -591,6 +604,40 @@ mod tests {
         let req = running.start_at(TARGET).request.unwrap();
         let s = running.on_window(&cut(&small, &req), 0.0);
         assert!(s.score.is_some_and(|v| (v - 0.447).abs() < 0.001), "{:?}", s.score);
+    }
+
+    #[test]
+    fn a_coasting_adapting_master_asks_the_peripheral_once_and_restarts_where_it_finds_the_target() {
+        let mut master = Foveal::new(FovealKind::CoopMaster, params().adaptive(), Some(template()));
+        let mut req = master.start_at(TARGET).request.unwrap();
+        // Two positions: a motion to coast with.
+        for t in [0.0, 0.01] {
+            master.on_window(&cut(&frame(Some((30, 20))), &req), t);
+            let s = master.on_message(&Msg::Result(None), t);
+            assert!(s.report.is_some());
+            req = s.request.unwrap();
+        }
+        // The block is gone: nothing measured, the track coasts; the Peripheral is told where
+        // the track expects it, on the first such window only.
+        let mut told = [None; 2];
+        for (k, t) in [0.02, 0.03].into_iter().enumerate() {
+            master.on_window(&cut(&frame(None), &req), t);
+            let s = master.on_message(&Msg::Result(None), t);
+            assert!(s.report.is_none() && s.lost.is_none() && master.coasting());
+            told[k] = s.sends.iter().find_map(|(d, m)| match m {
+                Msg::Coasting(q) if *d == Dest::Peripheral => Some(*q),
+                _ => None,
+            });
+            req = s.request.unwrap();
+        }
+        assert!(told[0].is_some() && told == [master.predicted(), None], "{told:?}");
+        // The Peripheral finds the block elsewhere: the track restarts there, as a handed-over
+        // one (the wider window, the partner told), no longer coasting.
+        let found = Point { x: 41.5, y: 31.5 };
+        let s = master.on_message(&Msg::Approx(found), 0.04);
+        assert_eq!(s.request, Some(master.params.window(found, 16 + 2 * GROW_MARGIN, Decimation::Full)));
+        assert_eq!(&s.sends[..], &[(Dest::FovealCd, Msg::Follow(found))][..]);
+        assert!(!master.coasting() && master.predicted().is_none());
     }
 
     #[test]

@@ -26,6 +26,9 @@ pub enum Msg {
     Tracked(Point),
     /// Foveal -> Peripheral: the target was lost near here.
     Lost(Point),
+    /// Adapting COOP master -> Peripheral: nothing measured the target, the track begins to
+    /// coast and expects it here; search around it and hand over what is found.
+    Coasting(Point),
     /// Watch -> others: the template acquired at lock-on.
     Template(Template),
     /// Cooperative Foveal -> master: this frame's result of the second algorithm.

@@ -115,6 +115,13 @@ impl Peripheral {
                 self.foveal_waiting = true;
                 step.ask(Some(self.params.window(at, side, Decimation::Quarter)));
             }
+            // The Foveal track begins to coast (an onset of fast motion, an occluder): the
+            // larger window around its prediction, and what it finds is handed over.
+            (Msg::Coasting(p), State::Follow { .. } | State::Search { .. } | State::Sweep { .. }) => {
+                self.foveal_waiting = true;
+                self.state = State::Search { at: *p, k: 1 };
+                step.ask(Some(self.params.window(*p, self.params.peripheral[1], Decimation::Quarter)));
+            }
             (Msg::Tracked(p), State::Follow { .. } | State::Search { .. } | State::Sweep { .. }) => {
                 self.state = State::Follow { at: *p };
                 self.foveal_waiting = false;
@@ -272,6 +279,23 @@ mod tests {
         // decimated template's (zero-mean NCC 1) at placement (48, 42), the point 3.5 px in.
         let s = p.on_window(&cut(&frame(Some((50, 44))), &whole));
         assert_eq!(&s.sends[..], &[(Dest::Foveal, Msg::Approx(Point { x: 51.5, y: 45.5 }))][..]);
+    }
+
+    #[test]
+    fn a_coasting_track_gets_the_larger_window_around_its_prediction_and_what_it_finds() {
+        let mut p = Peripheral::new(params().adaptive(), Some(template()));
+        let near = square(24, 14, 16, Decimation::Quarter);
+        p.start_at(TARGET);
+        p.on_window(&cut(&frame(Some((30, 20))), &near));
+        assert!(p.on_message(&Msg::Tracked(TARGET)).request.is_none());
+        // The Foveal track coasts, expecting the target at (39, 35): the larger (24 px) window
+        // there, columns round(39 - 11.5) = 28.., rows round(35 - 11.5) = 24..
+        let s = p.on_message(&Msg::Coasting(Point { x: 39.0, y: 35.0 }));
+        let around = square(28, 24, 24, Decimation::Quarter);
+        assert_eq!((s.request, p.mode()), (Some(around), Mode::Detect));
+        // The block, moved to (36, 30), is found there and handed over (its point 1.5 px in).
+        let s = p.on_window(&cut(&frame(Some((36, 30))), &around));
+        assert_eq!(&s.sends[..], &[(Dest::Foveal, Msg::Approx(Point { x: 37.5, y: 31.5 }))][..]);
     }
 
     #[test]

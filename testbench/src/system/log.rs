@@ -193,7 +193,9 @@ impl Recorder {
         let mode = roster.mode();
         // A coasting COOP track has no current position: its last one is not this frame's.
         let coasting = roster.coasting();
-        let tracked = if mode == Mode::Track && !coasting { self.last } else { None };
+        // Nor has a track restarting where the Peripheral found the target, before its window.
+        let restarting = roster.restarting();
+        let tracked = if mode == Mode::Track && !coasting && !restarting { self.last } else { None };
         let (state, estimate) = match mode {
             Mode::Track if coasting => (TrackState::Predicted, roster.predicted().or(self.last_seen)),
             // Re-found, with its first Foveal window still to come: still searching.

@@ -238,6 +238,11 @@ impl<'b> Roster<'b> {
         self.processors.iter().any(|p| matches!(p, Processor::Foveal(f) if f.coasting()))
     }
 
+    /// Whether a track restarts where the Peripheral found the target, its first window to come.
+    pub(super) fn restarting(&self) -> bool {
+        self.processors.iter().any(|p| matches!(p, Processor::Foveal(f) if f.restarting()))
+    }
+
     /// Where a coasting track expects the target, while it coasts.
     pub(super) fn predicted(&self) -> Option<Point> {
         self.processors.iter().find_map(|p| match p {
