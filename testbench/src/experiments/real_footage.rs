@@ -16,7 +16,7 @@ use super::ExperimentError;
 use crate::analysis::metrics::MAX_AGE;
 use crate::frames::video::{self, VideoFrames};
 use crate::frames::{FrameError, FrameSource};
-use crate::report::plot::{self, Bars};
+use crate::report::plot::{self, Bars, Chart, Series};
 use crate::system::cost::CostModel;
 use crate::system::{self, RunLog, Strategy, SystemConfig};
 use crate::units::clocks::Clocks;
@@ -256,12 +256,36 @@ pub fn figures(o: &Object, runs: &Runs, csrt: &Track) -> Figures {
     }
 }
 
+/// Largest distance the per-frame charts show, px (farther is drawn at the top).
+const CHART_PX: f64 = 20.0;
+
+/// `o`'s chart: frame by frame, the distance to CSRT's point of COOP's forward run (`ours`)
+/// and of each of `theirs` (OpenCV's other trackers), and COOP's forward-backward distance;
+/// gaps where a run has no position.
+fn distance_chart(o: &Object, ours: &Runs, theirs: &[(&str, Track)], csrt: &Track) -> Chart {
+    let series = |label: &str, a: &Track, b: &Track| Series {
+        label: label.into(),
+        points: a.iter().zip(b).enumerate().map(|(k, (p, q))| ((o.frames.0 + k) as f64, p.zip(*q).map(|(p, q)| dist(p, q)))).collect(),
+    };
+    // COOP's lines last, drawn over the others where they coincide.
+    let mut all: Vec<Series> = theirs.iter().map(|(label, t)| series(label.trim_start_matches("OpenCV "), t, csrt)).collect();
+    all.extend([series("COOP", &ours.forward, csrt), series("COOP fwd-bwd", &ours.forward, &ours.backward)]);
+    Chart {
+        title: format!("{}: distance to CSRT's point, and COOP's forward-backward (px)", o.id()),
+        x_label: "frame".into(),
+        y_label: "px (gaps: no position)".into(),
+        series: all,
+        y_range: Some((0.0, CHART_PX)),
+    }
+}
+
 /// The evaluation on the clips in `clips`: writes `real-footage.csv` and a chart into `dir`
 /// and returns the markdown.
 pub fn evaluate(dir: &Path, clips: &Path, progress: &mut dyn FnMut(&str)) -> Result<String, ExperimentError> {
     let objects = objects()?;
     let labels: Vec<&str> = std::iter::once("COOP").chain(OPENCV.iter().map(|o| o.0)).collect();
     let mut table: Vec<Vec<Figures>> = Vec::new();
+    let mut charts = Vec::new();
     let mut clip: Option<(String, Clip)> = None;
     for o in &objects {
         progress(&o.id());
@@ -270,11 +294,18 @@ pub fn evaluate(dir: &Path, clips: &Path, progress: &mut dyn FnMut(&str)) -> Res
         }
         let Some((_, decoded)) = &clip else { continue };
         let csrt = opencv_runs(o, "csrt")?.forward;
-        let mut row = vec![figures(o, &decoded.runs(o)?, &csrt)];
-        for (_, file) in OPENCV {
-            row.push(figures(o, &opencv_runs(o, file)?, &csrt));
+        let ours = decoded.runs(o)?;
+        let mut row = vec![figures(o, &ours, &csrt)];
+        let mut theirs = Vec::new();
+        for (label, file) in OPENCV {
+            let runs = opencv_runs(o, file)?;
+            row.push(figures(o, &runs, &csrt));
+            if file != "csrt" {
+                theirs.push((label, runs.forward));
+            }
         }
         table.push(row);
+        charts.push(distance_chart(o, &ours, &theirs, &csrt));
     }
     let mut csv = String::from("object,tracker,frames,positions,csrt_frames,positions_where_csrt,fb_first_px,fb_mean_px,csrt_mean_px,csrt_within5_pct\n");
     let mut md = String::from(
@@ -332,6 +363,9 @@ pub fn evaluate(dir: &Path, clips: &Path, progress: &mut dyn FnMut(&str)) -> Res
         y_range: (0.0, 100.0),
     };
     plot::write_svg(&chart.svg(), dir, "real-footage")?;
-    md.push_str("\nFiles: `real-footage.csv`, `real-footage.svg`, `real-footage.png`. OpenCV columns come from `fixtures/opencv/footage/` (`scripts/opencv_footage.py`).\n");
+    for (o, chart) in objects.iter().zip(&charts) {
+        plot::write(chart, dir, &format!("real-footage-{}", o.id()))?;
+    }
+    md.push_str("\nFiles: `real-footage.csv`, `real-footage.svg`, `real-footage.png`, and per object `real-footage-OBJECT.svg`/`.png`: the distance to CSRT's point frame by frame. OpenCV columns come from `fixtures/opencv/footage/` (`scripts/opencv_footage.py`).\n");
     Ok(md)
 }
