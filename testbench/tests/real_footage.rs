@@ -61,11 +61,12 @@ fn coop_on_the_opencv_doc_clips_holds_the_rigid_objects_as_csrt_does() {
         let (_, clip) = decoded.as_ref().expect("decoded");
         let csrt_runs = opencv_runs(&o, "csrt").expect("CSRT fixture");
         let csrt = &csrt_runs.forward;
-        let f = figures(&o, &clip.runs(&o).expect("runs"), csrt);
+        let forward = clip.forward_log(&o).expect("runs");
         // The earring is lost in a fast pan and found again at once: a re-found frame's row.
         if o.id() == "Megamind-earring" {
-            common::assert_rows_are_honest(&o.id(), &clip.forward_log(&o).expect("runs"));
+            common::assert_rows_are_honest(&o.id(), &forward);
         }
+        let f = figures(&o, &clip.runs_from(&o, &forward).expect("runs"), csrt);
         let (_, measured) = MEASURED.iter().copied().find(|m| m.0 == o.id()).expect("a measured figure");
         eprintln!("{}: {f:?}", o.id());
         assert!(f.positions * 10 >= measured * 9, "{}: {} positions of {}, measured {measured}", o.id(), f.positions, f.frames);

@@ -239,7 +239,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     /// Starts tracking at `p`: the tracked point itself when `exact`, otherwise the
     /// Peripheral's approximate location.
     fn start(&mut self, p: Point, exact: bool, step: &mut Step) {
-        self.tracking = Some(p);
+        (self.tracking, self.predicted) = (Some(p), None);
         (self.aimed, self.miss) = (None, 0.0);
         self.handed = !exact && self.adapt.is_some();
         self.coop.begin(p, exact);
@@ -286,10 +286,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         match m {
             Msg::Template(tpl) => self.set_template(tpl.clone()),
             // An adapting track that coasts restarts where the Peripheral found the target.
-            Msg::Approx(p) if self.tracking.is_none() || (self.adapt.is_some() && self.coasting()) => {
-                self.predicted = None;
-                self.start(*p, false, step);
-            }
+            Msg::Approx(p) if self.tracking.is_none() || (self.adapt.is_some() && self.coasting()) => self.start(*p, false, step),
             Msg::Follow(p) => {
                 self.tracking = Some(*p);
                 step.ask(Some(self.params.foveal_window(*p)));

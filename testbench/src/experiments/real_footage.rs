@@ -180,16 +180,6 @@ impl Clip {
         system::simulate(&cfg, &mut source, &mut |_| {}).map_err(ExperimentError::Run)
     }
 
-    /// [`Clip::simulate`]'s trusted position of each frame.
-    fn track(&self, frames: impl Iterator<Item = usize>, start: (f64, f64), side: u16) -> Result<Track, ExperimentError> {
-        let log = self.simulate(frames, start, side)?;
-        Ok(log
-            .frames
-            .iter()
-            .map(|r| r.point.filter(|_| r.measured_frame.is_some_and(|m| m <= r.frame && r.frame - m <= MAX_AGE)))
-            .collect())
-    }
-
     /// `track`'s forward run on `o`, as its log.
     pub fn forward_log(&self, o: &Object) -> Result<RunLog, ExperimentError> {
         let (first, last) = o.frames;
@@ -198,12 +188,17 @@ impl Clip {
 
     /// `track`'s forward and backward runs on `o`.
     pub fn runs(&self, o: &Object) -> Result<Runs, ExperimentError> {
+        self.runs_from(o, &self.forward_log(o)?)
+    }
+
+    /// `track`'s runs on `o` from its forward run's log `forward` ([`Clip::forward_log`]): the
+    /// backward run is made from where it ends.
+    pub fn runs_from(&self, o: &Object, forward: &RunLog) -> Result<Runs, ExperimentError> {
         let (first, last) = o.frames;
-        let side = o.side();
-        let forward = self.track(first..=last, o.centre(), side)?;
+        let forward = trusted(forward);
         let backward = match forward.last().copied().flatten() {
             Some(end) => {
-                let mut back = self.track((first..=last).rev(), end, side)?;
+                let mut back = trusted(&self.simulate((first..=last).rev(), end, o.side())?);
                 back.reverse();
                 back
             }
@@ -211,6 +206,11 @@ impl Clip {
         };
         Ok(Runs { forward, backward })
     }
+}
+
+/// A run's trusted position of each frame (`ok` 1 in `track`'s CSV).
+fn trusted(log: &RunLog) -> Track {
+    log.frames.iter().map(|r| r.point.filter(|_| r.measured_frame.is_some_and(|m| m <= r.frame && r.frame - m <= MAX_AGE))).collect()
 }
 
 /// A tracker's figures on an object (see the module documentation).
