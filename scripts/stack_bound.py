@@ -23,7 +23,9 @@ Method.
   an indirect call, `bx rN` (not `lr`) an indirect tail call.
 * Indirect calls go to functions whose address is taken: a word of .rodata, .data or a
   literal pool in .text, or a `movw`/`movt` pair, equal to a function's address with the
-  Thumb bit set (the vector table's entries are called by the hardware, not by `blx`).
+  Thumb bit set (the vector table's entries are called by the hardware, not by `blx`). A
+  data word counts where function pointers sit (a vtable, a table: `pointer_slot`), not
+  where an isolated one happens to equal an address inside other data.
   Every indirect call site may call every such function: sound as long as no code address
   is computed otherwise, coarse otherwise.
 * Bound(f) = max(deepest point of f, max over its call sites (depth there + Bound(callee))).
@@ -308,6 +310,30 @@ def written(base, op, args):
 
 
 # ----------------------------------------------------------------------------- the call graph
+def pointer_slot(blob, o, starts):
+    """Whether the data word at `o` (a function's address with the Thumb bit) sits where code
+    keeps function pointers: in a Rust vtable (`[drop_in_place or 0, size, align, methods..]`:
+    a method after the header and the methods before it, or the drop entry before size and
+    align), or beside another function's address (a table). Only an isolated word that
+    happens to equal an address, inside other data (core's Unicode tables hold such bytes),
+    is not."""
+    def word(k):
+        return struct.unpack_from("<I", blob, k)[0] if 0 <= k <= len(blob) - 4 else None
+
+    def fn(v):
+        return v is not None and v & 1 and v - 1 in starts
+
+    def size_align(size, align):
+        return align in (1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096) and \
+            size is not None and size % align == 0 and size < 1 << 24
+
+    if fn(word(o - 4)) or fn(word(o + 4)):
+        return True
+    drop = word(o - 12)
+    return (size_align(word(o - 8), word(o - 4)) and (drop == 0 or fn(drop))) or \
+        size_align(word(o + 4), word(o + 8))
+
+
 def address_taken(secs, names, body):
     """{function: set of places its address (Thumb bit set) is found}."""
     starts, taken = set(names), defaultdict(set)
@@ -315,7 +341,7 @@ def address_taken(secs, names, body):
         addr, blob = secs.get(sec, (0, b""))
         for o in range(0, len(blob) - 3, 4):
             v, = struct.unpack_from("<I", blob, o)
-            if v & 1 and v - 1 in starts:
+            if v & 1 and v - 1 in starts and (sec == ".vector_table" or pointer_slot(blob, o, starts)):
                 taken[v - 1].add(sec)
     for insns in body.values():
         half = {}

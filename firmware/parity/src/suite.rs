@@ -245,9 +245,9 @@ pub fn run_watch<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), S
 
 /// Where the Peripheral scenarios lose the object: a corner of the frame far from it.
 const LOST_AT: Point = Point { x: 20.0, y: 236.0 };
-/// Most windows a Peripheral scenario runs (an adapting sweep's nine tiles after its two
-/// sizes, and a spare).
-const PERIPHERAL_STEPS: u16 = 12;
+/// Most windows a Peripheral scenario runs (an adapting sweep's 40x40 window, then its 64x64
+/// window and nine tiles, each twice for its two looks, and a spare).
+const PERIPHERAL_STEPS: u16 = 22;
 
 /// The Peripheral processor (2.3.2) on the Watch's benchmark frame `watch_next`: its template
 /// captured there at the centre of the Watch's motion (as `Watch` captures it), then
@@ -255,8 +255,9 @@ const PERIPHERAL_STEPS: u16 = 12;
 ///   approximate location for the Foveal window (SSD at 25 %);
 /// * `peripheral_lost`: the thesis's Detection mode after a loss far from the object: the 40x40
 ///   and 64x64 windows there, then back to waiting for motion;
-/// * `peripheral_sweep`: an adapting track's re-detection after the same loss (zero-mean NCC,
-///   the two sizes, then the frame's 128x128 tiles, 64x64 samples each, until it is found).
+/// * `peripheral_sweep`: an adapting track's re-detection after the same loss (zero-mean NCC of
+///   the first template and the last trusted one, the same look; the two sizes, then the
+///   frame's 128x128 tiles, 64x64 samples each, searched by candidates, until it is found).
 fn peripheral_steps<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
     let prev = image("watch_prev", inputs::WATCH_PREV)?;
     let next = image("watch_next", inputs::WATCH_NEXT)?;
@@ -265,12 +266,15 @@ fn peripheral_steps<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<()
     let centre = Point { x: (a.xmin + a.xmax) as f32 / 2.0, y: (a.ymin + a.ymax) as f32 / 2.0 };
     let tpl = Template::capture(&next, centre, usize::from(params.template)).ok_or(SuiteError::Template)?;
     let motion = Msg::Motion { xmin: a.xmin as u16, xmax: a.xmax as u16, ymin: a.ymin as u16, ymax: a.ymax as u16 };
-    peripheral_run(out, meter, "peripheral_lockon", Peripheral::new(params, Some(tpl.clone())), &motion, &next)?;
-    peripheral_run(out, meter, "peripheral_lost", Peripheral::new(params, Some(tpl.clone())), &Msg::Lost(LOST_AT), &next)?;
-    peripheral_run(out, meter, "peripheral_sweep", Peripheral::new(params.adaptive(), Some(tpl)), &Msg::Lost(LOST_AT), &next)
+    peripheral_run(out, meter, "peripheral_lockon", Peripheral::new(params, Some(tpl.clone())), &[motion], &next)?;
+    peripheral_run(out, meter, "peripheral_lost", Peripheral::new(params, Some(tpl.clone())), &[Msg::Lost(LOST_AT)], &next)?;
+    // The last look an adapting track trusted, sent on its loss (the same look here): a sweep
+    // matches both templates, its worst cost.
+    let lost = [Msg::Lost(LOST_AT), Msg::Template(tpl.clone())];
+    peripheral_run(out, meter, "peripheral_sweep", Peripheral::new(params.adaptive(), Some(tpl)), &lost, &next)
 }
 
-/// Runs `p` from the message `start` on the windows it asks for, cut from `frame` as the unit
+/// Runs `p` from the messages `start` on the windows it asks for, cut from `frame` as the unit
 /// delivers them, until it hands a location to the Foveal processor or asks for none; a line a
 /// window: `{name} K win=X0,Y0,WxH placements=N approx=X,Y` (or `approx=none`). Each window is
 /// metered as `name`.
@@ -280,10 +284,13 @@ fn peripheral_run<W: Write, M: Meter>(
     meter: &mut M,
     name: &str,
     mut p: Peripheral,
-    start: &Msg,
+    start: &[Msg],
     frame: &WindowView<'_>,
 ) -> Result<(), SuiteError> {
-    let mut want = p.on_message(start).request;
+    let mut want = None;
+    for m in start {
+        want = p.on_message(m).request.or(want);
+    }
     for k in 0..PERIPHERAL_STEPS {
         let Some(r) = want else { break };
         let full = frame.sub(usize::from(r.x0), usize::from(r.y0), usize::from(r.width), usize::from(r.height));

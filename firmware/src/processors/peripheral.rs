@@ -11,7 +11,7 @@ use super::messages::{Dest, Msg};
 use super::params::{Params, REDETECT_MIN};
 use super::step::{placements, Mode, Step, Work};
 use super::template::Template;
-use crate::kernels::matching::{best_match, Method};
+use crate::kernels::matching::{best_match, best_match_candidates, Method, CANDIDATES_FROM};
 use crate::kernels::view::WindowView;
 use crate::types::{Decimation, Point, WindowRequest};
 
@@ -30,7 +30,9 @@ fn locate(win: &WindowView<'_>, tpl: &Template, p: &Params) -> (Option<(Point, f
     let dt = full.decimated();
     let tn = (dt.width() * dt.height()) as u32;
     let work = Work::Match { method, template: tn, placements: placements(win, n, 2) };
-    let Ok(m) = best_match(method, win, &dt) else { return (None, work) };
+    // An adapting track's windows reach a sweep's 128x128 tiles: their cost stays bounded.
+    let searched = if p.adapt { best_match_candidates(method, win, &dt) } else { best_match(method, win, &dt) };
+    let Ok(m) = searched else { return (None, work) };
     let (found, badness) = match method {
         Method::Zncc => (m.score as f32 >= REDETECT_MIN, -(m.score as f32)),
         _ => {
@@ -64,19 +66,23 @@ pub struct Peripheral {
     /// When set, it also tells the Foveal processor every location, not only on loss: the
     /// thesis's lock-on sequence L2 -> L3.
     foveal_waiting: bool,
+    /// The window last asked for: a wide one is asked again for its second look.
+    asked: Option<WindowRequest>,
+    /// The window in hand is a wide one's repeat, for its second look (the first template).
+    second_look: bool,
 }
 
 impl Peripheral {
     /// A Peripheral processor, with the template if it is known in advance.
     pub fn new(params: Params, template: Option<Template>) -> Self {
-        Peripheral { template, recent: None, state: State::Idle, params, foveal_waiting: true }
+        Peripheral { template, recent: None, state: State::Idle, params, foveal_waiting: true, asked: None, second_look: false }
     }
 
     /// Starts searching at `p` (used when the target is given).
     pub fn start_at(&mut self, p: Point) -> Step {
         self.state = State::Search { at: p, k: 0 };
         let mut step = Step::new(Work::None);
-        step.ask(Some(self.params.window(p, self.params.peripheral[0], Decimation::Quarter)));
+        self.ask(&mut step, self.params.window(p, self.params.peripheral[0], Decimation::Quarter));
         step
     }
 
@@ -113,14 +119,14 @@ impl Peripheral {
                 let side = span.clamp(self.params.peripheral[0], 128);
                 self.state = State::Search { at, k: 0 };
                 self.foveal_waiting = true;
-                step.ask(Some(self.params.window(at, side, Decimation::Quarter)));
+                self.ask(&mut step, self.params.window(at, side, Decimation::Quarter));
             }
             // The Foveal track begins to coast (an onset of fast motion, an occluder): the
             // larger window around its prediction, and what it finds is handed over.
             (Msg::Coasting(p), State::Follow { .. } | State::Search { .. } | State::Sweep { .. }) => {
                 self.foveal_waiting = true;
                 self.state = State::Search { at: *p, k: 1 };
-                step.ask(Some(self.params.window(*p, self.params.peripheral[1], Decimation::Quarter)));
+                self.ask(&mut step, self.params.window(*p, self.params.peripheral[1], Decimation::Quarter));
             }
             (Msg::Tracked(p), State::Follow { .. } | State::Search { .. } | State::Sweep { .. }) => {
                 self.state = State::Follow { at: *p };
@@ -135,11 +141,18 @@ impl Peripheral {
             (Msg::Lost(p), _) => {
                 self.foveal_waiting = true;
                 self.state = State::Search { at: *p, k: 0 };
-                step.ask(Some(self.params.window(*p, self.params.peripheral[0], Decimation::Quarter)));
+                self.ask(&mut step, self.params.window(*p, self.params.peripheral[0], Decimation::Quarter));
             }
             _ => {}
         }
         step
+    }
+
+    /// Asks for window `r` (its first look, if it is wide).
+    fn ask(&mut self, step: &mut Step, r: WindowRequest) {
+        self.asked = Some(r);
+        self.second_look = false;
+        step.ask(Some(r));
     }
 
     /// The tiles of the sweep: a grid of [`SWEEP_SIDE`] windows over the frame, overlapping
@@ -172,25 +185,41 @@ impl Peripheral {
             self.state = State::Idle;
             return Step::new(Work::None);
         };
-        let (mut found, mut work) = locate(win, tpl, &self.params);
-        if let Some(recent) = &self.recent {
-            // The better of the first and the last trusted look; the work of both.
-            let (other, w) = locate(win, recent, &self.params);
-            if other.is_some_and(|o| found.is_none_or(|f| o.1 < f.1)) {
+        // The better of the first and the last trusted look, and the work of both; but a wide
+        // window (a sweep's tile, 64x64) gets one look a frame, so that a frame's work stays
+        // bounded: the last trusted look first, then the same window again for the first.
+        let wide = self.params.adapt && placements(win, tpl.side(), 2) as usize > CANDIDATES_FROM;
+        let looks = match (&self.recent, wide, self.second_look) {
+            (Some(recent), true, false) => [Some(recent), None],
+            (Some(_), true, true) => [Some(tpl), None],
+            (recent, ..) => [Some(tpl), recent.as_ref()],
+        };
+        let again = wide && self.recent.is_some() && !self.second_look;
+        let (mut found, mut work) = (None, Work::None);
+        for look in looks.into_iter().flatten() {
+            let (other, w) = locate(win, look, &self.params);
+            if other.is_some_and(|o| found.is_none_or(|f: (Point, f32)| o.1 < f.1)) {
                 found = other;
             }
-            if let (Work::Match { placements, .. }, Work::Match { placements: more, .. }) = (&mut work, w) {
-                *placements += more;
-            }
+            work = match (work, w) {
+                (Work::Match { method, template, placements }, Work::Match { placements: more, .. }) => Work::Match { method, template, placements: placements + more },
+                (Work::None, w) => w,
+                (w, _) => w,
+            };
         }
         let found = found.map(|f| f.0);
         let mut step = Step::new(work);
+        if let (None, true, Some(same)) = (found, again, self.asked) {
+            self.second_look = true;
+            step.ask(Some(same));
+            return step;
+        }
         let side = |k: usize| self.params.peripheral[k.min(1)];
         match (found, self.state) {
             (Some(p), _) => {
                 let was_waiting = self.foveal_waiting;
                 self.state = State::Follow { at: p };
-                step.ask(Some(self.params.window(p, side(0), Decimation::Quarter)));
+                self.ask(&mut step, self.params.window(p, side(0), Decimation::Quarter));
                 if was_waiting {
                     self.foveal_waiting = false;
                     step.send(Dest::Foveal, Msg::Approx(p));
@@ -198,22 +227,22 @@ impl Peripheral {
             }
             (None, State::Follow { at }) => {
                 self.state = State::Search { at, k: 0 };
-                step.ask(Some(self.params.window(at, side(0), Decimation::Quarter)));
+                self.ask(&mut step, self.params.window(at, side(0), Decimation::Quarter));
             }
             (None, State::Search { at, k }) if k < 1 => {
                 self.state = State::Search { at, k: k + 1 };
-                step.ask(Some(self.params.window(at, side(k + 1), Decimation::Quarter)));
+                self.ask(&mut step, self.params.window(at, side(k + 1), Decimation::Quarter));
             }
             (None, State::Search { at, .. }) if self.params.adapt => {
                 let tile = self.tile_of(at);
                 self.state = State::Sweep { tile: tile + 1 };
-                step.ask(Some(self.tile_window(tile)));
+                self.ask(&mut step, self.tile_window(tile));
             }
             (None, State::Sweep { tile }) => {
                 let (cols, rows, ..) = self.tiles();
                 let tile = tile % (cols * rows);
                 self.state = State::Sweep { tile: tile + 1 };
-                step.ask(Some(self.tile_window(tile)));
+                self.ask(&mut step, self.tile_window(tile));
             }
             (None, _) => {
                 // Both Detection sizes failed: back to waiting for the Watch processor.

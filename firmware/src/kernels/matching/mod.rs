@@ -22,6 +22,7 @@
 //! neighbours' scores (`subpixel.rs`). The dot products that dominate the cost are in `dot.rs`
 //! (how they are fast), the scores from running sums in `scores.rs`.
 
+mod candidates;
 mod dot;
 mod elimination;
 mod scores;
@@ -31,6 +32,7 @@ mod tests;
 
 use crate::kernels::view::WindowView;
 use heapless::Vec;
+pub use candidates::{best_match_candidates, CANDIDATES, CANDIDATES_FROM};
 use elimination::search;
 use scores::{for_each_score, placements, sums_at, Ranked, Scorer, Sums};
 pub(crate) use subpixel::parabola;

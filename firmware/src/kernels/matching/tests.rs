@@ -414,3 +414,46 @@ fn one_placement_scores_as_the_map_does() {
         assert_eq!(score_at(method, &wv, &tv, (nx, 0)), Err(MatchError::TemplateLarger));
     }
 }
+
+/// The candidates' search finds what the full search finds. Reference: `best_match` over
+/// every placement. A 128x128 tile of smooth texture at 25 % (64x64 samples, 3,025 placements
+/// of a 10x10 template, as an adapting Peripheral's sweep), the template cut at even and odd
+/// sample offsets; then with three fainter copies of it elsewhere (look-alikes, each the
+/// template mixed 3:1 with other texture), which must not displace it. A window of at most
+/// `CANDIDATES_FROM` placements is the full search itself, and a flat template the same error.
+#[test]
+fn the_candidates_find_what_the_full_search_finds() {
+    let same = |a: Match, b: Match| {
+        (a.x, a.y, a.score) == (b.x, b.y, b.score) && (a.frame_x - b.frame_x).abs() < 1e-3 && (a.frame_y - b.frame_y).abs() < 1e-3
+    };
+    fn tile(w: &[u8]) -> WindowView<'_> {
+        WindowView::new(w, 128, 128, 128, 108, 128).unwrap().decimated()
+    }
+    let cut = |w: &[u8], tx: usize, ty: usize| -> std::vec::Vec<u8> { (0..400).map(|k| w[(ty + k / 20) * 128 + tx + k % 20]).collect() };
+    let mut w = smooth_noise(128, 128, 11);
+    for (sx, sy) in [(0, 0), (1, 0), (27, 9), (54, 54), (31, 17), (7, 40), (44, 3)] {
+        let t = cut(&w, 2 * sx, 2 * sy);
+        let tv = v(&t, 20, 20).decimated();
+        let full = best_match(Method::Zncc, &tile(&w), &tv).unwrap();
+        let found = best_match_candidates(Method::Zncc, &tile(&w), &tv).unwrap();
+        assert_eq!((full.x, full.y), (2 * sx, 2 * sy));
+        assert!(same(found, full), "template at samples ({sx}, {sy}): {found:?} {full:?}");
+    }
+    let t = cut(&w, 60, 30);
+    let other = smooth_noise(20, 20, 5);
+    for (x0, y0) in [(4, 80), (90, 90), (100, 6)] {
+        for k in 0..400 {
+            let p = &mut w[(y0 + k / 20) * 128 + x0 + k % 20];
+            *p = ((3 * u16::from(t[k]) + u16::from(other[k])) / 4) as u8;
+        }
+    }
+    let tv = v(&t, 20, 20).decimated();
+    let (full, found) = (best_match(Method::Zncc, &tile(&w), &tv).unwrap(), best_match_candidates(Method::Zncc, &tile(&w), &tv).unwrap());
+    assert_eq!((full.x, full.y), (60, 30));
+    assert!(same(found, full), "with look-alikes: {found:?} {full:?}");
+    // 40x40 at 25 %: 11x11 placements, fewer than CANDIDATES_FROM.
+    let small = WindowView::new(&w, 40, 40, 128, 0, 0).unwrap().decimated();
+    assert_eq!(best_match_candidates(Method::Zncc, &small, &tv), best_match(Method::Zncc, &small, &tv));
+    let flat = [9u8; 400];
+    assert_eq!(best_match_candidates(Method::Zncc, &tile(&w), &v(&flat, 20, 20).decimated()), Err(MatchError::ZeroEnergy));
+}
