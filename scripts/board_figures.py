@@ -56,7 +56,7 @@ WHAT = {
     "watch_strip": "differencing, one 256x64 strip of it (a Watch strip processor)",
     "peripheral_lockon": "a Peripheral window: the processor's lock-on, SSD at 25 % (10x10 in 22x22)",
     "peripheral_lost": "its Detection-mode search after a loss (SSD, 10x10 in 20x20, then 32x32)",
-    "peripheral_sweep": "an adapting re-detection (zero-mean NCC at 25 %, 10x10 in 20x20 to 64x64)",
+    "peripheral_sweep": "an adapting re-detection (zero-mean NCC at 25 %, 10x10 in 20x20 to 64x64, two looks)",
     "corner_20": "corner detector, 20x20 (ch. 3)",
     "corner_24": "corner detector, 24x24",
     "corner_24_literal": "the thesis's rules only (no line fit), 24x24",
@@ -228,9 +228,10 @@ def per_processor(p, partner, peripheral, watch, master):
             "`Watch` captures it: the thesis's lock-on (`peripheral_lockon`: the motion area to a "
             "location for the Foveal window), its Detection mode after a loss far from the object "
             "(`peripheral_lost`: 40x40, then 64x64, then back to waiting for motion), and an adapting "
-            "track's re-detection after the same loss (`peripheral_sweep`: zero-mean NCC, the two sizes, "
-            "then the frame's 128x128 tiles, 64x64 samples each, the largest window it matches, until it "
-            f"finds the object). Its {f['lines']} result lines equal `expected.txt`'s; "
+            "track's re-detection after the same loss (`peripheral_sweep`: zero-mean NCC of its first "
+            "template and of the last one the track trusted, the two sizes, then the frame's 128x128 "
+            "tiles, 64x64 samples each, the largest window it matches, until it finds the object). "
+            f"Its {f['lines']} result lines equal `expected.txt`'s; "
             "`the_peripheral_alone_answers_as_in_the_suite_and_finds_the_object` holds the host to the "
             "same and checks each location it hands over against a brute-force search of the decimated "
             "template and against the motion area."))
@@ -240,11 +241,15 @@ def per_processor(p, partner, peripheral, watch, master):
             para(f"A thesis Peripheral window (its arrival to its answer, SSD) takes at most {max(wins):,} "
                  f"instructions over the lock-on's and the search's {len(wins)} windows: a "
                  f"{FRAME / (max(wins) / HZ):.1f}x margin on the 8.8 ms period at one cycle per "
-                 f"instruction. An adapting sweep's windows take up to {max(sweep):,} "
-                 f"({fmt_t(max(sweep) / HZ)} at 168 MHz, {max(sweep) / HZ / FRAME:.1f} frame periods): "
-                 "zero-mean NCC over 64x64 samples (ranked in single precision, in 128-bit integers on "
-                 "near-ties); a sweep runs only "
-                 "after both sizes failed, one tile a window, and the Foveal track waits for it either way.")
+                 f"instruction. An adapting re-detection's windows take up to {max(sweep):,} "
+                 f"({fmt_t(max(sweep) / HZ)} at 168 MHz), a {FRAME / (max(sweep) / HZ):.1f}x margin: "
+                 "a window of more than 256 placements (the 64x64 window, a sweep's tiles) is searched "
+                 "by candidates (`kernels/matching/candidates.rs`: every placement at half its "
+                 "resolution, the best four at full) and gets one look a frame, the last trusted "
+                 "template first and the first template on the same window the next frame. Scoring "
+                 "every placement, as before, a tile's one look took 2,084,920 (1.4 frame periods), "
+                 "and both looks were matched on every window. The 40x40 window still takes both "
+                 "looks at once.")
             p()
     if watch:
         run, _, _ = one_image(p, watch, "Watch image", lambda f: (

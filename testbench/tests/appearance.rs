@@ -22,7 +22,7 @@ const MEASURED: [(&str, f64, f64); 7] = [
     ("centre-tilt", 0.066, 0.0),
     ("centre-shadow", 0.156, 0.0),
     ("centre-blur", 0.216, 0.0),
-    ("centre-cover", 0.067, 0.8),
+    ("centre-cover", 0.067, 1.5),
     ("centre-combined", 0.284, 0.0),
 ];
 

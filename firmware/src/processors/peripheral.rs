@@ -6,7 +6,9 @@
 //! matches by zero-mean NCC (blind to the light's gain and offset) both the first template
 //! and the last one the Foveal track trusted (sent on a loss), and when the two growing
 //! windows fail it sweeps the frame at 25 % in [`SWEEP_SIDE`] tiles, one a window, until the
-//! object is found, instead of waiting for motion.
+//! object is found, instead of waiting for motion. Its wide windows (the 64x64 one, the tiles)
+//! are searched by candidates ([`best_match_candidates`]) and get one look a frame, so that no
+//! frame's work exceeds a fraction of the frame period (issue 22).
 use super::messages::{Dest, Msg};
 use super::params::{Params, REDETECT_MIN};
 use super::step::{placements, Mode, Step, Work};
@@ -31,7 +33,7 @@ fn locate(win: &WindowView<'_>, tpl: &Template, p: &Params) -> (Option<(Point, f
     let tn = (dt.width() * dt.height()) as u32;
     let work = Work::Match { method, template: tn, placements: placements(win, n, 2) };
     // An adapting track's windows reach a sweep's 128x128 tiles: their cost stays bounded.
-    let searched = if p.adapt { best_match_candidates(method, win, &dt) } else { best_match(method, win, &dt) };
+    let searched = if p.adapt { best_match_candidates(win, &dt) } else { best_match(method, win, &dt) };
     let Ok(m) = searched else { return (None, work) };
     let (found, badness) = match method {
         Method::Zncc => (m.score as f32 >= REDETECT_MIN, -(m.score as f32)),
@@ -256,7 +258,7 @@ impl Peripheral {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::processors::testing::{cut, frame, params, square, template, TARGET};
+    use crate::processors::testing::{cut, frame, params, square, template, SIDE, TARGET};
 
     #[test]
     fn motion_locks_on_hands_the_location_over_and_the_window_grows_when_lost() {
@@ -308,6 +310,31 @@ mod tests {
         // decimated template's (zero-mean NCC 1) at placement (48, 42), the point 3.5 px in.
         let s = p.on_window(&cut(&frame(Some((50, 44))), &whole));
         assert_eq!(&s.sends[..], &[(Dest::Foveal, Msg::Approx(Point { x: 51.5, y: 45.5 }))][..]);
+    }
+
+    #[test]
+    fn a_wide_window_gets_one_look_a_frame_the_last_trusted_first() {
+        let mut p = Peripheral::new(params().adaptive(), Some(template()));
+        // The last trusted look, a light block's negative (a dark block on light): it finds
+        // nothing where the first look finds the block (zero-mean NCC -1 against 1).
+        let negative: std::vec::Vec<u8> = frame(Some((30, 20))).iter().map(|&v| 250 - v).collect();
+        let recent = Template::capture(&WindowView::packed(&negative, SIDE, SIDE).unwrap(), TARGET, 8).unwrap();
+        let near = square(24, 14, 16, Decimation::Quarter);
+        p.on_message(&Msg::Lost(TARGET));
+        p.on_message(&Msg::Template(recent));
+        // The two sizes (25 and 81 placements of the 4x4 samples at 25 %) take both looks at once.
+        let (blank, far, whole) = (frame(None), square(20, 10, 24, Decimation::Quarter), square(0, 0, 64, Decimation::Quarter));
+        let looks = |placements| Work::Match { method: Method::Zncc, template: 16, placements };
+        let s = p.on_window(&cut(&blank, &near));
+        assert_eq!((s.request, s.work), (Some(far), looks(2 * 25)));
+        assert_eq!(p.on_window(&cut(&blank, &far)).request, Some(whole));
+        // The sweep's tile (29x29 = 841 placements) is wide: the last trusted look alone, which
+        // misses the block, then the same tile again for the first look, which finds it.
+        let block = frame(Some((50, 44)));
+        let s = p.on_window(&cut(&block, &whole));
+        assert_eq!((s.request, s.sends.len(), s.work), (Some(whole), 0, looks(841)));
+        let s = p.on_window(&cut(&block, &whole));
+        assert_eq!((&s.sends[..], s.work), (&[(Dest::Foveal, Msg::Approx(Point { x: 51.5, y: 45.5 }))][..], looks(841)));
     }
 
     #[test]

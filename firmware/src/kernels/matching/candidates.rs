@@ -8,15 +8,17 @@
 //! ranked (784 of 25 pixels), and the [`CANDIDATES`] best of them, apart from one another,
 //! are searched at full resolution within [`REACH`] of the two placements each stands for.
 //! Unlike [`super::best_match_pyramid`] (a tracker's window, whose centre is searched too)
-//! there is no prior: the object may be anywhere in the window, beside look-alikes.
-use super::scores::{for_each_score, placements, Ranked, Scorer, Sums};
-use super::{best_match_near, halve, near_range, rank_all, search_packed, with_packed, Match, MatchError, Method, NearRange, HALF_TEMPLATE_PIXELS, MAX_PACKED_PIXELS, SUMS_CACHE};
+//! there is no prior: the object may be anywhere in the window, beside look-alikes. A tile's
+//! look now takes at most 446,360 instructions (`docs/firmware-target.md`).
+use super::dot::dot_products;
+use super::scores::{placements, zncc_rank, Ranked, Scorer, Sums};
+use super::{best_match_near, halve, near_range, rank_all, search_packed, with_packed, Match, MatchError, Method, NearRange, HALF_TEMPLATE_PIXELS, MAX_PACKED_PIXELS, MAX_SEARCH_WIDTH, SCORE_CACHE, SUMS_CACHE};
 use crate::kernels::view::WindowView;
 use heapless::Vec;
 
 /// Half-resolution placements searched at full resolution: the best one and three
-/// look-alikes (a full search and this one agree on every tile of the board suite's sweep and
-/// on the planted objects of the unit tests).
+/// look-alikes (the unit tests plant three beside the object; the board suite's sweep hands
+/// over the brute-force best placement).
 pub const CANDIDATES: usize = 4;
 
 /// Full-resolution placements searched on each side of the two a candidate stands for: a
@@ -28,39 +30,83 @@ const REACH: usize = 1;
 /// 32x32 windows (529) and more; the 40x40 window's 20x20 samples (121) in full.
 pub const CANDIDATES_FROM: usize = 256;
 
-/// [`super::best_match`] (strided views are packed) with a bounded cost: a window of more than
-/// [`CANDIDATES_FROM`] placements is searched by candidates (the module docs), a smaller one,
-/// or one whose halves cannot be scored (a template flat at half resolution), in full. The
-/// result is in `win`'s frame, as `best_match`'s, and is the full search's wherever its best
-/// placement lies within [`REACH`] of a candidate's.
-pub fn best_match_candidates(method: Method, win: &WindowView<'_>, tpl: &WindowView<'_>) -> Result<Match, MatchError> {
+/// [`super::best_match`] by zero-mean NCC (strided views are packed) with a bounded cost: a
+/// window of more than [`CANDIDATES_FROM`] placements is searched by candidates (the module
+/// docs), a smaller one, or one whose halves cannot be ranked (a template flat at half
+/// resolution), in full. The result is in `win`'s frame, as `best_match`'s, and is the full
+/// search's wherever its best placement lies within `REACH` (1) of a candidate's.
+pub fn best_match_candidates(win: &WindowView<'_>, tpl: &WindowView<'_>) -> Result<Match, MatchError> {
+    let method = Method::Zncc;
     with_packed(win, tpl, |pw, pt| {
         let (nx, ny) = placements(pw, pt)?;
         if nx * ny <= CANDIDATES_FROM {
             return search_packed(method, win, pw, pt);
         }
-        match coarse(method, pw, pt) {
+        match coarse(pw, pt) {
             Some(found) => fine(method, win, pw, pt, &found),
             None => search_packed(method, win, pw, pt),
         }
     })
 }
 
-/// The [`CANDIDATES`] best half-resolution placements, no two adjacent (a better neighbour
-/// replaces a candidate): `None` where the halves do not fit or cannot be scored. In a frame
-/// of its own, apart from the fine searches'.
+/// The [`CANDIDATES`] best half-resolution placements by zero-mean NCC, no two adjacent (a
+/// better neighbour replaces a candidate): `None` where the halves do not fit or the template
+/// is flat at half resolution. Every placement is ranked, so this is where the cost is: the
+/// window's sums come from running column sums in `u32` (at most 256 template pixels: `Σ I²`
+/// <= 256·255²), each rank is [`zncc_rank`] of the exact numerator and variance, and the worst
+/// candidate is beaten by few placements. In a frame of its own, apart from the fine searches'.
 #[inline(never)]
-fn coarse(method: Method, win: &WindowView<'_>, tpl: &WindowView<'_>) -> Option<Top> {
+fn coarse(win: &WindowView<'_>, tpl: &WindowView<'_>) -> Option<Top> {
     let (mut wbuf, mut tbuf) = ([0u8; MAX_PACKED_PIXELS / 4], [0u8; HALF_TEMPLATE_PIXELS]);
     let (hw, ht) = (halve(win, &mut wbuf)?, halve(tpl, &mut tbuf)?);
-    let scorer = Scorer::new(method, &ht).ok()?;
-    let mut top = Top { kept: Vec::new(), worst: 0 };
-    for_each_score(&scorer, &hw, &ht, |px, py, sums| {
-        if let Some(r) = scorer.rough(&sums) {
-            top.offer((px, py, r));
+    let (nx, ny) = placements(&hw, &ht).ok()?;
+    let (tw, th) = (ht.width(), ht.height());
+    let mut dots: Vec<u32, SCORE_CACHE> = Vec::new();
+    dot_products(&hw, &ht, &mut dots)?;
+    // The template's n, Σ R and variance n Σ R² - (Σ R)², which must be positive.
+    let (mut sum, mut sq) = (0i64, 0i64);
+    for v in 0..th {
+        for &p in ht.row(v)? {
+            sum += i64::from(p);
+            sq += i64::from(p) * i64::from(p);
         }
-    })
-    .ok()?;
+    }
+    let n = (tw * th) as i64;
+    if n * sq - sum * sum <= 0 {
+        return None;
+    }
+    // Column sums of I and I² over the template's rows at the current placement row.
+    let mut cols: Vec<(u32, u32), { MAX_SEARCH_WIDTH / 2 }> = Vec::new();
+    cols.resize(hw.width(), (0, 0)).ok()?;
+    let update = |cols: &mut [(u32, u32)], row: &[u8], add: bool| {
+        for (c, &p) in cols.iter_mut().zip(row) {
+            let (p, p2) = (u32::from(p), u32::from(p) * u32::from(p));
+            *c = if add { (c.0.wrapping_add(p), c.1.wrapping_add(p2)) } else { (c.0.wrapping_sub(p), c.1.wrapping_sub(p2)) };
+        }
+    };
+    let mut top = Top { kept: Vec::new(), worst: 0 };
+    for py in 0..ny {
+        if py == 0 {
+            for v in 0..th {
+                update(&mut cols, hw.row(v)?, true);
+            }
+        } else {
+            update(&mut cols, hw.row(py + th - 1)?, true);
+            update(&mut cols, hw.row(py - 1)?, false);
+        }
+        let (mut s, mut q) = cols.iter().take(tw).fold((0u32, 0u32), |a, c| (a.0 + c.0, a.1 + c.1));
+        for (px, &a) in dots.get(py * nx..(py + 1) * nx)?.iter().enumerate() {
+            if px > 0 {
+                let (enter, leave) = (cols.get(px + tw - 1)?, cols.get(px - 1)?);
+                (s, q) = (s.wrapping_add(enter.0).wrapping_sub(leave.0), q.wrapping_add(enter.1).wrapping_sub(leave.1));
+            }
+            let (s, q) = (i64::from(s), i64::from(q));
+            let var = n * q - s * s;
+            if var > 0 {
+                top.offer((px, py, zncc_rank(n * i64::from(a) - sum * s, var)));
+            }
+        }
+    }
     (!top.kept.is_empty()).then_some(top)
 }
 

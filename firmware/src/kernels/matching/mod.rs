@@ -20,7 +20,9 @@
 //!
 //! [`best_match`] refines the best placement to sub-pixel accuracy with a parabola through its
 //! neighbours' scores (`subpixel.rs`). The dot products that dominate the cost are in `dot.rs`
-//! (how they are fast), the scores from running sums in `scores.rs`.
+//! (how they are fast), the scores from running sums in `scores.rs`. Wide windows have two
+//! searches of bounded cost: [`best_match_pyramid`] around a tracker's prediction, and
+//! [`best_match_candidates`] (`candidates.rs`) where the object may be anywhere.
 
 mod candidates;
 mod dot;

@@ -19,7 +19,8 @@ fn to_f32(v: i64) -> f32 {
 /// ZNCC's rank `n |n| / v` (numerator `n`, window variance `v > 0`) in single precision,
 /// within 5e-7 of the exact one (two conversions and two roundings), without the 128-bit
 /// products of [`Scorer::zncc_parts`] (library calls on the M4).
-fn zncc_rank(n: i64, v: i64) -> f32 {
+#[inline(always)]
+pub(super) fn zncc_rank(n: i64, v: i64) -> f32 {
     let n = to_f32(n);
     n * n.abs() / to_f32(v)
 }
@@ -121,22 +122,6 @@ impl Scorer {
             },
         };
         scores.then_some(Ranked { sums: x, rank })
-    }
-
-    /// A rank of placement `x` in single precision (higher is better; `None` without a score):
-    /// to choose a few candidates among many placements (`candidates.rs`), not the best one,
-    /// which [`Scorer::better`] decides exactly.
-    pub(super) fn rough(&self, x: &Sums) -> Option<f32> {
-        let f = |v: u64| to_f32(v as i64);
-        match self.method {
-            Method::Sad => Some(-f(x.a)),
-            Method::Ssd => Some(-f(self.ssd(x))),
-            Method::Ncc => (x.e != 0).then(|| f(x.a) * f(x.a) / f(x.e)),
-            Method::Zncc => match self.zncc_parts64(x) {
-                Some((n, v)) => (v > 0).then(|| zncc_rank(n, v)),
-                None => self.score(x).map(|s| s as f32),
-            },
-        }
     }
 
     /// Whether `x` scores strictly better than `y`, from their exact integer sums, without

@@ -435,7 +435,7 @@ fn the_candidates_find_what_the_full_search_finds() {
         let t = cut(&w, 2 * sx, 2 * sy);
         let tv = v(&t, 20, 20).decimated();
         let full = best_match(Method::Zncc, &tile(&w), &tv).unwrap();
-        let found = best_match_candidates(Method::Zncc, &tile(&w), &tv).unwrap();
+        let found = best_match_candidates(&tile(&w), &tv).unwrap();
         assert_eq!((full.x, full.y), (2 * sx, 2 * sy));
         assert!(same(found, full), "template at samples ({sx}, {sy}): {found:?} {full:?}");
     }
@@ -448,12 +448,12 @@ fn the_candidates_find_what_the_full_search_finds() {
         }
     }
     let tv = v(&t, 20, 20).decimated();
-    let (full, found) = (best_match(Method::Zncc, &tile(&w), &tv).unwrap(), best_match_candidates(Method::Zncc, &tile(&w), &tv).unwrap());
+    let (full, found) = (best_match(Method::Zncc, &tile(&w), &tv).unwrap(), best_match_candidates(&tile(&w), &tv).unwrap());
     assert_eq!((full.x, full.y), (60, 30));
     assert!(same(found, full), "with look-alikes: {found:?} {full:?}");
     // 40x40 at 25 %: 11x11 placements, fewer than CANDIDATES_FROM.
     let small = WindowView::new(&w, 40, 40, 128, 0, 0).unwrap().decimated();
-    assert_eq!(best_match_candidates(Method::Zncc, &small, &tv), best_match(Method::Zncc, &small, &tv));
+    assert_eq!(best_match_candidates(&small, &tv), best_match(Method::Zncc, &small, &tv));
     let flat = [9u8; 400];
-    assert_eq!(best_match_candidates(Method::Zncc, &tile(&w), &v(&flat, 20, 20).decimated()), Err(MatchError::ZeroEnergy));
+    assert_eq!(best_match_candidates(&tile(&w), &v(&flat, 20, 20).decimated()), Err(MatchError::ZeroEnergy));
 }
