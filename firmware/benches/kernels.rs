@@ -1,11 +1,12 @@
 //! Criterion benchmarks of the kernels at the thesis' sizes, on the inputs in
 //! `fixtures/bench/` (see its README): Foveal NCC 20x20 in 24x24, Peripheral SSD 16x16 in
-//! 40x40 at 100 % and 25 %, Watch motion on 256x256, the corner detector on 20x20 and
-//! 24x24, and the COOP decision.
+//! 40x40 at 100 % and 25 %, Watch motion on 256x256, an adapting Peripheral's sweep tile
+//! (zero-mean NCC of a 20x20 template in a 128x128 tile at 25 %, every placement and by
+//! candidates), the corner detector on 20x20 and 24x24, and the COOP decision.
 use coopwin_firmware::kernels::confidence::{ConfidencePolicy, SseCoop};
 use coopwin_firmware::types::Source;
 use coopwin_firmware::kernels::corner::{CornerDetector, CornerParams};
-use coopwin_firmware::kernels::matching::{best_match, best_match_decimated, Method};
+use coopwin_firmware::kernels::matching::{best_match, best_match_candidates, best_match_decimated, Method};
 use coopwin_firmware::kernels::motion::detect_motion;
 use coopwin_firmware::kernels::view::WindowView;
 use criterion::{criterion_group, criterion_main, Criterion};
@@ -41,6 +42,16 @@ fn kernels(c: &mut Criterion) {
     let n = WindowView::packed(&next, w, h).unwrap();
     c.bench_function("watch_motion_256", |b| {
         b.iter(|| detect_motion(black_box(&p), black_box(&n), black_box(30)))
+    });
+
+    // The tile of the board suite's sweep that holds the moving object, its template cut on it.
+    let tile = n.sub(108, 0, 128, 128).unwrap().decimated();
+    let object = n.sub(118, 97, 20, 20).unwrap().decimated();
+    c.bench_function("peripheral_zncc_tile_full", |b| {
+        b.iter(|| best_match(Method::Zncc, black_box(&tile), black_box(&object)))
+    });
+    c.bench_function("peripheral_zncc_tile_candidates", |b| {
+        b.iter(|| best_match_candidates(black_box(&tile), black_box(&object)))
     });
 
     let mut det = Box::new(CornerDetector::new());
