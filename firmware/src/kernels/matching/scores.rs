@@ -130,6 +130,9 @@ impl Scorer {
     /// numerator's sign and the window's variance, where the single-precision ranks do not
     /// decide (a near-tie; `f64` scores only if the products overflow, for templates of
     /// tens of thousands of pixels).
+    /// Inlined where a search ranks each placement (`rank_all`): a call a placement costs
+    /// more than the single-precision comparison that decides most of them.
+    #[inline(always)]
     pub(super) fn better(&self, x: &Ranked, y: &Ranked) -> bool {
         let (x, y) = match (x.rank, y.rank) {
             (Some(rx), Some(ry)) if (rx - ry).abs() > 1e-5 * rx.abs().max(ry.abs()) => return rx > ry,
