@@ -572,9 +572,20 @@ impl Rows<'_> {
     /// The products with the patches at `at`, `at + step`, `at + 2·step` and `at + 3·step` of
     /// the window pixels `data` (rows `stride` apart), over each row's first `len` pixels
     /// (whole groups): four placements sharing each word, down a column (`step = stride`) or
-    /// along a row (`step = 1`). Zipped chunks let LLVM load each window word at once.
+    /// along a row (`step = 1`). Zipped chunks let LLVM load each window word at once; rows of
+    /// the common widths (the padded template's whole row, 8, 12, 16 or 20 pixels) go to
+    /// [`Rows::dot4_fixed`].
     #[inline(never)]
     fn dot4(&self, data: &[u8], stride: usize, step: usize, at: usize, len: usize) -> Option<[i32; 4]> {
+        if len == 2 * self.per_row {
+            match len {
+                8 => return self.dot4_fixed::<8, 4>(data, stride, step, at),
+                12 => return self.dot4_fixed::<12, 6>(data, stride, step, at),
+                16 => return self.dot4_fixed::<16, 8>(data, stride, step, at),
+                20 => return self.dot4_fixed::<20, 10>(data, stride, step, at),
+                _ => {}
+            }
+        }
         let mut a = [0i32; 4];
         for (v, t) in self.words.chunks(self.per_row.max(1)).take(self.th).enumerate() {
             let row = |k: usize| data.get(at + v * stride + k * step..at + v * stride + k * step + len);
@@ -582,6 +593,28 @@ impl Rows<'_> {
             for ((((t, c0), c1), c2), c3) in it {
                 if let &[even, odd] = t {
                     a = [group(a[0], even, odd, c0), group(a[1], even, odd, c1), group(a[2], even, odd, c2), group(a[3], even, odd, c3)];
+                }
+            }
+        }
+        Some(a)
+    }
+
+    /// [`Rows::dot4`] over rows of `P` pixels (`W = P / 2` template words), unrolled: each
+    /// patch row is one fixed-size array, so its groups need no bounds checks and no iterator
+    /// setup. A narrow template's rows (the Peripheral's 5-pixel half-resolution one, 2 groups)
+    /// spent more on that setup than on their products.
+    #[inline(always)]
+    fn dot4_fixed<const P: usize, const W: usize>(&self, data: &[u8], stride: usize, step: usize, at: usize) -> Option<[i32; 4]> {
+        let mut a = [0i32; 4];
+        for (v, t) in self.words.chunks_exact(W).take(self.th).enumerate() {
+            let t = <&[u32; W]>::try_from(t).ok()?;
+            let row = |k: usize| data.get(at + v * stride + k * step..)?.get(..P).and_then(|r| <&[u8; P]>::try_from(r).ok());
+            let rows = [row(0)?, row(1)?, row(2)?, row(3)?];
+            for (g, pair) in t.chunks_exact(2).enumerate() {
+                if let &[even, odd] = pair {
+                    for (acc, r) in a.iter_mut().zip(rows) {
+                        *acc = group(*acc, even, odd, r.get(4 * g..4 * g + 4).unwrap_or(&[]));
+                    }
                 }
             }
         }

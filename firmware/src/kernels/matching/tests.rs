@@ -63,10 +63,11 @@ fn patch_sums_are_the_pixel_sums() {
 
 #[test]
 fn the_arm_row_dot_products_equal_the_strip_ones() {
-    // Pixels from a fixed LCG; the Foveal and Peripheral sizes, a remainder of placement
-    // rows (ny % 4), widths not a multiple of 4 and under 4.
+    // Pixels from a fixed LCG; the Foveal and Peripheral sizes (and the Peripheral's 10x10 and
+    // 5x5 decimated and halved templates), a remainder of placement rows (ny % 4), widths not a
+    // multiple of 4 and under 4: every unrolled row width of `dot4` and the general one.
     let mut px = lcg(12345);
-    let sizes = [(20, 20, 24, 24), (16, 16, 40, 40), (8, 8, 20, 20), (7, 5, 13, 11), (20, 20, 20, 20), (33, 3, 40, 9), (3, 6, 9, 9), (64, 64, 64, 64)];
+    let sizes = [(20, 20, 24, 24), (16, 16, 40, 40), (8, 8, 20, 20), (7, 5, 13, 11), (20, 20, 20, 20), (33, 3, 40, 9), (3, 6, 9, 9), (64, 64, 64, 64), (10, 10, 32, 32), (5, 5, 32, 32), (12, 9, 17, 30)];
     for (tw, th, ww, wh) in sizes {
         let t = pixels(&mut px, tw * th);
         let w = pixels(&mut px, ww * wh);
