@@ -22,8 +22,8 @@ use heapless::Vec;
 pub const CANDIDATES: usize = 4;
 
 /// Full-resolution placements searched on each side of the two a candidate stands for: a
-/// 4x4 range (the half-resolution peak of a smooth image lies at the half of the full one's,
-/// a neighbour at most, and a neighbour is another candidate's).
+/// 4x4 range. On a smooth image the half-resolution peak lies at the half of the full one's
+/// placement or beside it; a winner on its range's edge is refitted in its own 3x3 range.
 const REACH: usize = 1;
 
 /// Windows with more placements than this are searched by candidates: a 10x10 template's in
