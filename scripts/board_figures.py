@@ -248,7 +248,7 @@ def per_processor(p, partner, peripheral, watch, master):
                  "by candidates (`kernels/matching/candidates.rs`: every placement at half its "
                  "resolution, the best four at full) and gets one look a frame, the last trusted "
                  "template first and the first template on the same window the next frame. Scoring "
-                 "every placement, as before, a tile's one look took 2,084,920 (1.4 frame periods), "
+                 "every placement, as before (commit 61921d5), a tile's one look took 2,084,920 (1.4 frame periods), "
                  "and both looks were matched on every window. The 40x40 window still takes both "
                  "looks at once.")
             p()

@@ -191,12 +191,11 @@ impl Peripheral {
         // window (a sweep's tile, 64x64) gets one look a frame, so that a frame's work stays
         // bounded: the last trusted look first, then the same window again for the first.
         let wide = self.params.adapt && placements(win, tpl.side(), 2) as usize > CANDIDATES_FROM;
-        let looks = match (&self.recent, wide, self.second_look) {
-            (Some(recent), true, false) => [Some(recent), None],
-            (Some(_), true, true) => [Some(tpl), None],
-            (recent, ..) => [Some(tpl), recent.as_ref()],
+        let (looks, again) = match (&self.recent, wide, self.second_look) {
+            (Some(recent), true, false) => ([Some(recent), None], true),
+            (Some(_), true, true) => ([Some(tpl), None], false),
+            (recent, ..) => ([Some(tpl), recent.as_ref()], false),
         };
-        let again = wide && self.recent.is_some() && !self.second_look;
         let (mut found, mut work) = (None, Work::None);
         for look in looks.into_iter().flatten() {
             let (other, w) = locate(win, look, &self.params);
