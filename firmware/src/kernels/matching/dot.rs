@@ -469,12 +469,13 @@ pub(super) use row_dot_products as dot_products;
 /// 16-bit halves, and `UXTB16` (LLVM's for `w & 0x00ff_00ff`) spreads a word of four window
 /// pixels `(w0, w1, w2, w3)` over two such pairs, `(w0, w2)` and `(w1, w3)`; so the template
 /// is rearranged once into those halves, `(t0, t2)` and `(t1, t3)` per group of four
-/// pixels, and four placements of a column (rows `py..py+4`) share each template word. A
-/// row's last `tw % 4` pixels make a last group padded with zero pixels, multiplied with the
-/// window's four pixels from there wherever they are in the window's memory (the pixels past
-/// the patch count zero times); where they are not (the last placements of the window's last
-/// rows), those pixels are summed one at a time. The last `ny % 4` placement rows go four
-/// placements of a row at a time. The sums stay under `4096·255² < 2³¹`.
+/// pixels, and four neighbouring placements of a row share each template word (their window
+/// words are one row's bytes from four offsets in a row, loads at fixed offsets from one
+/// pointer). A row's last `tw % 4` pixels make a last group padded with zero pixels,
+/// multiplied with the window's four pixels from there wherever they are in the window's
+/// memory (the pixels past the patch count zero times); where they are not (the last
+/// placements of the window's last rows), those pixels are summed one at a time. A row's last
+/// `nx % 4` placements go one at a time. The sums stay under `4096·255² < 2³¹`.
 #[cfg(any(test, target_arch = "arm"))]
 pub(super) fn row_dot_products(win: &WindowView<'_>, tpl: &WindowView<'_>, dots: &mut Vec<u32, SCORE_CACHE>) -> Option<()> {
     let (tw, th, ww, wh) = (tpl.width(), tpl.height(), win.width(), win.height());
@@ -524,35 +525,23 @@ pub(super) fn row_dot_products(win: &WindowView<'_>, tpl: &WindowView<'_>, dots:
         *dots.get_mut(py * nx + px)? = (sum as u32).wrapping_add(tail);
         Some(())
     };
-    // Four placement rows of a column at a time; the rows left over, four placements of a
-    // row at a time; then one at a time.
-    let full = ny - ny % 4;
-    for px in 0..nx {
-        for py in (0..full).step_by(4) {
-            let at = py * stride + px;
-            let n = len(at, 3 * stride);
-            let sums = rows.dot4(data, stride, stride, at, n)?;
-            for (j, &sum) in sums.iter().enumerate() {
-                store(px, py + j, sum, n)?;
-            }
-        }
-    }
-    for py in full..ny {
+    // Four placements of a row at a time (their sums are consecutive dots), then one at a time.
+    for py in 0..ny {
         let mut px = 0;
+        while px + 4 <= nx {
+            let at = py * stride + px;
+            let n = len(at, 3);
+            let sums = rows.dot4(data, stride, at, n)?;
+            for (j, &sum) in sums.iter().enumerate() {
+                store(px + j, py, sum, n)?;
+            }
+            px += 4;
+        }
         while px < nx {
             let at = py * stride + px;
-            if px + 4 <= nx {
-                let n = len(at, 3);
-                let sums = rows.dot4(data, stride, 1, at, n)?;
-                for (j, &sum) in sums.iter().enumerate() {
-                    store(px + j, py, sum, n)?;
-                }
-                px += 4;
-            } else {
-                let n = len(at, 0);
-                store(px, py, rows.dot(data, stride, at, n)?, n)?;
-                px += 1;
-            }
+            let n = len(at, 0);
+            store(px, py, rows.dot(data, stride, at, n)?, n)?;
+            px += 1;
         }
     }
     Some(())
@@ -569,51 +558,51 @@ struct Rows<'w> {
 
 #[cfg(any(test, target_arch = "arm"))]
 impl Rows<'_> {
-    /// The products with the patches at `at`, `at + step`, `at + 2·step` and `at + 3·step` of
-    /// the window pixels `data` (rows `stride` apart), over each row's first `len` pixels
-    /// (whole groups): four placements sharing each word, down a column (`step = stride`) or
-    /// along a row (`step = 1`). Zipped chunks let LLVM load each window word at once; rows of
-    /// the common widths (the padded template's whole row, 8, 12, 16 or 20 pixels) go to
+    /// The products with the patches at `at`, `at + 1`, `at + 2` and `at + 3` of the window
+    /// pixels `data` (rows `stride` apart), over each row's first `len` pixels (whole groups):
+    /// four neighbouring placements of a row sharing each template word. Rows of the common
+    /// widths (the padded template's whole row, 8, 12, 16 or 20 pixels) go to
     /// [`Rows::dot4_fixed`].
     #[inline(never)]
-    fn dot4(&self, data: &[u8], stride: usize, step: usize, at: usize, len: usize) -> Option<[i32; 4]> {
+    fn dot4(&self, data: &[u8], stride: usize, at: usize, len: usize) -> Option<[i32; 4]> {
         if len == 2 * self.per_row {
             match len {
-                8 => return self.dot4_fixed::<8, 4>(data, stride, step, at),
-                12 => return self.dot4_fixed::<12, 6>(data, stride, step, at),
-                16 => return self.dot4_fixed::<16, 8>(data, stride, step, at),
-                20 => return self.dot4_fixed::<20, 10>(data, stride, step, at),
+                8 => return self.dot4_fixed::<8, 4, 11>(data, stride, at),
+                12 => return self.dot4_fixed::<12, 6, 15>(data, stride, at),
+                16 => return self.dot4_fixed::<16, 8, 19>(data, stride, at),
+                20 => return self.dot4_fixed::<20, 10, 23>(data, stride, at),
                 _ => {}
             }
         }
         let mut a = [0i32; 4];
         for (v, t) in self.words.chunks(self.per_row.max(1)).take(self.th).enumerate() {
-            let row = |k: usize| data.get(at + v * stride + k * step..at + v * stride + k * step + len);
-            let it = t.chunks_exact(2).zip(row(0)?.chunks_exact(4)).zip(row(1)?.chunks_exact(4)).zip(row(2)?.chunks_exact(4)).zip(row(3)?.chunks_exact(4));
-            for ((((t, c0), c1), c2), c3) in it {
+            let row = data.get(at + v * stride..)?.get(..len + 3)?;
+            for (g, t) in t.chunks_exact(2).enumerate() {
                 if let &[even, odd] = t {
-                    a = [group(a[0], even, odd, c0), group(a[1], even, odd, c1), group(a[2], even, odd, c2), group(a[3], even, odd, c3)];
+                    for (k, acc) in a.iter_mut().enumerate() {
+                        *acc = group(*acc, even, odd, row.get(k + 4 * g..k + 4 * g + 4).unwrap_or(&[]));
+                    }
                 }
             }
         }
         Some(a)
     }
 
-    /// [`Rows::dot4`] over rows of `P` pixels (`W = P / 2` template words), unrolled: each
-    /// patch row is one fixed-size array, so its groups need no bounds checks and no iterator
-    /// setup. A narrow template's rows (the Peripheral's 5-pixel half-resolution one, 2 groups)
-    /// spent more on that setup than on their products.
+    /// [`Rows::dot4`] over rows of `P` pixels (`W = P / 2` template words), unrolled: the four
+    /// patches' row is one array of `R = P + 3` pixels (one bounds check a row), from which
+    /// every group is read at a fixed offset. A narrow template's rows (the Peripheral's
+    /// 5-pixel half-resolution one, 2 groups) spent more on checks and pointers than on their
+    /// products.
     #[inline(always)]
-    fn dot4_fixed<const P: usize, const W: usize>(&self, data: &[u8], stride: usize, step: usize, at: usize) -> Option<[i32; 4]> {
+    fn dot4_fixed<const P: usize, const W: usize, const R: usize>(&self, data: &[u8], stride: usize, at: usize) -> Option<[i32; 4]> {
         let mut a = [0i32; 4];
         for (v, t) in self.words.chunks_exact(W).take(self.th).enumerate() {
             let t = <&[u32; W]>::try_from(t).ok()?;
-            let row = |k: usize| data.get(at + v * stride + k * step..)?.get(..P).and_then(|r| <&[u8; P]>::try_from(r).ok());
-            let rows = [row(0)?, row(1)?, row(2)?, row(3)?];
+            let row = <&[u8; R]>::try_from(data.get(at + v * stride..)?.get(..R)?).ok()?;
             for (g, pair) in t.chunks_exact(2).enumerate() {
                 if let &[even, odd] = pair {
-                    for (acc, r) in a.iter_mut().zip(rows) {
-                        *acc = group(*acc, even, odd, r.get(4 * g..4 * g + 4).unwrap_or(&[]));
+                    for (k, acc) in a.iter_mut().enumerate() {
+                        *acc = group(*acc, even, odd, row.get(k + 4 * g..k + 4 * g + 4).unwrap_or(&[]));
                     }
                 }
             }
