@@ -506,14 +506,12 @@ pub(super) fn row_dot_products(win: &WindowView<'_>, tpl: &WindowView<'_>, dots:
     }
     let rows = Rows { words: &words, per_row: padded / 2, th };
     let (data, stride) = win.raw()?;
-    dots.clear();
-    dots.resize(nx * ny, 0).ok()?;
     // Patch pixels each call multiplies: the padded groups where the last of the calls' `span`
     // patches (at `at + span`) has them in `data`, else the groups of four only.
     let len = |at: usize, span: usize| if at + span + (th - 1) * stride + padded <= data.len() { padded } else { body };
-    // Stores placement `(px, py)`'s dot product from the sum of its rows' groups, adding its
-    // last `tw % 4` pixels one at a time unless `len` covered them.
-    let mut store = |px: usize, py: usize, sum: i32, len: usize| -> Option<()> {
+    // Placement `(px, py)`'s dot product from the sum of its rows' groups, adding its last
+    // `tw % 4` pixels one at a time unless `len` covered them.
+    let product = |px: usize, py: usize, sum: i32, len: usize| -> Option<u32> {
         let mut tail = 0u32;
         if len < tw {
             for v in 0..th {
@@ -522,25 +520,24 @@ pub(super) fn row_dot_products(win: &WindowView<'_>, tpl: &WindowView<'_>, dots:
                 tail = t.iter().zip(w).fold(tail, |s, (&t, &w)| s.wrapping_add(u32::from(t) * u32::from(w)));
             }
         }
-        *dots.get_mut(py * nx + px)? = (sum as u32).wrapping_add(tail);
-        Some(())
+        Some((sum as u32).wrapping_add(tail))
     };
-    // Four placements of a row at a time (their sums are consecutive dots), then one at a time.
+    // In raster order: four placements of a row at a time, then one at a time.
+    dots.clear();
     for py in 0..ny {
         let mut px = 0;
         while px + 4 <= nx {
             let at = py * stride + px;
             let n = len(at, 3);
-            let sums = rows.dot4(data, stride, at, n)?;
-            for (j, &sum) in sums.iter().enumerate() {
-                store(px + j, py, sum, n)?;
+            for (j, &sum) in rows.dot4(data, stride, at, n)?.iter().enumerate() {
+                dots.push(if n >= tw { sum as u32 } else { product(px + j, py, sum, n)? }).ok()?;
             }
             px += 4;
         }
         while px < nx {
             let at = py * stride + px;
             let n = len(at, 0);
-            store(px, py, rows.dot(data, stride, at, n)?, n)?;
+            dots.push(product(px, py, rows.dot(data, stride, at, n)?, n)?).ok()?;
             px += 1;
         }
     }
