@@ -78,32 +78,40 @@ fn coarse(win: &WindowView<'_>, tpl: &WindowView<'_>) -> Option<Top> {
     // Column sums of I and I² over the template's rows at the current placement row.
     let mut cols: Vec<(u32, u32), { MAX_SEARCH_WIDTH / 2 }> = Vec::new();
     cols.resize(hw.width(), (0, 0)).ok()?;
-    let update = |cols: &mut [(u32, u32)], row: &[u8], add: bool| {
-        for (c, &p) in cols.iter_mut().zip(row) {
-            let (p, p2) = (u32::from(p), u32::from(p) * u32::from(p));
-            *c = if add { (c.0.wrapping_add(p), c.1.wrapping_add(p2)) } else { (c.0.wrapping_sub(p), c.1.wrapping_sub(p2)) };
+    // Adds row `enter` and takes away row `leave` (zeros for none) in one pass.
+    let slide = |cols: &mut [(u32, u32)], enter: &[u8], leave: &[u8]| {
+        for ((c, &a), &b) in cols.iter_mut().zip(enter).zip(leave) {
+            let (a, b) = (u32::from(a), u32::from(b));
+            *c = (c.0.wrapping_add(a).wrapping_sub(b), c.1.wrapping_add(a * a).wrapping_sub(b * b));
         }
     };
+    let none = [0u8; MAX_SEARCH_WIDTH / 2];
     let mut top = Top { kept: Vec::new(), worst: 0 };
     for py in 0..ny {
         if py == 0 {
             for v in 0..th {
-                update(&mut cols, hw.row(v)?, true);
+                slide(&mut cols, hw.row(v)?, &none);
             }
         } else {
-            update(&mut cols, hw.row(py + th - 1)?, true);
-            update(&mut cols, hw.row(py - 1)?, false);
+            slide(&mut cols, hw.row(py + th - 1)?, hw.row(py - 1)?);
         }
+        // A placement of negative numerator ranks below zero: no better than a worst kept
+        // candidate of positive rank, so it is passed over before its variance is computed.
+        let floor = top.floor().is_some_and(|w| w >= 0.0);
         let (mut s, mut q) = cols.iter().take(tw).fold((0u32, 0u32), |a, c| (a.0 + c.0, a.1 + c.1));
         for (px, &a) in dots.get(py * nx..(py + 1) * nx)?.iter().enumerate() {
             if px > 0 {
                 let (enter, leave) = (cols.get(px + tw - 1)?, cols.get(px - 1)?);
                 (s, q) = (s.wrapping_add(enter.0).wrapping_sub(leave.0), q.wrapping_add(enter.1).wrapping_sub(leave.1));
             }
-            let (s, q) = (i64::from(s), i64::from(q));
-            let var = n * q - s * s;
+            let s = i64::from(s);
+            let num = n * i64::from(a) - sum * s;
+            if floor && num <= 0 {
+                continue;
+            }
+            let var = n * i64::from(q) - s * s;
             if var > 0 {
-                top.offer((px, py, zncc_rank(n * i64::from(a) - sum * s, var)));
+                top.offer((px, py, zncc_rank(num, var)));
             }
         }
     }
@@ -118,6 +126,11 @@ struct Top {
 }
 
 impl Top {
+    /// The worst candidate's rank once [`CANDIDATES`] are kept (a placement must beat it).
+    fn floor(&self) -> Option<f32> {
+        self.kept.is_full().then(|| self.kept.get(self.worst).map(|w| w.2)).flatten()
+    }
+
     /// Keeps `c` if it is better than a neighbour kept (which it replaces) or, with no
     /// neighbour kept, than the worst (when full). Most placements are no better than the
     /// worst: one comparison each.

@@ -85,6 +85,32 @@ fn the_arm_row_dot_products_equal_the_strip_ones() {
     }
 }
 
+/// A pyramid level, two pixels a word: against the rounded mean of each 2x2 block (a hand
+/// formula), for even and odd widths and heights, a sub-view of a frame (rows `stride` apart)
+/// and all-255 blocks (the largest sums).
+#[test]
+fn halving_takes_the_rounded_mean_of_each_block() {
+    let mut px = lcg(77);
+    let mut frame: std::vec::Vec<u8> = (0..40 * 30).map(|_| px()).collect();
+    frame[..80].fill(255);
+    let full = v(&frame, 40, 30);
+    for (x, y, w, h) in [(0, 0, 40, 30), (0, 0, 2, 2), (1, 0, 3, 3), (3, 5, 9, 7), (5, 2, 10, 4), (7, 1, 11, 8), (0, 0, 32, 2)] {
+        let view = full.sub(x, y, w, h).unwrap();
+        let mut buf = [0u8; 1024];
+        let half = halve(&view, &mut buf).unwrap();
+        assert_eq!((half.width(), half.height()), (w / 2, h / 2));
+        for j in 0..h / 2 {
+            let want: std::vec::Vec<u8> = (0..w / 2)
+                .map(|i| {
+                    let p = |dx: usize, dy: usize| u16::from(frame[(y + 2 * j + dy) * 40 + x + 2 * i + dx]);
+                    ((p(0, 0) + p(1, 0) + p(0, 1) + p(1, 1) + 2) / 4) as u8
+                })
+                .collect();
+            assert_eq!(half.row(j).unwrap(), &want[..], "{w}x{h} at ({x}, {y}), row {j}");
+        }
+    }
+}
+
 /// The row dot products over sub-views of a larger frame (a band of a map over the score
 /// cache, a window cut from the frame: the row pitch is the frame's), where a row's last
 /// `tw % 4` pixels are read as one padded group while the frame's memory holds them and one
