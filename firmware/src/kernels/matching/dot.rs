@@ -504,7 +504,7 @@ pub(super) fn row_dot_products(win: &WindowView<'_>, tpl: &WindowView<'_>, dots:
             words.push(pair(px(1), px(3))).ok()?;
         }
     }
-    let rows = Rows { words: &words, per_row: padded / 2, th };
+    let rows = Rows { words: &words, per_row: padded / 2, th, one_last: tw % 4 == 1 };
     let (data, stride) = win.raw()?;
     // Patch pixels each call multiplies: the padded groups where the last of the calls' `span`
     // patches (at `at + span`) has them in `data`, else the groups of four only.
@@ -551,6 +551,9 @@ struct Rows<'w> {
     words: &'w [u32],
     per_row: usize,
     th: usize,
+    /// Whether each row's last group holds one pixel (its odd word and the even word's high
+    /// half are zeros).
+    one_last: bool,
 }
 
 #[cfg(any(test, target_arch = "arm"))]
@@ -563,11 +566,12 @@ impl Rows<'_> {
     #[inline(never)]
     fn dot4(&self, data: &[u8], stride: usize, at: usize, len: usize) -> Option<[i32; 4]> {
         if len == 2 * self.per_row {
-            match len {
-                8 => return self.dot4_fixed::<8, 4, 11>(data, stride, at),
-                12 => return self.dot4_fixed::<12, 6, 15>(data, stride, at),
-                16 => return self.dot4_fixed::<16, 8, 19>(data, stride, at),
-                20 => return self.dot4_fixed::<20, 10, 23>(data, stride, at),
+            match (len, self.one_last) {
+                (8, true) => return self.dot4_fixed::<8, 4, 11, true>(data, stride, at),
+                (8, false) => return self.dot4_fixed::<8, 4, 11, false>(data, stride, at),
+                (12, _) => return self.dot4_fixed::<12, 6, 15, false>(data, stride, at),
+                (16, _) => return self.dot4_fixed::<16, 8, 19, false>(data, stride, at),
+                (20, _) => return self.dot4_fixed::<20, 10, 23, false>(data, stride, at),
                 _ => {}
             }
         }
@@ -589,9 +593,10 @@ impl Rows<'_> {
     /// patches' row is one array of `R = P + 3` pixels (one bounds check a row), from which
     /// every group is read at a fixed offset. A narrow template's rows (the Peripheral's
     /// 5-pixel half-resolution one, 2 groups) spent more on checks and pointers than on their
-    /// products.
+    /// products. With `ONE` (rows of `P - 3` pixels, as that one's) the last group is its one
+    /// pixel's product, not two `SMLAD`s of mostly zeros.
     #[inline(always)]
-    fn dot4_fixed<const P: usize, const W: usize, const R: usize>(&self, data: &[u8], stride: usize, at: usize) -> Option<[i32; 4]> {
+    fn dot4_fixed<const P: usize, const W: usize, const R: usize, const ONE: bool>(&self, data: &[u8], stride: usize, at: usize) -> Option<[i32; 4]> {
         let mut a = [0i32; 4];
         for (v, t) in self.words.chunks_exact(W).take(self.th).enumerate() {
             let t = <&[u32; W]>::try_from(t).ok()?;
@@ -599,7 +604,12 @@ impl Rows<'_> {
             for (g, pair) in t.chunks_exact(2).enumerate() {
                 if let &[even, odd] = pair {
                     for (k, acc) in a.iter_mut().enumerate() {
-                        *acc = group(*acc, even, odd, row.get(k + 4 * g..k + 4 * g + 4).unwrap_or(&[]));
+                        *acc = if ONE && g == W / 2 - 1 {
+                            // The even word's low half is the pixel (at most 255).
+                            acc.wrapping_add((even & 0xffff) as i32 * i32::from(row.get(k + 4 * g).copied().unwrap_or(0)))
+                        } else {
+                            group(*acc, even, odd, row.get(k + 4 * g..k + 4 * g + 4).unwrap_or(&[]))
+                        };
                     }
                 }
             }
