@@ -562,16 +562,16 @@ impl Rows<'_> {
     /// pixels `data` (rows `stride` apart), over each row's first `len` pixels (whole groups):
     /// four neighbouring placements of a row sharing each template word. Rows of the common
     /// widths (the padded template's whole row, 8, 12, 16 or 20 pixels) go to
-    /// [`Rows::dot4_fixed`].
+    /// [`Rows::fixed`].
     #[inline(never)]
     fn dot4(&self, data: &[u8], stride: usize, at: usize, len: usize) -> Option<[i32; 4]> {
         if len == 2 * self.per_row {
             match (len, self.one_last) {
-                (8, true) => return self.dot4_fixed::<8, 4, 11, true>(data, stride, at),
-                (8, false) => return self.dot4_fixed::<8, 4, 11, false>(data, stride, at),
-                (12, _) => return self.dot4_fixed::<12, 6, 15, false>(data, stride, at),
-                (16, _) => return self.dot4_fixed::<16, 8, 19, false>(data, stride, at),
-                (20, _) => return self.dot4_fixed::<20, 10, 23, false>(data, stride, at),
+                (8, true) => return self.fixed::<4, 8, 4, 11, true>(data, stride, at),
+                (8, false) => return self.fixed::<4, 8, 4, 11, false>(data, stride, at),
+                (12, _) => return self.fixed::<4, 12, 6, 15, false>(data, stride, at),
+                (16, _) => return self.fixed::<4, 16, 8, 19, false>(data, stride, at),
+                (20, _) => return self.fixed::<4, 20, 10, 23, false>(data, stride, at),
                 _ => {}
             }
         }
@@ -589,15 +589,16 @@ impl Rows<'_> {
         Some(a)
     }
 
-    /// [`Rows::dot4`] over rows of `P` pixels (`W = P / 2` template words), unrolled: the four
-    /// patches' row is one array of `R = P + 3` pixels (one bounds check a row), from which
+    /// The products with the `K` patches from `at` (neighbours in a row, [`Rows::dot4`]'s four or
+    /// [`Rows::dot`]'s one) over rows of `P` pixels (`W = P / 2` template words), unrolled: the
+    /// patches' row is one array of `R = P + K - 1` pixels (one bounds check a row), from which
     /// every group is read at a fixed offset. A narrow template's rows (the Peripheral's
     /// 5-pixel half-resolution one, 2 groups) spent more on checks and pointers than on their
     /// products. With `ONE` (rows of `P - 3` pixels, as that one's) the last group is its one
     /// pixel's product, not two `SMLAD`s of mostly zeros.
     #[inline(always)]
-    fn dot4_fixed<const P: usize, const W: usize, const R: usize, const ONE: bool>(&self, data: &[u8], stride: usize, at: usize) -> Option<[i32; 4]> {
-        let mut a = [0i32; 4];
+    fn fixed<const K: usize, const P: usize, const W: usize, const R: usize, const ONE: bool>(&self, data: &[u8], stride: usize, at: usize) -> Option<[i32; K]> {
+        let mut a = [0i32; K];
         for (v, t) in self.words.chunks_exact(W).take(self.th).enumerate() {
             let t = <&[u32; W]>::try_from(t).ok()?;
             let row = <&[u8; R]>::try_from(data.get(at + v * stride..)?.get(..R)?).ok()?;
@@ -617,9 +618,22 @@ impl Rows<'_> {
         Some(a)
     }
 
-    /// [`Rows::dot4`] for the one placement at `at`.
+    /// [`Rows::dot4`] for the one placement at `at` (a row's last `nx % 4`).
     #[inline(never)]
     fn dot(&self, data: &[u8], stride: usize, at: usize, len: usize) -> Option<i32> {
+        let one = match (len == 2 * self.per_row, len, self.one_last) {
+            (true, 8, true) => self.fixed::<1, 8, 4, 8, true>(data, stride, at),
+            (true, 8, false) => self.fixed::<1, 8, 4, 8, false>(data, stride, at),
+            (true, 12, _) => self.fixed::<1, 12, 6, 12, false>(data, stride, at),
+            (true, 16, _) => self.fixed::<1, 16, 8, 16, false>(data, stride, at),
+            (true, 20, _) => self.fixed::<1, 20, 10, 20, false>(data, stride, at),
+            _ => return self.dot_any(data, stride, at, len),
+        };
+        one.map(|[a]| a)
+    }
+
+    /// [`Rows::dot`] over rows of any length.
+    fn dot_any(&self, data: &[u8], stride: usize, at: usize, len: usize) -> Option<i32> {
         let mut a = 0i32;
         for (v, t) in self.words.chunks(self.per_row.max(1)).take(self.th).enumerate() {
             let row = data.get(at + v * stride..at + v * stride + len)?;
