@@ -100,6 +100,7 @@ fn a_set_corrupted_on_the_link_is_refused_and_the_watchdog_recovers() {
         let mut cfg = SystemConfig::thesis(Strategy::Spmf, CostModel::C40, Some(target));
         cfg.corrupt_request = Some(3);
         cfg.backend = hdl;
+        cfg.fingerprint_windows = true;
         let log = simulate(&cfg, &mut SceneFrames::new(scene.clone()), &mut |_| {}).unwrap();
         assert_eq!(log.requests[3].2.width, 1, "{hdl:?}: the fault was injected");
         assert_eq!(log.watchdog.len(), 1, "{hdl:?}: {:?}", log.watchdog);
@@ -109,6 +110,7 @@ fn a_set_corrupted_on_the_link_is_refused_and_the_watchdog_recovers() {
         assert!(log.reports.iter().any(|r| r.frame > 12), "{hdl:?}: tracking did not carry on");
         logs.push(log);
     }
+    assert!(logs.iter().all(|l| l.deliveries.iter().all(|d| d.3.is_some())), "every window fingerprinted");
     assert_eq!(logs[0].deliveries, logs[1].deliveries);
     assert_eq!(logs[0].frames, logs[1].frames);
 }
@@ -155,6 +157,7 @@ fn random_camera_blanking_changes_no_window_and_tracking_holds() {
     for hdl in [UnitBackend::BehaviouralModel, UnitBackend::RustHdl] {
         let mut cfg = coop(hdl, &scene);
         cfg.jitter = Some(Jitter { seed: 11, line_max: 40, frame_max: 6_000 });
+        cfg.fingerprint_windows = true;
         let log = simulate(&cfg, &mut SceneFrames::new(scene.clone()), &mut |_| {}).unwrap();
         let m = summarise(&log, &truth);
         assert!(log.windows.iter().all(|&n| n > 0), "{hdl:?}: every unit delivers: {:?}", log.windows);
@@ -165,6 +168,7 @@ fn random_camera_blanking_changes_no_window_and_tracking_holds() {
         assert!(log.frame_period > steady.frame_period * 1.02, "{} vs {}", log.frame_period, steady.frame_period);
         logs.push(log);
     }
+    assert!(logs.iter().all(|l| l.deliveries.iter().all(|d| d.3.is_some())), "every window fingerprinted");
     assert_eq!(logs[0].deliveries, logs[1].deliveries, "model and rust-hdl: same windows, clocks, pixels");
     assert_eq!(logs[0].frames, logs[1].frames);
 }

@@ -21,9 +21,11 @@ fn both(cfg: &SystemConfig, scene: &SceneConfig) {
 }
 
 fn same(cfg: &SystemConfig, hdl: &SystemConfig, scene: &SceneConfig) {
-    let (a, _) = run_scene(cfg, scene.clone()).unwrap();
-    let (b, _) = run_scene(hdl, scene.clone()).unwrap();
+    let fingerprinted = |c: &SystemConfig| SystemConfig { fingerprint_windows: true, ..c.clone() };
+    let (a, _) = run_scene(&fingerprinted(cfg), scene.clone()).unwrap();
+    let (b, _) = run_scene(&fingerprinted(hdl), scene.clone()).unwrap();
     assert!(!a.deliveries.is_empty());
+    assert!(a.deliveries.iter().chain(&b.deliveries).all(|d| d.3.is_some()), "every window fingerprinted");
     assert_eq!(a.deliveries.len(), b.deliveries.len(), "{:?}", cfg.strategy);
     for (x, y) in a.deliveries.iter().zip(&b.deliveries) {
         assert_eq!(x, y, "{:?}: (processor, frame, clock, pixel hash) model vs {:?}", cfg.strategy, hdl.backend);

@@ -258,6 +258,11 @@ impl Window {
         let step = if decimate { 2 } else { 1 };
         let (x0, x1) = (self.xmin as usize, self.xmax as usize + 1);
         let mut out = Vec::with_capacity((x1 - x0).div_ceil(step) * (self.ymax - self.ymin + 1) as usize);
+        if !decimate && x0 == 0 && x1 == width {
+            // Whole rows (the Watch's frame): one block, not a copy a row.
+            out.extend_from_slice(&frame[self.ymin as usize * width..(self.ymax as usize + 1) * width]);
+            return out;
+        }
         for y in (self.ymin as usize..=self.ymax as usize).step_by(step) {
             let row = &frame[y * width + x0..y * width + x1];
             // A slice copy, and pairs rather than `step_by`: the testbench crops every window
@@ -285,6 +290,9 @@ mod tests {
         let w = Window { xmin: 1, xmax: 3, ymin: 1, ymax: 4 };
         assert_eq!(w.crop(&frame, 6, false), [7, 8, 9, 13, 14, 15, 19, 20, 21, 25, 26, 27]);
         assert_eq!(w.crop(&frame, 6, true), [7, 9, 19, 21]);
+        // Whole rows 2..=3 (one block): pixels 12 to 23.
+        let rows = Window { xmin: 0, xmax: 5, ymin: 2, ymax: 3 };
+        assert_eq!(rows.crop(&frame, 6, false), (12..24).collect::<Vec<u8>>());
     }
 
     #[test]

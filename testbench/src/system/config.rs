@@ -66,6 +66,10 @@ pub struct SystemConfig {
     /// Fault injection: every coordinate set is held until the raster reaches this clock of a
     /// frame (counting from FVAL rising), so all writes land at one phase of the raster.
     pub write_phase: Option<u64>,
+    /// Fingerprint every delivered window's pixels in the log (`RunLog::deliveries`), to
+    /// compare backends window for window. Off unless asked: it hashes the Watch's whole frame
+    /// every frame, about 8 % of a tracking run's host time.
+    pub fingerprint_windows: bool,
 }
 
 impl SystemConfig {
@@ -89,6 +93,7 @@ impl SystemConfig {
             drop_window: None,
             jitter: None,
             write_phase: None,
+            fingerprint_windows: false,
         }
     }
 }

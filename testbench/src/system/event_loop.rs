@@ -61,6 +61,7 @@ pub fn simulate_with(
         free_at: vec![0; np],
         window_frame: vec![0; np],
         drop_window: cfg.drop_window,
+        fingerprint_windows: cfg.fingerprint_windows,
         scratch: Vec::new(),
     };
     // Start: the first steps, at the start of the blanking before frame 0.
@@ -140,6 +141,8 @@ struct Run<'a, 'b> {
     window_frame: Vec<usize>,
     /// Fault injection: the index of the delivered window the processor does not read.
     drop_window: Option<usize>,
+    /// Whether each delivered window's pixels are fingerprinted in the log.
+    fingerprint_windows: bool,
     /// A decimated window spread back onto its full-resolution grid.
     scratch: Vec<u8>,
 }
@@ -150,7 +153,7 @@ impl Run<'_, '_> {
         let p = win.unit;
         let log = &mut self.recorder.log;
         let dropped = self.drop_window == Some(log.deliveries.len());
-        log.deliveries.push((p, win.frame, win.clock, fingerprint(&win.pixels)));
+        log.deliveries.push((p, win.frame, win.clock, self.fingerprint_windows.then(|| fingerprint(&win.pixels))));
         log.windows_delivered.push((p, win.frame, win.req));
         if dropped {
             // Not read: the processor still waits, and its watchdog will ask again.

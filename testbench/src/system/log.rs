@@ -118,9 +118,10 @@ pub struct RunLog {
     /// Watchdog re-requests: (processor, clock), when a request brought no window for three
     /// frame periods (a set refused by the unit, or lost).
     pub watchdog: Vec<(usize, u64)>,
-    /// Every window delivered: (processor, frame, clock, fingerprint of its pixels), so
-    /// backends can be compared window for window.
-    pub deliveries: Vec<(usize, usize, u64, u64)>,
+    /// Every window delivered: (processor, frame, clock, fingerprint of its pixels where
+    /// [`super::SystemConfig::fingerprint_windows`] asks), so backends can be compared window
+    /// for window.
+    pub deliveries: Vec<(usize, usize, u64, Option<u64>)>,
     /// Every window delivered: (processor, frame, the request it answers).
     pub windows_delivered: Vec<(usize, usize, WindowRequest)>,
     /// What each processor does, in processor order.
