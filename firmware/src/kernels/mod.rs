@@ -12,7 +12,8 @@
 //! * [`confidence`]: the least-squares window confidence measure (4.3) and a Kalman-filter
 //!   policy (5.2);
 //! * [`fmath`]: the FPU's square root (and `dsp`, the DSP extension's dual multiply-add, for
-//!   the matching), through `asm!` on the Cortex-M4F and portable elsewhere.
+//!   the matching), through `asm!` on the Cortex-M4F and portable elsewhere; `x86`, which of
+//!   x86-64's wider vector extensions the host has.
 pub mod confidence;
 pub mod corner;
 #[cfg(any(test, target_arch = "arm"))]
@@ -25,3 +26,5 @@ pub mod refine;
 pub mod support;
 pub mod view;
 pub mod warp;
+#[cfg(target_arch = "x86_64")]
+mod x86;
