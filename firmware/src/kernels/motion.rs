@@ -70,8 +70,9 @@ fn block_span(a: &[u8], b: &[u8], t: u8) -> Option<(usize, usize)> {
 }
 
 /// The moving pixels of two equally long rows with the first and last moving columns, or
-/// `None` when none moves, 64 pixels a vector (AVX-512 BW): the test of each pixel is one bit of a mask register,
-/// whose bits give the count and, from the first and last vectors that move, the columns.
+/// `None` when none moves, 64 pixels a vector (AVX-512 BW): the test of each pixel is one bit
+/// of a mask register, whose bits give the count and, from the first and last vectors that
+/// move, the columns.
 /// OpenCV's differencing runs its own AVX-512 kernels on such a host; the baseline build's
 /// 16-byte vectors took 3.2 to 5.4 us a 256x256 frame against its 11.3.
 #[cfg(target_arch = "x86_64")]
