@@ -74,7 +74,8 @@ fn block_span(a: &[u8], b: &[u8], t: u8) -> Option<(usize, usize)> {
 /// of a mask register, whose bits give the count and, from the first and last vectors that
 /// move, the columns.
 /// OpenCV's differencing runs its own AVX-512 kernels on such a host; the baseline build's
-/// 16-byte vectors took 3.2 to 5.4 us a 256x256 frame against its 11.3.
+/// 16-byte vectors took 3.2 to 5.4 us a 256x256 frame against its 11.3
+/// (`fixtures/bench/README.md`, stop 35).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512bw")]
 #[allow(unsafe_code)]
