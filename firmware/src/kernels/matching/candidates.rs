@@ -4,9 +4,10 @@
 //! An adapting Peripheral matches its 25 % windows of up to 64x64 samples (a sweep's 128x128
 //! tile, 3,025 placements of a 10x10 template): scoring every placement took 2.08 million
 //! instructions on the Cortex-M4 (commit 61921d5), 1.4 of the thesis's 8.8 ms frame periods
-//! at 168 MHz. Here window and template are halved ([`halve`]: 2x2 means), every half-resolution placement is
-//! ranked (784 of 25 pixels), and the [`CANDIDATES`] best of them, apart from one another,
-//! are searched at full resolution within [`REACH`] of the two placements each stands for.
+//! at 168 MHz. Here window and template are halved ([`halve`]: 2x2 means), every
+//! half-resolution placement is ranked (784 of 25 pixels), and the [`CANDIDATES`] best of
+//! them, apart from one another, are searched at full resolution within [`REACH`] of the two
+//! placements each stands for.
 //! Unlike [`super::best_match_pyramid`] (a tracker's window, whose centre is searched too)
 //! there is no prior: the object may be anywhere in the window, beside look-alikes. A tile's
 //! look now takes at most 261,636 instructions (`docs/firmware-target.md`).
