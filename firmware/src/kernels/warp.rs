@@ -144,14 +144,14 @@ impl WindowSums {
 
 /// `v` sampled bilinearly at `(x, y)` of `win` (`data` from its top-left, row pitch
 /// `stride`), or `None` outside `[0, w - 1] x [0, h - 1]`: [`bilinear_inside`] once the point
-/// is known to be inside (it reads the 2x2 block as one slice), [`bilinear_edge`] where that
+/// is known to be inside ([`Inside`]: the 2x2 block as one slice), [`bilinear_edge`] where that
 /// block reaches past `data`.
 #[inline(always)]
 fn bilinear(data: &[u8], stride: usize, w: usize, h: usize, x: f32, y: f32) -> Option<f32> {
     if !(x >= 0.0 && y >= 0.0 && x <= (w - 1) as f32 && y <= (h - 1) as f32) {
         return None;
     }
-    bilinear_inside(data, stride, x, y).or_else(|| bilinear_edge(data, stride, w, h, x, y))
+    Inside::new(data, stride).sample(x, y).or_else(|| bilinear_edge(data, stride, w, h, x, y))
 }
 
 /// [`bilinear`] at a point inside the window whose 2x2 block reaches past `data` (the last
@@ -185,20 +185,35 @@ fn lerp2x2([p00, p10, p01, p11]: [f32; 4], ax: f32, ay: f32) -> f32 {
     top + ay * (bottom - top)
 }
 
-/// [`bilinear`] at an `(x, y)` known to lie inside the window (every sample of a pose whose
-/// interior corners do, [`SimilarityTemplate::align`]), bit for bit: the checks against the
-/// window's sides are left out, and on the last column or row the next pixel is read as it
-/// is in memory, its weight being exactly zero (`p + 0 * d` is `p`). The block is one slice
-/// from `p00` to `p11`, so one bounds check covers its four pixels. `None` where the 2x2
-/// block reaches past `data` (the window's last row at the end of its buffer).
-#[inline(always)]
-fn bilinear_inside(data: &[u8], stride: usize, x: f32, y: f32) -> Option<f32> {
-    let (x0, y0, ax, ay) = floor_split(x, y);
-    let at = y0 * stride + x0;
-    // A stride within 2 of `usize::MAX` wraps to an empty block, refused below.
-    let block = data.get(at..)?.get(..stride.wrapping_add(2))?;
-    let (&[p00, p10, ..], Some(&[p01, p11])) = (block, block.last_chunk::<2>()) else { return None };
-    Some(lerp2x2([p00, p10, p01, p11].map(f32::from), ax, ay))
+/// A window's pixels (`data` from its top-left, row pitch `stride`) for [`bilinear`] samples
+/// at points known to lie inside it (every sample of a pose whose interior corners do,
+/// [`SimilarityTemplate::align`]), bit for bit: the checks against the window's sides are
+/// left out, and on the last column or row the next pixel is read as it is in memory, its
+/// weight being exactly zero (`p + 0 * d` is `p`).
+struct Inside<'a> {
+    data: &'a [u8],
+    stride: usize,
+    /// `stride + 2`, a 2x2 block's span in `data`: read as one slice, so one bounds check
+    /// covers its four pixels (and the compiler knows it holds two).
+    span: usize,
+}
+
+impl<'a> Inside<'a> {
+    #[inline(always)]
+    fn new(data: &'a [u8], stride: usize) -> Self {
+        // A stride within 2 of `usize::MAX` saturates: no block is that long, so none is read.
+        Inside { data, stride, span: stride.saturating_add(2) }
+    }
+
+    /// The sample at `(x, y)`; `None` where its 2x2 block reaches past `data` (the window's
+    /// last row at the end of its buffer).
+    #[inline(always)]
+    fn sample(&self, x: f32, y: f32) -> Option<f32> {
+        let (x0, y0, ax, ay) = floor_split(x, y);
+        let block = self.data.get(y0 * self.stride + x0..)?.get(..self.span)?;
+        let (&[p00, p10, ..], Some(&[p01, p11])) = (block, block.last_chunk::<2>()) else { return None };
+        Some(lerp2x2([p00, p10, p01, p11].map(f32::from), ax, ay))
+    }
 }
 
 /// The window's sums of one iteration at a `pose` whose samples all lie inside the window
@@ -206,11 +221,12 @@ fn bilinear_inside(data: &[u8], stride: usize, x: f32, y: f32) -> Option<f32> {
 /// line: inlined into the frame, the seven sums spill to the stack at every pixel.
 #[inline(never)]
 fn sums_inside<const P: usize>(lk: &LkTemplate<P>, (data, stride): (&[u8], usize), (w, h): (usize, usize), pose: &Pose, t_mean: f32) -> Option<WindowSums> {
+    let inside = Inside::new(data, stride);
     let mut seen = WindowSums::default();
     let mut missed = false;
     lk.each_used(|u, v, t, s| {
         let (x, y) = pose.map(u, v);
-        match bilinear_inside(data, stride, x, y).or_else(|| bilinear(data, stride, w, h, x, y)) {
+        match inside.sample(x, y).or_else(|| bilinear(data, stride, w, h, x, y)) {
             Some(sample) => seen.add(sample - t_mean, t, s),
             None => missed = true,
         }

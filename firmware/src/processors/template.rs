@@ -18,10 +18,17 @@ pub struct Template {
 
 /// Equal sides, anchors and N x N pixels: every constructor zeroes the bytes past them, so
 /// only the used ones are compared (an adapting track compares its template with its first
-/// every frame).
+/// every frame), a word at a time: the M4's `memcmp` a slice comparison becomes takes a byte
+/// at a time, 2,400 instructions for a 20x20 template.
 impl PartialEq for Template {
     fn eq(&self, other: &Self) -> bool {
-        self.n == other.n && self.anchor == other.anchor && self.pixels() == other.pixels()
+        let (a, b) = (self.pixels(), other.pixels());
+        let word = |c: &[u8]| <[u8; 4]>::try_from(c).map_or(0, u32::from_le_bytes);
+        let (wa, wb) = (a.chunks_exact(4), b.chunks_exact(4));
+        self.n == other.n
+            && self.anchor == other.anchor
+            && wa.remainder() == wb.remainder()
+            && wa.zip(wb).all(|(x, y)| word(x) == word(y))
     }
 }
 

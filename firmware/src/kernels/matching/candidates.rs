@@ -58,7 +58,7 @@ pub fn best_match_candidates(win: &WindowView<'_>, tpl: &WindowView<'_>) -> Resu
 /// candidate is beaten by few placements. In a frame of its own, apart from the fine searches'.
 #[inline(never)]
 fn coarse(win: &WindowView<'_>, tpl: &WindowView<'_>) -> Option<Top> {
-    let (mut wbuf, mut tbuf) = ([0u8; MAX_PACKED_PIXELS / 4], [0u8; HALF_TEMPLATE_PIXELS]);
+    let (mut wbuf, mut tbuf) = (Vec::<u8, { MAX_PACKED_PIXELS / 4 }>::new(), Vec::<u8, HALF_TEMPLATE_PIXELS>::new());
     let (hw, ht) = (halve(win, &mut wbuf)?, halve(tpl, &mut tbuf)?);
     let (nx, ny) = placements(&hw, &ht).ok()?;
     let (tw, th) = (ht.width(), ht.height());

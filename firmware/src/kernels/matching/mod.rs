@@ -314,7 +314,8 @@ const HALF_TEMPLATE_PIXELS: usize = 256;
 /// only, as the Foveal's).
 pub fn best_match_pyramid(method: Method, win: &WindowView<'_>, tpl: &WindowView<'_>) -> Result<Match, MatchError> {
     let (nx, ny) = placements(win, tpl)?;
-    let (mut wbuf, mut tbuf) = ([0u8; HALF_PIXELS], [0u8; HALF_TEMPLATE_PIXELS]);
+    // Only the halves' pixels are zeroed before they are written (not the whole buffers).
+    let (mut wbuf, mut tbuf) = (Vec::<u8, HALF_PIXELS>::new(), Vec::<u8, HALF_TEMPLATE_PIXELS>::new());
     let halves = (nx * ny > PYRAMID_FROM).then(|| Some((halve(win, &mut wbuf)?, halve(tpl, &mut tbuf)?))).flatten();
     let Some((half_win, half_tpl)) = halves else { return best_match_full(method, win, tpl) };
     let coarse = best_match_full(method, &half_win, &half_tpl)?;
@@ -381,12 +382,14 @@ pub fn best_match_near(
 /// `view` (full resolution) at half resolution in `buf`, each pixel the rounded mean of a
 /// 2x2 block: a pyramid level, which unlike every other pixel does not alias texture finer
 /// than 2 px into false matches. `None` when it has no pixel or does not fit `buf`.
-fn halve<'b>(view: &WindowView<'_>, buf: &'b mut [u8]) -> Option<WindowView<'b>> {
+fn halve<'b, const N: usize>(view: &WindowView<'_>, buf: &'b mut Vec<u8, N>) -> Option<WindowView<'b>> {
     let (w, h) = (view.width() / 2, view.height() / 2);
     if w == 0 || h == 0 {
         return None;
     }
-    let out = buf.get_mut(..w * h)?;
+    buf.clear();
+    buf.resize(w.checked_mul(h)?, 0).ok()?;
+    let out = &mut buf[..];
     // Two output pixels from a word of each row: its pixel pairs' sums as 16-bit halves
     // (`UXTB16` on the M4), at most 4·255 + 2, so no half carries into the other.
     let word = |c: &[u8]| <[u8; 4]>::try_from(c).map_or(0, u32::from_le_bytes);

@@ -102,9 +102,18 @@ impl Scorer {
                 Some((x.a as f64 / q).min(1.0))
             }
             Method::Zncc => {
-                let (num, vw, vt) = self.zncc_defined(x)?;
-                let q = libm::sqrt(vt as f64 * vw as f64);
-                Some((num as f64 / q).clamp(-1.0, 1.0))
+                // The same integers converted from 64 bits where they fit: a conversion is
+                // exact rounding either way, and from 128 bits a longer library call on the M4.
+                let (num, vw, vt) = match (self.zncc_parts64(x), self.zncc_template_var64()) {
+                    (Some((num, vw)), Some(vt)) if vw > 0 && vt > 0 => (num as f64, vw as f64, vt as f64),
+                    (Some(_), Some(_)) => return None,
+                    _ => {
+                        let (num, vw, vt) = self.zncc_defined(x)?;
+                        (num as f64, vw as f64, vt as f64)
+                    }
+                };
+                let q = libm::sqrt(vt * vw);
+                Some((num / q).clamp(-1.0, 1.0))
             }
         }
     }
@@ -182,6 +191,13 @@ impl Scorer {
         let (n, sum) = (self.t.n as i64, self.t.sum as i64);
         let (a, e, s) = (x.a as i64, x.e as i64, x.s as i64);
         Some((n * a - sum * s, n * e - s * s))
+    }
+
+    /// The template's variance term `n Σ R² - (Σ R)²` in 64 bits, for templates of up to
+    /// [`NARROW`] pixels (as [`Scorer::zncc_parts64`]).
+    fn zncc_template_var64(&self) -> Option<i64> {
+        let t = &self.t;
+        (t.n <= NARROW).then(|| t.n as i64 * t.energy as i64 - t.sum as i64 * t.sum as i64)
     }
 
     /// ZNCC's numerator `n Σ R·I - Σ R Σ I` and window variance `n Σ I² - (Σ I)²`.
