@@ -423,3 +423,27 @@ pub(super) fn sums_at(method: Method, win: &WindowView<'_>, tpl: &WindowView<'_>
     Some(x)
 }
 
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The 64-bit ZNCC terms against the 128-bit ones (exact integers: the reference), at the
+    /// largest sums a template of each size allows (up to [`NARROW`] pixels) and at smaller ones.
+    #[test]
+    fn zncc_terms_in_64_bits_equal_the_128_bit_ones() {
+        for n in [1u64, 400, 1024, 1 << 16, NARROW - 1, NARROW] {
+            let full = Sums { a: 255 * 255 * n, e: 255 * 255 * n, s: 255 * n };
+            let some = Sums { a: 97 * 131 * n, e: 131 * 131 * n, s: 131 * n - 7 };
+            for (sum, energy) in [(255 * n, 255 * 255 * n), (97 * n + 3, 97 * 97 * n + 11)] {
+                let scorer = Scorer { method: Method::Zncc, t: TemplateStats { energy, sum, n } };
+                for x in [full, some, Sums::default()] {
+                    let (num, var) = scorer.zncc_parts(&x);
+                    assert_eq!(scorer.zncc_parts64(&x), Some((num as i64, var as i64)), "n {n}, sums {x:?}");
+                    let vt = i128::from(n) * i128::from(energy) - i128::from(sum) * i128::from(sum);
+                    assert_eq!(scorer.zncc_template_var64(), Some(vt as i64), "n {n}");
+                }
+            }
+        }
+    }
+}
