@@ -219,6 +219,9 @@ impl<'a> WindowView<'a> {
                         match self.data.get(start..start + self.width * 2) {
                             // The 25 % views: pairs of known size, which LLVM gathers in vectors.
                             Some(span) if self.step == 2 => {
+                                #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+                                evens(dst, span);
+                                #[cfg(not(all(target_arch = "x86_64", target_feature = "sse2")))]
                                 for (d, c) in dst.iter_mut().zip(span.chunks_exact(2)) {
                                     *d = c.first().copied().unwrap_or(0);
                                 }
@@ -246,9 +249,84 @@ impl<'a> WindowView<'a> {
     }
 }
 
+/// `dst[i] = span[2i]` (`span` at least twice as long as `dst`), on x86-64 16 or 8 pixels a
+/// vector: the pairs' high bytes masked off and the words packed back to bytes (a pixel at a
+/// time, LLVM gathered them a byte at a time, 15 % of the 25 % match). A row whose width is
+/// not a multiple of the vector's ends with one more vector overlapping the one before.
+#[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+fn evens(dst: &mut [u8], span: &[u8]) {
+    // SAFETY: the only requirement of a `target_feature` function is that the CPU has the
+    // feature, and this is compiled only where SSE2 is part of the build's target.
+    #[allow(unsafe_code)]
+    unsafe {
+        evens_sse2(dst, span);
+    }
+}
+
+/// [`evens`] itself (the intrinsics are safe to call inside).
+#[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+#[target_feature(enable = "sse2")]
+fn evens_sse2(dst: &mut [u8], span: &[u8]) {
+    use core::arch::x86_64::{_mm_and_si128, _mm_cvtsi128_si64, _mm_packus_epi16, _mm_set1_epi16, _mm_set_epi64x, _mm_unpackhi_epi64};
+    let n = dst.len().min(span.len() / 2);
+    let low = _mm_set1_epi16(0x00ff);
+    // Eight pixels as a 64-bit word (0 past the end).
+    let word = |p: &[u8], at: usize| p.get(at..at + 8).and_then(|w| <[u8; 8]>::try_from(w).ok()).map_or(0, i64::from_le_bytes);
+    // The even pixels of `span[2·at..2·(at + len)]` into `dst[at..at + len]`, `len` 16 or 8.
+    let mut put = |at: usize, len: usize| -> Option<()> {
+        let src = span.get(2 * at..2 * (at + len))?;
+        let (a, b) = (_mm_set_epi64x(word(src, 8), word(src, 0)), _mm_set_epi64x(word(src, 24), word(src, 16)));
+        // Words of at most 255: the saturating pack keeps them exactly.
+        let v = _mm_packus_epi16(_mm_and_si128(a, low), _mm_and_si128(b, low));
+        let (lo, hi) = (_mm_cvtsi128_si64(v).to_le_bytes(), _mm_cvtsi128_si64(_mm_unpackhi_epi64(v, v)).to_le_bytes());
+        dst.get_mut(at..at + 8)?.copy_from_slice(&lo);
+        if len == 16 {
+            dst.get_mut(at + 8..at + 16)?.copy_from_slice(&hi);
+        }
+        Some(())
+    };
+    let len = if n >= 16 { 16 } else { 8 };
+    if n < 8 {
+        for (d, c) in dst.iter_mut().zip(span.chunks_exact(2)) {
+            *d = c.first().copied().unwrap_or(0);
+        }
+        return;
+    }
+    let mut at = 0;
+    while at + len <= n {
+        put(at, len);
+        at += len;
+    }
+    if at < n {
+        put(n - len, len);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The vector gather of a row's even pixels against a pixel at a time, for every width up
+    /// to 40 (under one vector, one or two of 8, whole and overlapping 16s), from spans just
+    /// long enough and longer, with 255s (the pack saturates nothing) and zeros.
+    #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+    #[test]
+    fn the_even_pixels_are_every_other_one() {
+        let span: std::vec::Vec<u8> = (0..96u32).map(|i| match i % 7 {
+            0 => 255,
+            3 => 0,
+            _ => (i * 37 % 251) as u8,
+        }).collect();
+        for width in 0..=40 {
+            for extra in [0, 1, 9] {
+                let src = &span[..2 * width + extra];
+                let mut dst = std::vec![0xa5u8; width];
+                evens(&mut dst, src);
+                let want: std::vec::Vec<u8> = (0..width).map(|i| src[2 * i]).collect();
+                assert_eq!(dst, want, "width {width}, span {}", src.len());
+            }
+        }
+    }
 
     #[test]
     fn rejects_inconsistent_dims() {
@@ -314,3 +392,4 @@ mod tests {
         assert!(v.sub(2, 0, 3, 1).is_none());
     }
 }
+

@@ -1,7 +1,8 @@
 //! Which of x86-64's wider vector extensions the host has, for the kernels with a path of
-//! their own there (`motion`'s row scan). `no_std` has no `is_x86_feature_detected!`, so the
-//! CPU and the operating system are asked directly: `CPUID` for the instructions, `XGETBV` for
-//! whether the OS saves the registers they use. Asked once, then cached.
+//! their own there (`motion`'s row scan, the SSD's elimination). `no_std` has no
+//! `is_x86_feature_detected!`, so the CPU and the operating system are asked directly: `CPUID`
+//! for the instructions, `XGETBV` for whether the OS saves the registers they use. Asked once,
+//! then cached.
 use core::arch::x86_64::{__cpuid, __cpuid_count, _xgetbv};
 use core::sync::atomic::{AtomicU8, Ordering};
 
