@@ -10,7 +10,7 @@
 //! placements each stands for.
 //! Unlike [`super::best_match_pyramid`] (a tracker's window, whose centre is searched too)
 //! there is no prior: the object may be anywhere in the window, beside look-alikes. A tile's
-//! look now takes at most 261,636 instructions (`docs/firmware-target.md`).
+//! look now takes at most 260,803 instructions (`docs/firmware-target.md`).
 use super::dot::dot_products;
 use super::scores::{placements, zncc_rank, Ranked, Scorer, Sums};
 use super::{best_match_near, halve, near_range, rank_all, search_packed, with_packed, Match, MatchError, Method, NearRange, HALF_TEMPLATE_PIXELS, MAX_PACKED_PIXELS, MAX_SEARCH_WIDTH, SCORE_CACHE, SUMS_CACHE};
