@@ -223,22 +223,52 @@ struct EdgePoint {
     m: f32,
 }
 
+/// Sobel `(gx, gy)` at the centre of the 3x3 block of rows `up`, `mid`, `down`.
+#[inline(always)]
+fn sobel3([a, b, c]: [i32; 3], [d, _, f]: [i32; 3], [g, k, l]: [i32; 3]) -> (i32, i32) {
+    ((c - a) + 2 * (f - d) + (l - g), (g + 2 * k + l) - (a + 2 * b + c))
+}
+
+/// `gx² + gy²` at the centre of a 3x3 block ([`sobel3`]).
+#[inline(always)]
+fn mag2(up: [i32; 3], mid: [i32; 3], down: [i32; 3]) -> i32 {
+    let (gx, gy) = sobel3(up, mid, down);
+    gx * gx + gy * gy
+}
+
+/// `L` pixels of row `y` of `wide` from column `x`, widened; `None` past the rows or columns.
+#[inline(always)]
+fn run<const N: usize, const L: usize>(wide: &[[i16; N]], x: usize, y: usize) -> Option<[i32; L]> {
+    Some(<&[i16; L]>::try_from(wide.get(y)?.get(x..x + L)?).ok()?.map(i32::from))
+}
+
 /// Sobel `(gx, gy)` at an interior pixel of the `w x h` window held in `wide` (no
 /// border handling: `1 <= x <= w-2`, `1 <= y <= h-2`); `None` otherwise.
 fn grad<const N: usize>(wide: &[[i16; N]], w: usize, h: usize, x: usize, y: usize) -> Option<(i32, i32)> {
     if x == 0 || y == 0 || x + 1 >= w || y + 1 >= h {
         return None;
     }
-    let three = |r: &[i16; N]| -> Option<[i32; 3]> { Some(<&[i16; 3]>::try_from(r.get(x - 1..x + 2)?).ok()?.map(i32::from)) };
-    let [up, mid, down] = wide.get(y - 1..y + 2)? else { return None };
-    let ([a, b, c], [d, _, f], [g, k, l]) = (three(up)?, three(mid)?, three(down)?);
-    Some(((c - a) + 2 * (f - d) + (l - g), (g + 2 * k + l) - (a + 2 * b + c)))
+    Some(sobel3(run(wide, x - 1, y - 1)?, run(wide, x - 1, y)?, run(wide, x - 1, y + 1)?))
 }
 
-/// Squared gradient magnitude `gx² + gy²` at an interior pixel, `None` outside the interior.
-fn mag2<const N: usize>(wide: &[[i16; N]], w: usize, h: usize, x: usize, y: usize) -> Option<i32> {
-    let (gx, gy) = grad(wide, w, h, x, y)?;
-    Some(gx * gx + gy * gy)
+/// `gx² + gy²` at the pixels before and after `(x, y)` along `x` (`along_x`) or along `y`,
+/// `None` where either is not an interior pixel of the `w x h` window. Their two 3x3 blocks
+/// are read as one 3x5 (or 5x3) block: a bounds check a row, not one a row of each block.
+fn neighbour_mags<const N: usize>(wide: &[[i16; N]], w: usize, h: usize, (x, y): (usize, usize), along_x: bool) -> Option<(i32, i32)> {
+    if along_x {
+        if x < 2 || x + 2 >= w || y == 0 || y + 1 >= h {
+            return None;
+        }
+        let ([u0, u1, u2, u3, u4], [m0, m1, m2, m3, m4], [d0, d1, d2, d3, d4]) = (run(wide, x - 2, y - 1)?, run(wide, x - 2, y)?, run(wide, x - 2, y + 1)?);
+        Some((mag2([u0, u1, u2], [m0, m1, m2], [d0, d1, d2]), mag2([u2, u3, u4], [m2, m3, m4], [d2, d3, d4])))
+    } else {
+        if y < 2 || y + 2 >= h || x == 0 || x + 1 >= w {
+            return None;
+        }
+        let r = |j: usize| run::<N, 3>(wide, x - 1, j);
+        let (r0, r1, r2, r3, r4) = (r(y - 2)?, r(y - 1)?, r(y)?, r(y + 1)?, r(y + 2)?);
+        Some((mag2(r0, r1, r2), mag2(r2, r3, r4)))
+    }
 }
 
 /// Collects the sub-pixel edge points (step 1) of the clean edge pixels `rows` (bit `x`
@@ -260,12 +290,7 @@ pub(super) fn collect_points<const N: usize>(
             // Compare along the axis closer to the gradient; both neighbours must be
             // interior pixels too.
             let horizontal = gx.abs() >= gy.abs();
-            let (before, after) = if horizontal {
-                (x.checked_sub(1).and_then(|xm| mag2(wide, w, h, xm, y)), mag2(wide, w, h, x + 1, y))
-            } else {
-                (y.checked_sub(1).and_then(|ym| mag2(wide, w, h, x, ym)), mag2(wide, w, h, x, y + 1))
-            };
-            let (Some(q0), Some(q2)) = (before, after) else { continue };
+            let Some((q0, q2)) = neighbour_mags(wide, w, h, (x, y), horizontal) else { continue };
             let q1 = gx * gx + gy * gy;
             // A maximum (compared squared: the magnitudes are not negative); ties broken
             // towards the lower index, so a plateau of two gives one point.
