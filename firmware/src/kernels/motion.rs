@@ -8,6 +8,8 @@
 //! sub-window, including the MPDF strips (256x20 at the top and bottom of the frame).
 
 use crate::kernels::view::WindowView;
+#[cfg(target_arch = "x86_64")]
+use core::arch::x86_64::{__m512i, _mm512_cmpgt_epu8_mask, _mm512_loadu_si512, _mm512_maskz_loadu_epi8, _mm512_max_epu8, _mm512_or_si512, _mm512_set1_epi8, _mm512_setzero_si512, _mm512_subs_epu8};
 
 /// The motion area of a window pair, in frame coordinates (inclusive bounds).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -78,34 +80,75 @@ fn block_span(a: &[u8], b: &[u8], t: u8) -> Option<(usize, usize)> {
 /// (`fixtures/bench/README.md`, stop 35).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512bw")]
-#[allow(unsafe_code)]
 #[inline]
 fn scan_row_avx512(a: &[u8], b: &[u8], t: u8) -> Option<(u32, usize, usize)> {
-    use core::arch::x86_64::{_mm512_cmpgt_epu8_mask, _mm512_loadu_si512, _mm512_or_si512, _mm512_set1_epi8, _mm512_subs_epu8};
-    let n = a.len().min(b.len());
-    let (ca, cb) = (a.get(..n)?.chunks_exact(64), b.get(..n)?.chunks_exact(64));
-    let (ra, rb) = (ca.remainder(), cb.remainder());
     let tv = _mm512_set1_epi8(t as i8);
     let (mut count, mut span) = (0u32, None);
-    for (k, (x, y)) in ca.zip(cb).enumerate() {
-        // SAFETY: each chunk is 64 readable bytes; the load needs no alignment.
-        let (x, y) = unsafe { (_mm512_loadu_si512(x.as_ptr().cast()), _mm512_loadu_si512(y.as_ptr().cast())) };
-        // |x - y| as the larger of the two saturating differences (the other is 0).
-        let m = _mm512_cmpgt_epu8_mask(_mm512_or_si512(_mm512_subs_epu8(x, y), _mm512_subs_epu8(y, x)), tv);
+    for_each_vector(a, b, |k, x, y| {
+        let m = _mm512_cmpgt_epu8_mask(abs_diff(x, y), tv);
         if m != 0 {
             count += m.count_ones();
             let (lo, hi) = (64 * k + m.trailing_zeros() as usize, 64 * k + 63 - m.leading_zeros() as usize);
             span = Some(span.map_or((lo, hi), |(first, _)| (first, hi)));
         }
-    }
-    let tail = n - ra.len();
-    for (x, (&p, &q)) in ra.iter().zip(rb).enumerate() {
-        if moves(p, q, t) {
-            count += 1;
-            span = Some(span.map_or((tail + x, tail + x), |(first, _)| (first, tail + x)));
-        }
-    }
+    });
     span.map(|(first, last)| (count, first, last))
+}
+
+/// The largest `|a - b|` of each lane over the vectors of two rows (0 for empty rows): whether
+/// any pixel of them moves, without a branch per vector.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512bw")]
+#[inline]
+fn largest_diff(a: &[u8], b: &[u8]) -> __m512i {
+    let mut m = _mm512_setzero_si512();
+    for_each_vector(a, b, |_, x, y| m = _mm512_max_epu8(m, abs_diff(x, y)));
+    m
+}
+
+/// Calls `f(k, x, y)` for the `k`-th 64 pixels of two rows (up to the shorter's length) as
+/// vectors, the last one fewer ([`tail_pair`]) when the length is not a multiple of 64. A
+/// loop, not an iterator of vectors: adapters such as `Chain::fold` lack the target feature,
+/// so nothing passed through them inlines, and every vector would go through memory (10x).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512bw")]
+#[allow(unsafe_code)]
+#[inline]
+fn for_each_vector(a: &[u8], b: &[u8], mut f: impl FnMut(usize, __m512i, __m512i)) {
+    let n = a.len().min(b.len());
+    let (ca, cb) = (a.get(..n).unwrap_or(&[]).chunks_exact(64), b.get(..n).unwrap_or(&[]).chunks_exact(64));
+    let (ra, rb) = (ca.remainder(), cb.remainder());
+    let vectors = n / 64;
+    for (k, (x, y)) in ca.zip(cb).enumerate() {
+        // SAFETY: each chunk is 64 readable bytes; the load needs no alignment.
+        let (x, y) = unsafe { (_mm512_loadu_si512(x.as_ptr().cast()), _mm512_loadu_si512(y.as_ptr().cast())) };
+        f(k, x, y);
+    }
+    if !ra.is_empty() {
+        let (x, y) = tail_pair(ra, rb);
+        f(vectors, x, y);
+    }
+}
+
+/// `|x - y|` per byte, as the larger of the two saturating differences (the other is 0).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512bw")]
+#[inline]
+fn abs_diff(x: __m512i, y: __m512i) -> __m512i {
+    _mm512_or_si512(_mm512_subs_epu8(x, y), _mm512_subs_epu8(y, x))
+}
+
+/// The last pixels of two rows, fewer than 64, in vectors through a byte mask, 0 past them (a
+/// pair of zeros never moves), so that a row needs no scalar tail.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512bw")]
+#[allow(unsafe_code)]
+#[inline]
+fn tail_pair(a: &[u8], b: &[u8]) -> (__m512i, __m512i) {
+    let keep = (1u64 << a.len().min(b.len()).min(63)) - 1;
+    // SAFETY: only the bytes of `keep`, inside both slices, are read; the masked-off ones are
+    // neither read nor able to fault.
+    unsafe { (_mm512_maskz_loadu_epi8(keep, a.as_ptr().cast()), _mm512_maskz_loadu_epi8(keep, b.as_ptr().cast())) }
 }
 
 /// [`scan_row_avx512`] in blocks of [`BLOCK`] pixels, in the baseline build's vectors (or
@@ -158,18 +201,86 @@ pub fn detect_motion(
 }
 
 /// [`detect_motion`] with [`scan_row_avx512`], in one function so that the row scan is
-/// inlined (a call a row was half of a frame's time).
+/// inlined (a call a row was half of a frame's time). Full-resolution views are walked by
+/// stride straight from their buffers, without two [`WindowView::row`] calls a row (256-pixel
+/// rows are only 4 vectors: per-row work counts), [`GROUP`] rows at a time: most rows of a
+/// Watch window do not move, so a group is first only tested for any motion
+/// ([`largest_diff`], no branch per vector), and only a group that moves is scanned row by
+/// row, from L1 by then.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512bw")]
 fn motion_avx512(prev: &WindowView<'_>, next: &WindowView<'_>, threshold: u8) -> Option<MotionArea> {
-    motion_rows(prev, next, threshold, |a, b, t| scan_row_avx512(a, b, t))
+    let ((Some((a, sa)), Some((b, sb))), w) = ((prev.raw(), next.raw()), next.width()) else {
+        // Decimated views: motion_rows' scalar scan.
+        return motion_rows(prev, next, threshold, |a, b, t| scan_row_avx512(a, b, t));
+    };
+    // Row `y < height` is `data[y * stride..][..width]`: the constructors checked that the
+    // buffers are that long if `width > 0`, so the products do not overflow (empty rows move
+    // nowhere, whatever the height). No closure goes through `Option`'s or iterators'
+    // adapters here: those lack the target feature, so closures that have it would not inline.
+    let row = |y: usize| match (a.get(y * sa..y * sa + w), b.get(y * sb..y * sb + w)) {
+        (Some(ra), Some(rb)) => (ra, rb),
+        _ => (&[][..], &[][..]),
+    };
+    let (h, tv) = (if w == 0 { 0 } else { next.height() }, _mm512_set1_epi8(threshold as i8));
+    let (mut area, mut count) = (None, 0u32);
+    for y0 in (0..h).step_by(GROUP) {
+        let ys = y0..h.min(y0 + GROUP);
+        let mut largest = _mm512_setzero_si512();
+        for y in ys.clone() {
+            let (ra, rb) = row(y);
+            largest = _mm512_max_epu8(largest, largest_diff(ra, rb));
+        }
+        if _mm512_cmpgt_epu8_mask(largest, tv) == 0 {
+            continue;
+        }
+        for y in ys {
+            let (ra, rb) = row(y);
+            if let Some((c, first, last)) = scan_row_avx512(ra, rb, threshold) {
+                count = count.saturating_add(c);
+                area = Some(grow(area, y, first, last));
+            }
+        }
+    }
+    in_frame(next, area, count)
+}
+
+/// Rows tested together for motion by [`motion_avx512`] before any is scanned.
+#[cfg(target_arch = "x86_64")]
+const GROUP: usize = 4;
+
+/// The moving rows' bounding box in view coordinates (`None` until a row moves), grown by
+/// row `y` (below the rows before) moving from column `first` to `last`.
+#[inline(always)]
+fn grow(area: Option<(usize, usize, usize, usize)>, y: usize, first: usize, last: usize) -> (usize, usize, usize, usize) {
+    match area {
+        None => (first, last, y, y),
+        Some((x0, x1, y0, _)) => (x0.min(first), x1.max(last), y0, y),
+    }
+}
+
+/// The motion area in `view`'s frame coordinates of the moving rows' bounding box `area` (view
+/// coordinates) and their `count` of moving pixels, `None` if no row moved.
+#[inline(always)]
+fn in_frame(view: &WindowView<'_>, area: Option<(usize, usize, usize, usize)>, count: u32) -> Option<MotionArea> {
+    area.map(|(x0, x1, y0, y1)| {
+        let (fx0, fy0) = view.to_frame(x0, y0);
+        let (fx1, fy1) = view.to_frame(x1, y1);
+        MotionArea {
+            xmin: fx0,
+            xmax: fx1,
+            ymin: fy0,
+            ymax: fy1,
+            count,
+        }
+    })
 }
 
 /// The motion area of two views of one size, each row's moving pixels from `scan`.
 #[inline(always)]
 fn motion_rows(prev: &WindowView<'_>, next: &WindowView<'_>, threshold: u8, scan: impl Fn(&[u8], &[u8], u8) -> Option<(u32, usize, usize)>) -> Option<MotionArea> {
     let h = next.height();
-    let mut area: Option<(usize, usize, usize, usize)> = None;
+    let mut area = None;
     let mut count = 0u32;
     for y in 0..h {
         let (rc, first, last) = match (prev.row(y), next.row(y)) {
@@ -195,22 +306,9 @@ fn motion_rows(prev: &WindowView<'_>, next: &WindowView<'_>, threshold: u8, scan
             }
         };
         count = count.saturating_add(rc);
-        area = Some(match area {
-            None => (first, last, y, y),
-            Some((x0, x1, y0, _)) => (x0.min(first), x1.max(last), y0, y),
-        });
+        area = Some(grow(area, y, first, last));
     }
-    area.map(|(x0, x1, y0, y1)| {
-        let (fx0, fy0) = next.to_frame(x0, y0);
-        let (fx1, fy1) = next.to_frame(x1, y1);
-        MotionArea {
-            xmin: fx0,
-            xmax: fx1,
-            ymin: fy0,
-            ymax: fy1,
-            count,
-        }
-    })
+    in_frame(next, area, count)
 }
 
 /// Writes the motion mask `|next - prev| > threshold` (1 = moving) row-major into `out`
@@ -351,6 +449,94 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The motion area of two views a pixel at a time through `get`, the reference below.
+    fn area_by_pixels(prev: &WindowView<'_>, next: &WindowView<'_>, t: u8) -> Option<MotionArea> {
+        let mut area: Option<MotionArea> = None;
+        for y in 0..next.height() {
+            for x in 0..next.width() {
+                if prev.get(x, y).unwrap().abs_diff(next.get(x, y).unwrap()) > t {
+                    let (fx, fy) = next.to_frame(x, y);
+                    area = Some(match area {
+                        None => MotionArea { xmin: fx, xmax: fx, ymin: fy, ymax: fy, count: 1 },
+                        Some(a) => MotionArea { xmin: a.xmin.min(fx), xmax: a.xmax.max(fx), ymin: a.ymin.min(fy), ymax: a.ymax.max(fy), count: a.count + 1 },
+                    });
+                }
+            }
+        }
+        area
+    }
+
+    /// Whole frames, the AVX-512 path (where this CPU has it) and the portable one, against
+    /// [`area_by_pixels`]: widths around the 64-pixel vectors, heights around the row groups,
+    /// strides past the width, sub-views with origins, their decimated views and empty ones;
+    /// no motion, one moving pixel anywhere, sparse, random and all-moving pixels; thresholds
+    /// 0, 30, 254 and 255.
+    #[test]
+    fn frames_match_a_pixel_scan() {
+        let mut x = 11u32;
+        let mut rand = || {
+            x = x.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            x >> 8
+        };
+        /// The view of `d` at `(x0, 0)`, its decimated view and two sub-views.
+        fn views(d: &[u8], x0: usize, w: usize, h: usize, stride: usize, fx: u32) -> std::vec::Vec<WindowView<'_>> {
+            let Ok(v) = WindowView::new(&d[x0..], w, h, stride, fx, 3) else { return std::vec::Vec::new() };
+            let mut views = std::vec![v, v.decimated()];
+            views.extend(v.sub(w.min(3), h.min(1), w - w.min(3), h - h.min(1)));
+            views.extend(v.sub(0, 0, w / 2, h));
+            views
+        }
+        let mut checked = 0;
+        for w in [0usize, 1, 5, 63, 64, 65, 127, 128, 129, 200, 256, 300] {
+            for h in [0usize, 1, 2, 3, 4, 5, 7, 9] {
+                for pad in [0usize, 1, 37, 64] {
+                    let (x0, stride) = (pad % 13, w + pad);
+                    let len = (stride * h + x0).max(1);
+                    for kind in 0..5 {
+                        let prev: std::vec::Vec<u8> = (0..len).map(|_| if kind == 4 { 255 * (rand() % 2) as u8 } else { rand() as u8 }).collect();
+                        let mut next = prev.clone();
+                        match kind {
+                            // One pixel (maybe outside the view: then none) by 255 or more than 30.
+                            1 => {
+                                let i = rand() as usize % len;
+                                next[i] = if rand() % 2 == 0 { 255 - prev[i] } else { prev[i].wrapping_add(31 + rand() as u8 % 200) };
+                            }
+                            2 => {
+                                for q in next.iter_mut() {
+                                    if rand() % 64 == 0 {
+                                        *q = rand() as u8;
+                                    }
+                                }
+                            }
+                            3 => next.iter_mut().for_each(|q| *q = rand() as u8),
+                            4 => next.iter_mut().for_each(|q| *q = 255 - *q),
+                            _ => {}
+                        }
+                        let fx = 5 + pad as u32;
+                        for (p, n) in views(&prev, x0, w, h, stride, fx).iter().zip(&views(&next, x0, w, h, stride, fx)) {
+                            for t in [0, 30, 254, 255] {
+                                let want = area_by_pixels(p, n, t);
+                                let at = (w, h, stride, kind, p.width(), p.height(), p.step(), t);
+                                assert_eq!(motion_rows(p, n, t, scan_row_blocks), want, "portable, {at:?}");
+                                assert_eq!(detect_motion(p, n, t).unwrap(), want, "{at:?}");
+                                #[cfg(target_arch = "x86_64")]
+                                if super::super::x86::has_avx512bw() {
+                                    // SAFETY: the CPU and the OS run AVX-512 F and BW (checked).
+                                    #[allow(unsafe_code)]
+                                    let wide = unsafe { motion_avx512(p, n, t) };
+                                    assert_eq!(wide, want, "AVX-512, {at:?}");
+                                }
+                                checked += usize::from(want.is_some());
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        // Most cases move somewhere.
+        assert!(checked > 5000, "{checked}");
     }
 
     #[test]
