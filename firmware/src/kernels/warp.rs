@@ -143,9 +143,9 @@ impl WindowSums {
 }
 
 /// `v` sampled bilinearly at `(x, y)` of `win` (`data` from its top-left, row pitch
-/// `stride`), or `None` outside `[0, w - 1] x [0, h - 1]`: [`bilinear_inside`] once the point
-/// is known to be inside ([`Inside`]: the 2x2 block as one slice), [`bilinear_edge`] where that
-/// block reaches past `data`.
+/// `stride`), or `None` outside `[0, w - 1] x [0, h - 1]`: [`Inside::sample`] once the point
+/// is known to be inside (the 2x2 block as one slice), [`bilinear_edge`] where that block
+/// reaches past `data`.
 #[inline(always)]
 fn bilinear(data: &[u8], stride: usize, w: usize, h: usize, x: f32, y: f32) -> Option<f32> {
     if !(x >= 0.0 && y >= 0.0 && x <= (w - 1) as f32 && y <= (h - 1) as f32) {

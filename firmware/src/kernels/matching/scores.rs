@@ -423,7 +423,6 @@ pub(super) fn sums_at(method: Method, win: &WindowView<'_>, tpl: &WindowView<'_>
     Some(x)
 }
 
-
 #[cfg(test)]
 mod tests {
     use super::*;
