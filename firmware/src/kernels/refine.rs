@@ -59,6 +59,10 @@ pub fn refine_translation_on(win: &WindowView<'_>, tpl: &WindowView<'_>, support
     lk.prepare(tpl, Some(support)).then(|| lk.refine(win, x, y)).flatten()
 }
 
+/// A prepared template's interior ([`LkTemplate::interior`]): its width, the used bits of each
+/// row, the used pixels' `[T, gx, gy]` row by row and the mean `T`.
+pub(crate) type Interior<'a> = (usize, &'a [u32], &'a [[f32; 3]], f32);
+
 /// The template's side of the refinement (its used interior pixels, their gradients, `H` and
 /// the template's mean and deviation), which does not depend on the window: a tracker that
 /// refines every frame with one template prepares it once ([`LkTemplate::prepare`]) and
@@ -175,7 +179,7 @@ impl<const P: usize> LkTemplate<P> {
 
     /// The prepared template's interior: its width, the used bits of each row, the used
     /// pixels' `[T, gx, gy]` row by row and the mean `T`; `None` when nothing is prepared.
-    pub(crate) fn interior(&self) -> Option<(usize, &[u32], &[[f32; 3]], f32)> {
+    pub(crate) fn interior(&self) -> Option<Interior<'_>> {
         self.ready.then(|| (self.iw, self.used.get(..self.ih).unwrap_or(&[]), &self.tg[..], self.t_mean))
     }
 

@@ -136,8 +136,8 @@ impl WindowSums {
         self.w += w;
         self.ww += w * w;
         self.wt += w * t;
-        for i in 0..4 {
-            self.sw[i] += s[i] * w;
+        for (sw, s) in self.sw.iter_mut().zip(s) {
+            *sw += s * w;
         }
     }
 }
@@ -236,6 +236,8 @@ fn sums_inside<const P: usize>(lk: &LkTemplate<P>, (data, stride): (&[u8], usize
 
 /// The solution of `H d = b` for the symmetric positive definite `H` (upper triangle row by
 /// row), by Cholesky; `None` when `H` is not (the template lacks texture for some motion).
+// Indices, as the formulas of the factorisation and the substitutions write them.
+#[allow(clippy::needless_range_loop)]
 fn solve4(h: &[f32; 10], b: [f32; 4]) -> Option<[f32; 4]> {
     let mut full = [[0.0f32; 4]; 4];
     let mut k = 0;
@@ -252,6 +254,8 @@ fn solve4(h: &[f32; 10], b: [f32; 4]) -> Option<[f32; 4]> {
             let sum = full[i][j] - (0..j).map(|k| l[i][k] * l[j][k]).sum::<f32>();
             if i == j {
                 // Relative to the diagonal, as the images' scales differ by the template's size.
+                // Negated so that a NaN sum is refused too.
+                #[allow(clippy::neg_cmp_op_on_partial_ord)]
                 if !(sum > 1e-6 * full[i][i]) {
                     return None;
                 }
@@ -367,6 +371,8 @@ impl<const P: usize> SimilarityTemplate<P> {
             pose = next;
             let walk = sqrtf((pose.x - start.x) * (pose.x - start.x) + (pose.y - start.y) * (pose.y - start.y));
             let scale = pose.scale();
+            // Negated so that a NaN walk or scale stops the walk too.
+            #[allow(clippy::manual_range_contains)]
             if !(walk <= MAX_WALK && scale <= MAX_SCALE && scale >= 1.0 / MAX_SCALE) {
                 return None;
             }

@@ -97,13 +97,16 @@ pub(super) struct Runs<const N: usize> {
     tree: [[u16; N]; N],
 }
 
+/// [`Runs`]'s arrays, `(x0, x1, y, parent, area)`.
+type RunArrays<'a> = (&'a mut [u8], &'a mut [u8], &'a mut [u8], &'a mut [u16], &'a mut [u16]);
+
 impl<const N: usize> Runs<N> {
     pub(super) const fn new() -> Self {
         Self { cols: [[0; N]; N], rows: [[0; N]; N], tree: [[0; N]; N] }
     }
 
     /// The arrays as `(x0, x1, y, parent, area)`, `N² / 2` entries each.
-    fn split(&mut self) -> (&mut [u8], &mut [u8], &mut [u8], &mut [u16], &mut [u16]) {
+    fn split(&mut self) -> RunArrays<'_> {
         let cap = N * N / 2;
         let (x0, x1) = self.cols.as_flattened_mut().split_at_mut(cap);
         let (parent, area) = self.tree.as_flattened_mut().split_at_mut(cap);

@@ -190,7 +190,7 @@ impl<const N: usize> CornerDetector<N> {
     /// `static`).
     pub const fn sized() -> Self {
         // Whole 8-pixel chunks per row (Sobel) and 64-bit rows (the bit maps).
-        const { assert!(N > 0 && N % 8 == 0 && N <= MAX_DIM, "the detector's side is a multiple of 8 up to 64") };
+        const { assert!(N > 0 && N.is_multiple_of(8) && N <= MAX_DIM, "the detector's side is a multiple of 8 up to 64") };
         Self {
             edges: [[0; N]; N],
             bits: [0; N],

@@ -412,6 +412,10 @@ fn halve<'b, const N: usize>(view: &WindowView<'_>, buf: &'b mut Vec<u8, N>) -> 
     WindowView::packed(out, w, h).ok()
 }
 
+/// [`rank_all`]'s result: the first best placement with its sums, and whether the cache
+/// holds every placement's sums.
+type Ranking = (Option<(usize, usize, Sums)>, bool);
+
 /// The first best placement in raster order with its sums, every placement ranked (see
 /// [`best_match`]), and whether `cache` holds the sums of every placement (else only the
 /// first [`SUMS_CACHE`]). In a frame of its own, apart from the SSD's elimination.
@@ -421,7 +425,7 @@ fn rank_all(
     win: &WindowView<'_>,
     tpl: &WindowView<'_>,
     cache: &mut Vec<Sums, SUMS_CACHE>,
-) -> Result<(Option<(usize, usize, Sums)>, bool), MatchError> {
+) -> Result<Ranking, MatchError> {
     let mut best: Option<(usize, usize, Ranked)> = None;
     let mut cached = true;
     for_each_score(scorer, win, tpl, |px, py, x| {
