@@ -317,7 +317,7 @@ fn peripheral_run<W: Write, M: Meter>(
 }
 
 /// The Peripheral processor's image (issue 22: one image a processor): its kernels and the
-/// processor's scenarios on the Watch's benchmark frame ([`peripheral_steps`]).
+/// processor's scenarios on the Watch's benchmark frame (`peripheral_steps`).
 pub fn run_peripheral<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
     peripheral_kernels(out, meter)?;
     peripheral_steps(out, meter)

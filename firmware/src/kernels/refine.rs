@@ -191,7 +191,7 @@ impl<const P: usize> LkTemplate<P> {
     /// `S = Σ u`, `Q = Σ u²`, `Gx = Σ gx u` and `Gy = Σ gy u`, and then
     /// `σ_W² = Q - S²/n` and `Σ g (Ŵ - T) = (σ_T / σ_W) (G - (S/n) Σ g) + Σ g (mean T - T)`,
     /// whose last term the template fixes ([`LkTemplate::prepare`]). The window's pixels
-    /// are converted once per integer placement ([`Block`]); the iterations that stay on it
+    /// are converted once per integer placement (a `Block`); the iterations that stay on it
     /// (most: the walk is under a pixel) only blend them. Never inlined: the block's 8 KiB are
     /// on the stack only during the refinement, not under the matching its caller also runs.
     #[inline(never)]

@@ -24,7 +24,7 @@ pub const SWEEP_SIDE: u16 = 128;
 
 /// The decimated template over a 25% window: the approximate target and how well it matched
 /// (lower is better), or `None`. SSD as the thesis has it, or, for an adapting track, zero-mean
-/// NCC from [`ADAPT_NCC_MIN`].
+/// NCC from [`ADAPT_NCC_MIN`](super::params::ADAPT_NCC_MIN).
 fn locate(win: &WindowView<'_>, tpl: &Template, p: &Params) -> (Option<(Point, f32)>, Work) {
     let n = tpl.side();
     let method = if p.adapt { Method::Zncc } else { Method::Ssd };

@@ -180,7 +180,7 @@ pub fn build(g: &Geometry) -> Result<PathBuf, VerilatorError> {
 /// cache `root`.
 ///
 /// The library lives at [`library_in`]`(root)`. The cache folder and the key's folder are
-/// made with mode 0700 and checked (owner and mode, see [`private_dir`]) before a library
+/// made with mode 0700 and checked (owner and mode, see `private_dir`) before a library
 /// there is used. Each build runs in a folder of its own under the key's folder (named by
 /// process id and a counter), and the finished library is linked into place without
 /// replacing one that is already there; so concurrent threads and processes never see a

@@ -37,7 +37,7 @@ pub struct Summary {
     pub recovery: Option<f64>,
 }
 
-/// Compares a run with the truth. The tracked point is a fixed point of the part ([`Anchor`]):
+/// Compares a run with the truth. The tracked point is a fixed point of the part (an `Anchor`):
 /// when the template's point was known before the run, its place on the part is known;
 /// otherwise it is taken from the first report (the figures then measure jitter and drift,
 /// not absolute position).

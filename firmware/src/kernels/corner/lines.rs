@@ -2,7 +2,7 @@
 //!
 //! The thesis' rules (3.2.3) return one pixel of the edge band, chosen by the band's
 //! bounding box, so they depend on the orientation and are off by half a band width at
-//! best. Fitting lines is the approach the thesis sets aside (3.1, [Jain95b]) because
+//! best. Fitting lines is the approach the thesis sets aside (3.1, \[Jain95b\]) because
 //! edge pixels near the corner get assigned to the wrong side; here the sides are told
 //! apart by gradient orientation, and the pixels near the apex, where the two bands
 //! merge, are left out of the fits:

@@ -302,7 +302,7 @@ const HALF_TEMPLATE_PIXELS: usize = 256;
 
 /// [`best_match`] with a bounded cost (beyond the thesis, issue 21): a window with more than
 /// [`PYRAMID_FROM`] placements is searched at half resolution first (window and template
-/// [`halve`]d), then at full resolution within [`FINE_REACH`] px of the two placements the
+/// halved), then at full resolution within `FINE_REACH` (2) px of the two placements the
 /// coarse one stands for, and as far around the window's centre, where a tracker's
 /// prediction puts the target (a repeating texture's near-copy can win the coarse search);
 /// the better of the two fine matches (the centre's on a tie), or one search over both where
