@@ -141,8 +141,8 @@ fn brute(f: &[u8], (x0, y0, w, h): (usize, usize, usize, usize), t: &[f64], n: u
             let score = if zncc {
                 let wm = (0..n * n).map(|i| px(u + i % n, v + i / n)).sum::<f64>() / (n * n) as f64;
                 let (mut p, mut et, mut ew) = (0.0, 0.0, 0.0);
-                for i in 0..n * n {
-                    let (a, b) = (t[i] - tm, px(u + i % n, v + i / n) - wm);
+                for (i, &ti) in t.iter().enumerate().take(n * n) {
+                    let (a, b) = (ti - tm, px(u + i % n, v + i / n) - wm);
                     p += a * b;
                     et += a * a;
                     ew += b * b;

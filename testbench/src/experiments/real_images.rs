@@ -247,12 +247,15 @@ pub fn opencv_score(c: &Condition, truth: &[Truth], tracker: &str) -> Result<Opt
     Ok(Some(score(&positions, truth, c.tracked)))
 }
 
+/// coopwin's trackers on a condition's frames: their scores, in the table's order.
+pub type OurTrackers<'a> = dyn FnMut(&Condition, &mut Prerendered) -> Result<Vec<Score>, SimError> + 'a;
+
 /// Every condition's scores (`table[condition][tracker]`): `ours` runs coopwin's trackers on
 /// the condition's frames, then each OpenCV fixture is read (`None` where it is missing).
 pub fn score_table(
     conds: &[Condition],
     progress: &mut dyn FnMut(&str),
-    ours: &mut dyn FnMut(&Condition, &mut Prerendered) -> Result<Vec<Score>, SimError>,
+    ours: &mut OurTrackers<'_>,
 ) -> Result<Vec<Vec<Option<Score>>>, ExperimentError> {
     let mut table = Vec::new();
     for c in conds {
