@@ -8,7 +8,9 @@
 //! product. The dot products of all placements ([`dot_products`]) come, on x86-64, from
 //! column strips widened to `i16` (see `strip_dot_products`), in which every patch is one
 //! contiguous run; four placements share each template load and LLVM turns the 16-lane
-//! `i16·i16 -> i32` reduction into `pmaddwd`. A 32-bit Arm core (the Cortex-M4) has no such
+//! `i16·i16 -> i32` reduction into `pmaddwd`. Where the CPU has AVX-512 (asked at run time),
+//! templates up to 32x32 are multiplied from the pixel rows instead, a template row a
+//! register (`dot_products_avx512`). A 32-bit Arm core (the Cortex-M4) has no such
 //! vectors, so widening the window buys nothing there; its DSP extension multiplies pairs
 //! of 16-bit halves instead, fed straight from the pixel rows (`row_dot_products`).
 //! Windows too large for either use per-row `u8` dot products.
@@ -460,7 +462,78 @@ fn dot_long4(t: &[i16], s: &[i16], step: usize) -> [i32; 4] {
 /// the same products (compared by a unit test, and x86 against the Cortex-M4 by
 /// `scripts/board.sh`).
 #[cfg(not(target_arch = "arm"))]
-pub(super) use strip_dot_products as dot_products;
+pub(super) use host_dot_products as dot_products;
+
+/// [`dot_products`] on a host: in AVX-512 where the CPU has it and the template is at most
+/// [`LANES`] pixels wide and high ([`dot_products_avx512`]), else from column strips.
+#[cfg(not(target_arch = "arm"))]
+pub(super) fn host_dot_products(win: &WindowView<'_>, tpl: &WindowView<'_>, dots: &mut Vec<u32, SCORE_CACHE>) -> Option<()> {
+    #[cfg(target_arch = "x86_64")]
+    if crate::kernels::x86::has_avx512bw() && tpl.width() <= LANES && tpl.height() <= LANES {
+        // SAFETY: the CPU has AVX-512 F and BW (asked above), all the function requires.
+        #[allow(unsafe_code)]
+        return unsafe { dot_products_avx512(win, tpl, dots) };
+    }
+    strip_dot_products(win, tpl, dots)
+}
+
+/// Template rows of at most this many pixels fill one AVX-512 register as `i16`, and at most
+/// this many rows are held widened ([`dot_products_avx512`]).
+#[cfg(target_arch = "x86_64")]
+const LANES: usize = 32;
+
+/// [`dot_products`] in AVX-512 BW, for templates of at most [`LANES`] x [`LANES`] pixels: each
+/// template row is widened once into a register of 32 `i16` lanes (0 past the row), and each
+/// window row under a placement column once per four placement rows; `pmaddwd` multiplies it
+/// with the template rows it meets in those four placements (`Σ R·I` of placement `(px, py)`
+/// gains row `r` times template row `r - py`). No strip is copied: the Foveal 20x20-in-24 match
+/// widens 230 window rows instead of writing 600 strip pixels twice. Lanes cannot overflow:
+/// each gains at most `2·255²` a row, at most [`LANES`] rows.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512bw")]
+#[allow(unsafe_code)]
+pub(super) fn dot_products_avx512(win: &WindowView<'_>, tpl: &WindowView<'_>, dots: &mut Vec<u32, SCORE_CACHE>) -> Option<()> {
+    use core::arch::x86_64::{__m512i, _mm512_add_epi32, _mm512_castsi512_si256, _mm512_cvtepu8_epi16, _mm512_madd_epi16, _mm512_maskz_loadu_epi8, _mm512_reduce_add_epi32, _mm512_setzero_si512};
+    let (tw, th) = (tpl.width(), tpl.height());
+    let nx = win.width().checked_sub(tw)? + 1;
+    let ny = win.height().checked_sub(th)? + 1;
+    if tw == 0 || tw > LANES || th > LANES || nx * ny > SCORE_CACHE {
+        return None;
+    }
+    let keep = (1u64 << tw) - 1;
+    // `tw` pixels from `row`'s start, widened.
+    let widen = |row: &[u8]| -> Option<__m512i> {
+        let row = row.get(..tw)?;
+        // SAFETY: only the `tw` bytes of `keep`, inside `row`, are read; masked-off bytes are
+        // neither read nor able to fault.
+        Some(_mm512_cvtepu8_epi16(_mm512_castsi512_si256(unsafe { _mm512_maskz_loadu_epi8(keep, row.as_ptr().cast()) })))
+    };
+    let mut t = [_mm512_setzero_si512(); LANES];
+    for (v, t) in t.iter_mut().enumerate().take(th) {
+        *t = widen(tpl.row(v)?)?;
+    }
+    dots.clear();
+    dots.resize(nx * ny, 0).ok()?;
+    for px in 0..nx {
+        for py in (0..ny).step_by(4) {
+            let group = (ny - py).min(4);
+            let mut acc = [_mm512_setzero_si512(); 4];
+            for r in py..py + group + th - 1 {
+                let w = widen(win.row(r)?.get(px..)?)?;
+                for (j, a) in acc.iter_mut().enumerate().take(group) {
+                    // Template row `r - (py + j)`, when placement row `py + j` covers row `r`.
+                    if let Some(tr) = r.checked_sub(py + j).and_then(|v| t.get(v).filter(|_| v < th)) {
+                        *a = _mm512_add_epi32(*a, _mm512_madd_epi16(*tr, w));
+                    }
+                }
+            }
+            for (j, a) in acc.iter().enumerate().take(group) {
+                *dots.get_mut((py + j) * nx + px)? = _mm512_reduce_add_epi32(*a) as u32;
+            }
+        }
+    }
+    Some(())
+}
 #[cfg(target_arch = "arm")]
 pub(super) use row_dot_products as dot_products;
 

@@ -1,4 +1,6 @@
 use super::dot::{dot_row_bytes, dot_row_pairs, row_dot_products, strip_dot_products};
+#[cfg(target_arch = "x86_64")]
+use super::dot::dot_products_avx512;
 #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
 use super::dot::patch_dots;
 use super::subpixel::parabola;
@@ -82,6 +84,43 @@ fn the_arm_row_dot_products_equal_the_strip_ones() {
             })
             .collect();
         assert_eq!((&rows[..], &strips[..]), (&want[..], &want[..]), "{tw}x{th} in {ww}x{wh}");
+    }
+}
+
+/// The AVX-512 dot products (on a host that has it) against the hand formula, as the Arm
+/// ones above: templates up to 32x32 (the largest it takes; 33 wide or high, or over 1,024
+/// placements, is left to the strips), placement rows a multiple of 4 and not, one-pixel and
+/// one-row templates, a sub-view whose rows are `stride` apart.
+#[cfg(target_arch = "x86_64")]
+#[test]
+fn the_avx512_dot_products_equal_the_formula() {
+    if !crate::kernels::x86::has_avx512bw() {
+        return;
+    }
+    let mut px = lcg(4242);
+    let sizes = [(20, 20, 24, 24), (16, 16, 40, 40), (8, 8, 20, 20), (7, 5, 13, 11), (32, 32, 56, 56), (32, 1, 40, 9), (1, 32, 9, 40), (1, 1, 5, 6), (3, 6, 9, 9), (10, 10, 32, 32), (12, 9, 17, 30), (33, 3, 40, 9), (3, 33, 9, 40)];
+    for (tw, th, ww, wh) in sizes {
+        let t = pixels(&mut px, tw * th);
+        // The window a sub-view of a wider frame: 3 columns and 2 rows in, rows `ww + 5` apart.
+        let stride = ww + 5;
+        let frame = pixels(&mut px, stride * (wh + 2));
+        let wv = WindowView::new(&frame, stride, wh + 2, stride, 0, 0).unwrap().sub(3, 2, ww, wh).unwrap();
+        let mut dots = Vec::new();
+        // SAFETY: the CPU has AVX-512 F and BW (asked above).
+        #[allow(unsafe_code)]
+        let got = unsafe { dot_products_avx512(&wv, &v(&t, tw, th), &mut dots) };
+        if tw > 32 || th > 32 {
+            assert_eq!(got, None, "{tw}x{th}: wider or higher than a register's 32 lanes");
+            continue;
+        }
+        assert_eq!(got, Some(()), "{tw}x{th} in {ww}x{wh}");
+        let want: std::vec::Vec<u32> = (0..(ww - tw + 1) * (wh - th + 1))
+            .map(|k| {
+                let (ox, oy) = (k % (ww - tw + 1), k / (ww - tw + 1));
+                (0..tw * th).map(|i| u32::from(t[i]) * u32::from(frame[(2 + oy + i / tw) * stride + 3 + ox + i % tw])).sum()
+            })
+            .collect();
+        assert_eq!(&dots[..], &want[..], "{tw}x{th} in {ww}x{wh}");
     }
 }
 
