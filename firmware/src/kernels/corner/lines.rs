@@ -189,6 +189,17 @@ impl<const N: usize> EdgePoints<N> {
         true
     }
 
+    /// Empties the list.
+    pub(super) fn clear(&mut self) {
+        self.n = 0;
+    }
+
+    /// The points' fields `(x, y, cos 2θ, sin 2θ, m)` as bits, in the order collected.
+    #[cfg(test)]
+    pub(super) fn bits(&self) -> impl Iterator<Item = [u32; 5]> + '_ {
+        self.iter().map(|(p, _)| [p.x, p.y, p.c2, p.s2, p.m].map(f32::to_bits))
+    }
+
     /// The points, each with its flags, in the order collected.
     fn iter(&self) -> impl Iterator<Item = (&EdgePoint, u8)> + '_ {
         self.points.as_flattened().iter().zip(self.flags.as_flattened().iter().copied()).take(self.n)
@@ -280,7 +291,7 @@ pub(super) fn collect_points<const N: usize>(
     h: usize,
     pts: &mut EdgePoints<N>,
 ) {
-    pts.n = 0;
+    pts.clear();
     for (y, &row) in rows.iter().enumerate().take(h) {
         let mut bits = row;
         while bits != 0 {
@@ -297,16 +308,24 @@ pub(super) fn collect_points<const N: usize>(
             if q1 < q0 || q1 <= q2 {
                 continue;
             }
-            // Below 2²⁴: exact in `f32`, and so are their roots correctly rounded.
-            let [m0, m1, m2] = [q0, q1, q2].map(|q| sqrtf(q as f32));
-            let curv = m0 - 2.0 * m1 + m2;
-            let off = if curv < 0.0 { (0.5 * (m0 - m2) / curv).clamp(-0.5, 0.5) } else { 0.0 };
-            let (px, py) = if horizontal { (x as f32 + off, y as f32) } else { (x as f32, y as f32 + off) };
-            if !pts.push(px, py, gx, gy, m1) {
+            if !push_peak(pts, (x, y), (gx, gy), [q0, q1, q2], horizontal) {
                 return;
             }
         }
     }
+}
+
+/// Appends the sub-pixel edge point of the maximum at pixel `(x, y)` with gradient
+/// `(gx, gy)`, whose squared magnitudes before, at and after it along `x` (`horizontal`) or
+/// `y` are `q` (step 1, [`collect_points`]); `false` when full.
+#[inline(always)]
+pub(super) fn push_peak<const N: usize>(pts: &mut EdgePoints<N>, (x, y): (usize, usize), (gx, gy): (i32, i32), q: [i32; 3], horizontal: bool) -> bool {
+    // Below 2²⁴: exact in `f32`, and so are their roots correctly rounded.
+    let [m0, m1, m2] = q.map(|q| sqrtf(q as f32));
+    let curv = m0 - 2.0 * m1 + m2;
+    let off = if curv < 0.0 { (0.5 * (m0 - m2) / curv).clamp(-0.5, 0.5) } else { 0.0 };
+    let (px, py) = if horizontal { (x as f32 + off, y as f32) } else { (x as f32, y as f32 + off) };
+    pts.push(px, py, gx, gy, m1)
 }
 
 /// A fitted line `n·p = d` (`n` unit).

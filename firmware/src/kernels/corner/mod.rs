@@ -29,7 +29,8 @@
 //! Windows up to `N x N` are handled with fixed buffers held by a [`CornerDetector<N>`]
 //! (`N` a multiple of 8, at most [`MAX_DIM`]; 28 bytes a pixel: 16 KiB for the 24x24
 //! Foveal window, 44 KiB for 40x40, 113 KiB for [`MAX_DIM`] = 64), so a processor holds the
-//! detector its largest window needs.
+//! detector its largest window needs. On an x86-64 host, the vector Sobel pass (`x86.rs`)
+//! adds 264 bytes a row.
 
 mod bounds;
 mod labelling;
@@ -38,6 +39,8 @@ mod morphology;
 mod sobel;
 #[cfg(test)]
 mod tests;
+#[cfg(target_arch = "x86_64")]
+mod x86;
 
 pub use bounds::{bounding_points, corner_from_edges, BoundingPoints, Pixel, Q3Source};
 pub use labelling::{keep_largest_component, Components};
@@ -50,6 +53,12 @@ use lines::{apex_from_points, collect_points, EdgePoints};
 use morphology::open_cross_bits;
 use crate::kernels::view::WindowView;
 use sobel::{sobel_rows, BYTES};
+
+/// `TH²` as the Sobel passes compare it: `|g| <= 4·255` per axis, so
+/// `gx² + gy² <= 2.1e6 < i32::MAX`, and clamping `TH²` to `i32::MAX` changes no comparison.
+fn th2(th: u16) -> i32 {
+    i32::try_from(u32::from(th) * u32::from(th)).unwrap_or(i32::MAX)
+}
 
 /// Largest window side a [`CornerDetector`] can be built for (a bit row is a `u64`); the
 /// default detector's.
@@ -166,6 +175,9 @@ pub struct CornerDetector<const N: usize = MAX_DIM> {
     wide: [[i16; N]; N],
     runs: Runs<N>,
     points: EdgePoints<N>,
+    /// The vector Sobel pass's gradients and peaks (x86.rs).
+    #[cfg(target_arch = "x86_64")]
+    grads: x86::Gradients<N>,
     w: usize,
     h: usize,
     edge_pixels: u32,
@@ -197,6 +209,8 @@ impl<const N: usize> CornerDetector<N> {
             wide: [[0; N]; N],
             runs: Runs::new(),
             points: EdgePoints::new(),
+            #[cfg(target_arch = "x86_64")]
+            grads: x86::Gradients::new(),
             w: 0,
             h: 0,
             edge_pixels: 0,
@@ -236,15 +250,29 @@ impl<const N: usize> CornerDetector<N> {
                 }
             }
         }
-        // |g| <= 4·255 per axis, so gx² + gy² <= 2.1e6 < i32::MAX: clamping TH² to
-        // i32::MAX does not change any comparison.
-        let th2 = i32::try_from(u32::from(th) * u32::from(th)).unwrap_or(i32::MAX);
+        let th2 = th2(th);
         // Rows of 32 when they do (shorter fixed loops), of `N` otherwise.
         if w <= 32 && N >= 32 {
             sobel_rows::<N, 32>(&self.wide, &mut self.bits, w, h, th2)
         } else {
             sobel_rows::<N, N>(&self.wide, &mut self.bits, w, h, th2)
         }
+    }
+
+    /// The edge map of `view` into the bit rows and its count into `edge_pixels`: by the x86
+    /// vector pass where it runs (then `true`: it kept the peaks for `collect_points`), else
+    /// by [`threshold_edges`](Self::threshold_edges).
+    fn edges(&mut self, view: &WindowView<'_>, th: u16) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        if view.width() <= x86::MAX_W && crate::kernels::x86::has_avx512bw() {
+            // SAFETY: the CPU and the OS run AVX-512 F and BW, the function's only requirement.
+            #[allow(unsafe_code)]
+            let n = unsafe { self.grads.sobel(view, &mut self.bits, th2(th)) };
+            self.edge_pixels = n;
+            return true;
+        }
+        self.edge_pixels = self.threshold_edges(view, th);
+        false
     }
 
     /// Runs the whole chapter-3 pipeline on `view` and returns the corner in frame
@@ -266,7 +294,7 @@ impl<const N: usize> CornerDetector<N> {
         }
         self.w = w;
         self.h = h;
-        self.edge_pixels = self.threshold_edges(view, params.threshold);
+        let vectors = self.edges(view, params.threshold);
         if self.edge_pixels == 0 {
             return Err(NoCorner::NoEdges);
         }
@@ -278,7 +306,12 @@ impl<const N: usize> CornerDetector<N> {
             return Err(NoCorner::FilteredOut);
         }
         let (x, y, case, rays) = if params.refine {
-            collect_points(&self.wide, rows, w, h, &mut self.points);
+            if vectors {
+                #[cfg(target_arch = "x86_64")]
+                self.grads.collect_points(rows, &mut self.points);
+            } else {
+                collect_points(&self.wide, rows, w, h, &mut self.points);
+            }
             let ((x, y), rays) = apex_from_points(&mut self.points, w, h)?;
             (x, y, CornerCase::Lines, Some(rays))
         } else {

@@ -508,8 +508,11 @@ pub(super) fn dot_products_avx512(win: &WindowView<'_>, tpl: &WindowView<'_>, do
         // neither read nor able to fault.
         Some(_mm512_cvtepu8_epi16(_mm512_castsi512_si256(unsafe { _mm512_maskz_loadu_epi8(keep, row.as_ptr().cast()) })))
     };
-    let mut t = [_mm512_setzero_si512(); LANES];
-    for (v, t) in t.iter_mut().enumerate().take(th) {
+    // Template row `v` at `v + 3`, rows of zeros around: window row `r` adds template row
+    // `r - py - j` to placement row `py + j`'s sum, `t[r - py + 3 - j]`, zeros where that
+    // placement does not cover the row, so the four sums need no test.
+    let mut t = [_mm512_setzero_si512(); LANES + 7];
+    for (v, t) in t.iter_mut().skip(3).enumerate().take(th) {
         *t = widen(tpl.row(v)?)?;
     }
     dots.clear();
@@ -518,13 +521,10 @@ pub(super) fn dot_products_avx512(win: &WindowView<'_>, tpl: &WindowView<'_>, do
         for py in (0..ny).step_by(4) {
             let group = (ny - py).min(4);
             let mut acc = [_mm512_setzero_si512(); 4];
-            for r in py..py + group + th - 1 {
-                let w = widen(win.row(r)?.get(px..)?)?;
-                for (j, a) in acc.iter_mut().enumerate().take(group) {
-                    // Template row `r - (py + j)`, when placement row `py + j` covers row `r`.
-                    if let Some(tr) = r.checked_sub(py + j).and_then(|v| t.get(v).filter(|_| v < th)) {
-                        *a = _mm512_add_epi32(*a, _mm512_madd_epi16(*tr, w));
-                    }
+            for k in 3..group + th + 2 {
+                let w = widen(win.row(py + k - 3)?.get(px..)?)?;
+                for (j, a) in acc.iter_mut().enumerate() {
+                    *a = _mm512_add_epi32(*a, _mm512_madd_epi16(*t.get(k - j)?, w));
                 }
             }
             for (j, a) in acc.iter().enumerate().take(group) {
