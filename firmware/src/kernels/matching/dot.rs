@@ -487,8 +487,9 @@ const LANES: usize = 32;
 /// window row under a placement column once per four placement rows; `pmaddwd` multiplies it
 /// with the template rows it meets in those four placements (`Σ R·I` of placement `(px, py)`
 /// gains row `r` times template row `r - py`). No strip is copied: the Foveal 20x20-in-24 match
-/// widens 230 window rows instead of writing 600 strip pixels twice. Lanes cannot overflow:
-/// each gains at most `2·255²` a row, at most [`LANES`] rows.
+/// widens 230 window rows instead of writing 2,400 strip pixels (five columns of 20x24) and
+/// reading them back. Lanes cannot overflow: each gains at most `2·255²` a row, at most
+/// [`LANES`] rows.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512bw")]
 #[allow(unsafe_code)]
