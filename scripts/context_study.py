@@ -9,10 +9,11 @@ On the real clips of fixtures/footage/objects.csv, the eye is shut on 24 of its
 97 frames: no template of the eye confirms it there, CSRT reports a position on
 all of them. A tracker of the surroundings would. This measures the cheapest
 such model coopwin's Peripheral processor could run: the 64x64 pixels around the
-point at 25 % (2x2 means, 32x32 samples, as the Peripheral's windows), matched by
+point at 25 % (32x32 samples, each the mean of 2x2 pixels, where the Peripheral's
+windows take every other pixel: the means only help the model), matched by
 zero-mean NCC (cv2.TM_CCOEFF_NORMED) over +-R samples (R = 8: +-16 px) around the
 constant-velocity prediction, the model a running mean (1 - A) * model + A *
-samples at the found point (A = 0.1, as CSRT's learning rate is of that order).
+samples at the found point (A = 0.1).
 
 Two uses, each scored against CSRT's forward point (fixtures/opencv/footage; for
 Megamind_bugy's eye, CSRT's in Megamind.avi, the same pictures undamaged, as CSRT
