@@ -3,7 +3,7 @@
 
     cargo build --release -p coopwin-testbench
     python3 scripts/context_study.py [--data /usr/share/doc/opencv-doc/examples/data]
-        [--coopwin target/release/coopwin]
+        [--coopwin target/release/coopwin] [--verbose]
 
 On the real clips of fixtures/footage/objects.csv, the eye is shut on 24 of its
 97 frames: no template of the eye confirms it there, CSRT reports a position on
@@ -22,6 +22,7 @@ loses the eye in the damaged clip at frame 40):
   anchored  the model re-centred on `coopwin track`'s trusted point (ok = 1) on
             every frame that has one, searching only on the others: the frames
             it would fill in. `coopwin track` runs into a temporary folder.
+  --verbose lists the anchored model's searched frames (frame, score, px from CSRT).
 and the per-frame time of OpenCV's CSRT and KCF on the eye (one thread, gray
 frames as BGR, best of 3), against the Cortex-M4 budget of issue 21 item 6
 (8.8 ms at 168 MHz with 5x margin: 1.76 ms, 295,680 cycles).
@@ -37,24 +38,18 @@ import time
 import cv2
 import numpy as np
 
+# Shared with the OpenCV baselines on the same clips (same folder as this script).
+from opencv_footage import read_clip
+
 SIDE, DECIMATION, RADIUS, RATE = 64, 2, 8, 0.1
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 
 
-def frames(data, clip, first, last):
-    """Gray frames first..=last (0-based, decoding order), float32."""
-    cap = cv2.VideoCapture(str(data / f"{clip}.avi"))
-    out, i = [], 0
-    while True:
-        ok, f = cap.read()
-        if not ok:
-            break
-        if first <= i <= last:
-            out.append(cv2.cvtColor(f, cv2.COLOR_BGR2GRAY).astype(np.float32))
-        i += 1
-    if len(out) != last - first + 1:
-        sys.exit(f"{clip}.avi: decoded {len(out)} of frames {first}..{last}")
-    return out
+def frames(clip, first, last):
+    """Frames first..=last (0-based, decoding order) of a clip's gray frames, float32."""
+    if len(clip) <= last:
+        sys.exit(f"the clip decodes {len(clip)} frames, the object needs {first}..{last}")
+    return [f.astype(np.float32) for f in clip[first:last + 1]]
 
 
 def samples(img, x0, y0, side):
@@ -101,10 +96,15 @@ def trusted(coopwin, data, o, folder):
             if r["ok"] == "1" and first <= int(r["frame"]) <= last}
 
 
+def distances(rows, csrt, first):
+    """(frame, score, px from CSRT) of the searched frames of `rows` where CSRT reports."""
+    return [(first + k, s, np.hypot(x - csrt[first + k][0], y - csrt[first + k][1])) for k, x, y, s in rows
+            if s is not None and first + k in csrt]
+
+
 def score_line(name, rows, csrt, first):
     """Distance to CSRT (where it reports) and the search scores of `rows`."""
-    d = np.array([np.hypot(x - csrt[first + k][0], y - csrt[first + k][1]) for k, x, y, s in rows
-                  if s is not None and first + k in csrt])
+    d = np.array([e for *_, e in distances(rows, csrt, first)])
     s = np.array([s for *_, s in rows if s is not None])
     if len(s) == 0:
         return f"{name:10s} no frame searched"
@@ -113,14 +113,15 @@ def score_line(name, rows, csrt, first):
     return f"{name:10s} {len(s):3d} frames searched: {dist} px from CSRT, within 5 px {within}, score {s.min():.2f}-{s.max():.2f}"
 
 
-def timing(data):
-    fr = [cv2.cvtColor(f.astype(np.uint8), cv2.COLOR_GRAY2BGR) for f in frames(data, "Megamind", 1, 97)]
+def timing(fr, box):
+    """OpenCV's CSRT and KCF a frame on `fr` (gray, float32) from `box`."""
+    fr = [cv2.cvtColor(f.astype(np.uint8), cv2.COLOR_GRAY2BGR) for f in fr]
     cv2.setNumThreads(1)
     for name, make in [("CSRT", cv2.TrackerCSRT.create), ("KCF", cv2.TrackerKCF.create)]:
         best = float("inf")
         for _ in range(3):
             t = make()
-            t.init(fr[0], (236, 212, 32, 32))
+            t.init(fr[0], box)
             t0 = time.perf_counter()
             for f in fr[1:]:
                 t.update(f)
@@ -133,15 +134,21 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--data", type=pathlib.Path, default=pathlib.Path("/usr/share/doc/opencv-doc/examples/data"))
     ap.add_argument("--coopwin", type=pathlib.Path, default=ROOT / "target/release/coopwin")
+    ap.add_argument("--verbose", action="store_true", help="list the anchored model's searched frames")
     a = ap.parse_args()
     if not a.coopwin.is_file():
         sys.exit(f"{a.coopwin}: not found; build it first: cargo build --release -p coopwin-testbench")
+    clips, eye = {}, None
     with tempfile.TemporaryDirectory() as tmp:
         for o in csv.DictReader(open(ROOT / "fixtures/footage/objects.csv")):
             first, last = int(o["first"]), int(o["last"])
             x = int(o["x"]) + (int(o["w"]) - 1) / 2
             y = int(o["y"]) + (int(o["h"]) - 1) / 2
-            fr = frames(a.data, o["clip"], first, last)
+            if o["clip"] not in clips:
+                clips[o["clip"]] = read_clip(a.data / f"{o['clip']}.avi")
+            fr = frames(clips[o["clip"]], first, last)
+            if (o["clip"], o["object"]) == ("Megamind", "eye"):
+                eye = (fr, tuple(int(o[k]) for k in "xywh"))
             name = f"{o['clip']}-{o['object']}"
             # Megamind_bugy shows Megamind's pictures, damaged: where CSRT is lost in the damaged
             # clip, its point in the clean one is the reference.
@@ -151,8 +158,12 @@ def main():
             print(name)
             print("  " + score_line("free", context_track(fr, x, y), csrt, first))
             given = trusted(a.coopwin, a.data, o, pathlib.Path(tmp))
-            print("  " + score_line("anchored", context_track(fr, x, y, given), csrt, first))
-    timing(a.data)
+            anchored = context_track(fr, x, y, given)
+            print("  " + score_line("anchored", anchored, csrt, first))
+            if a.verbose:
+                print("    " + " ".join(f"{k}:{s:.2f}/{d:.0f}" for k, s, d in distances(anchored, csrt, first)))
+    if eye:
+        timing(*eye)
 
 
 if __name__ == "__main__":
