@@ -11,7 +11,7 @@ use coopwin_firmware::kernels::info::{corner_information, edge_information, edge
 use coopwin_firmware::kernels::matching::{best_match, best_match_decimated, Match, MatchError, Method};
 use coopwin_firmware::kernels::motion::{detect_motion, MotionArea, MotionError};
 use coopwin_firmware::processors::coop::guard::{Guard, GuardParams};
-use coopwin_firmware::processors::{watch, CornerPartner, Dest, Foveal, FovealKind, Msg, Params, Peripheral, Policy, Step, Template, Work};
+use coopwin_firmware::processors::{watch, CornerPartner, Dest, Foveal, FovealKind, Identity, Msg, Params, Peripheral, Policy, Step, Template, Work};
 use coopwin_firmware::kernels::view::WindowView;
 use coopwin_firmware::types::{Decimation, Point, Source, WindowRequest};
 use core::fmt::{self, Write};
@@ -699,8 +699,9 @@ fn recorded<'a>(want: Option<WindowRequest>, f: &Frame<'a>, k: u16) -> Result<Wi
     WindowView::new(f.pixels, w, h, w, u32::from(f.x0), u32::from(f.y0)).map_err(|_| SuiteError::View("window"))
 }
 
-/// The line `{name} K win=X0,Y0 [size=WxH] x=.. y=.. algo=..` (or `lost=..`, `none`): the
-/// master's decision in frame `k`; `tally` counts the reports and those from the corner.
+/// The line `{name} K win=X0,Y0 [size=WxH] x=.. y=.. algo=.. [scale=.. angle=..] [unconfirmed]`
+/// (or `lost=..`, `none`): the master's decision in frame `k`; `tally` counts the reports and
+/// those from the corner.
 fn decision_line<W: Write>(out: &mut W, name: &str, k: u16, f: &Frame<'_>, step: &Step, tally: &mut (u32, u32)) -> fmt::Result {
     write!(out, "{name} {k} win={},{}", f.x0, f.y0)?;
     if (f.w, f.h) != (24, 24) {
@@ -713,6 +714,9 @@ fn decision_line<W: Write>(out: &mut W, name: &str, k: u16, f: &Frame<'_>, step:
             write!(out, " x={:08x} y={:08x} algo={algo:?}", p.x.to_bits(), p.y.to_bits())?;
             if let Some(sh) = step.shape {
                 write!(out, " scale={:08x} angle={:08x}", sh.scale.to_bits(), sh.angle_deg.to_bits())?;
+            }
+            if step.identity == Identity::Unconfirmed {
+                write!(out, " unconfirmed")?;
             }
             writeln!(out)
         }

@@ -5,8 +5,8 @@ use super::adapt::Adaptive;
 use super::coop::guard::{dist, Guard, GuardParams, Measured};
 use super::coop::Policy;
 use super::messages::{Dest, Msg};
-use super::params::{Params, COAST_MARGIN, GROW_MARGIN, MAX_MARGIN, MISS_DECAY, REDETECT_MIN};
-use super::step::{placements, Mode, Step, Work};
+use super::params::{Params, COAST_MARGIN, CONFIRM_NCC, GROW_MARGIN, MAX_MARGIN, MISS_DECAY, REDETECT_MIN, UNCONFIRMED_RUN};
+use super::step::{placements, Identity, Mode, Step, Work};
 use super::template::Template;
 use crate::kernels::corner::{CornerDetector, CornerParams, MAX_DIM};
 use crate::kernels::matching::{best_match_full, best_match_pyramid};
@@ -146,6 +146,8 @@ pub struct Foveal<const N: usize = MAX_DIM, const P: usize = INTERIOR> {
     /// Adapting tracks: the window asked for is the first of a track the Peripheral handed
     /// over ([`Foveal::handed_over`]).
     handed: bool,
+    /// Adapting tracks: windows in a row whose point the first template did not confirm.
+    unconfirmed: u8,
 }
 
 impl Foveal {
@@ -184,6 +186,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
             predicted: None,
             shape: None,
             handed: false,
+            unconfirmed: 0,
         }
     }
 
@@ -240,7 +243,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     /// Peripheral's approximate location.
     fn start(&mut self, p: Point, exact: bool, step: &mut Step) {
         (self.tracking, self.predicted) = (Some(p), None);
-        (self.aimed, self.miss) = (None, 0.0);
+        (self.aimed, self.miss, self.unconfirmed) = (None, 0.0, 0);
         self.handed = !exact && self.adapt.is_some();
         self.coop.begin(p, exact);
         // An adapting track resumed from the Peripheral's approximate location (25 %: +-2 px)
@@ -427,13 +430,20 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     /// time `t`: the next window, the Peripheral told, the report; or the loss. An adapting
     /// template takes the window's proposal when NCC measured the point followed.
     fn follow(&mut self, step: &mut Step, t: f64, found: Option<Point>, source: Source, score: Option<f32>) {
+        let identity = self.identity(score);
+        let astray = self.astray(identity);
         if let Some(a) = self.adapt.as_mut() {
             match a.take() {
+                // A track that has gone astray starts again from the object's first view.
+                _ if astray => {
+                    let first = a.back_to_first();
+                    self.adopt(first);
+                }
                 Some(next) if score.is_some() => self.adopt(next),
                 _ => {}
             }
         }
-        match (found, self.tracking) {
+        match (found.filter(|_| !astray), self.tracking) {
             (Some(p), _) => {
                 self.tracking = Some(p);
                 if let Some(a) = self.aimed {
@@ -441,6 +451,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
                 }
                 step.ask(Some(self.next_window(p, t))).send(Dest::Peripheral, Msg::Tracked(p));
                 step.report = Some((p, source));
+                step.identity = identity;
                 step.score = score;
                 step.shape = score.and(self.shape);
             }
@@ -455,6 +466,38 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
             }
             (None, None) => {}
         }
+    }
+
+    /// Whether the point followed, with NCC's `score` where NCC vouches for it, is the
+    /// target's (issue 38): an adapting track's where the first template aligned on it in
+    /// this window ([`Adaptive::align`]: the object's first view, turned and scaled, is there;
+    /// on the long-term sets every such row is within 5 px of the target and almost no other
+    /// row is); a fixed template's where NCC scores at least [`CONFIRM_NCC`]. The corner
+    /// detector alone has no model of the target: the thesis's CD tracker is vouched for as the
+    /// thesis does, a COOP report of the corner alone is not.
+    fn identity(&self, score: Option<f32>) -> Identity {
+        let confirmed = match (self.kind, &self.adapt) {
+            (FovealKind::Cd, _) => true,
+            (_, Some(_)) => score.is_some() && self.shape.is_some(),
+            (_, None) => score.is_some_and(|s| s >= CONFIRM_NCC),
+        };
+        if confirmed {
+            Identity::Confirmed
+        } else {
+            Identity::Unconfirmed
+        }
+    }
+
+    /// Whether an adapting track has gone astray: more than [`UNCONFIRMED_RUN`] windows in a
+    /// row with `identity` unconfirmed, so it follows something that is not the target (a
+    /// look-alike that passed in front, an occluder it learnt); it is then lost, and the
+    /// Peripheral re-detects the object by its first view.
+    fn astray(&mut self, identity: Identity) -> bool {
+        if self.adapt.is_none() {
+            return false;
+        }
+        self.unconfirmed = if identity == Identity::Confirmed { 0 } else { self.unconfirmed.saturating_add(1) };
+        self.unconfirmed > UNCONFIRMED_RUN
     }
 
     /// The Foveal window after following `p` at `t`: with [`Params::adapt`], centred where

@@ -82,6 +82,19 @@ pub const ADAPT_NCC_MIN: f32 = 0.4;
 /// lock-on, not [`ADAPT_NCC_MIN`] (at 0.5 it re-locked onto a cheek 60 px from the eye).
 pub const REDETECT_MIN: f32 = 0.7;
 
+/// The thesis's NCC from which a fixed template's match confirms the target (issue 38): on
+/// the long-term sets (`coopwin experiment long-term`) its right rows score 0.990 and more
+/// (the best VOT-LT thresholds lie at NCC 0.990-0.994), while look-alikes, a panel over the
+/// target and the background it is lost on score 0.97-0.99 (AUROC 0.99-1.00). The COOP
+/// guard trusts NCC from the same score ([`super::coop::guard::GuardParams::default`]).
+pub const CONFIRM_NCC: f32 = 0.99;
+
+/// Windows in a row an adapting track may follow a point its first template does not confirm
+/// before it is taken to have gone astray and lost (issue 38): a look-alike that crossed in
+/// front, an occluder the template learnt. Measured on the long-term sets
+/// (`coopwin experiment long-term`, recall of the `ok` 1 rows).
+pub const UNCONFIRMED_RUN: u8 = 8;
+
 impl Params {
     /// These parameters with the template adapting ([`Params::adapt`]).
     pub fn adaptive(self) -> Params {

@@ -59,7 +59,9 @@ impl<'b> Spmf<'b> {
         };
         let mut out = Step::new(step.work);
         out.report = step.report;
+        out.identity = step.identity;
         out.score = step.score;
+        out.shape = step.shape;
         out.request = step.request;
         out.lost = step.lost;
         let mut mode = self.mode;

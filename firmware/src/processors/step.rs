@@ -17,6 +17,17 @@ pub enum Mode {
     Track,
 }
 
+/// Whether a position report is the target's, as far as the processor can tell (issue 38):
+/// a robot follows only a confirmed one (`coopwin track`'s `ok`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Identity {
+    /// The target's model confirms the point (see `Foveal`'s `identity`).
+    Confirmed,
+    /// Tracked, but nothing confirms that the point is the target's: a look-alike, an
+    /// occluder or a changed look may be under the window.
+    Unconfirmed,
+}
+
 /// Kernel work done for one event, for a processor cost model.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Work {
@@ -56,6 +67,8 @@ pub struct Step {
     pub sends: heapless::Vec<(Dest, Msg), 4>,
     /// A position to report to the robot controller.
     pub report: Option<(Point, Source)>,
+    /// Whether `report` is confirmed to be the target's.
+    pub identity: Identity,
     /// The NCC score of the window behind `report` when NCC measured the reported point (a
     /// confidence; `None` when the corner detector alone did).
     pub score: Option<f32>,
@@ -71,12 +84,13 @@ impl Step {
     /// An answer with `work` and nothing else: no request, message or report.
     #[inline]
     pub fn new(work: Work) -> Self {
-        Step { work, request: None, sends: heapless::Vec::new(), report: None, score: None, shape: None, lost: None }
+        Step { work, request: None, sends: heapless::Vec::new(), report: None, identity: Identity::Unconfirmed, score: None, shape: None, lost: None }
     }
     /// Empties it for a new answer with `work` (as [`Step::new`], in place).
     #[inline]
     pub fn clear(&mut self, work: Work) {
         (self.work, self.request, self.report, self.score, self.shape, self.lost) = (work, None, None, None, None, None);
+        self.identity = Identity::Unconfirmed;
         self.sends.clear();
     }
     #[inline(always)]

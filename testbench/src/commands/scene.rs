@@ -4,7 +4,9 @@ use super::args;
 use super::output::{check_folder, create_folder, OutFile};
 use super::{io_error, CliError};
 use crate::experiments::{appearance, real_images};
-use crate::frames::groundtruth;
+use crate::frames::groundtruth::{self, Truth};
+use crate::frames::scene::longterm::{self, Presence};
+use std::fmt::Write as _;
 use crate::frames::scene::{PathKind, Scene, SceneConfig};
 use std::path::{Path, PathBuf};
 
@@ -65,7 +67,8 @@ pub struct SceneArgs {
     #[arg(long)]
     pub colour: bool,
     /// Write one of the evaluations' sequences instead (`coopwin experiment appearance` and
-    /// `real-images`, e.g. centre-rotate, centre-combined, corner-lamp), with its ground truth
+    /// `real-images`, e.g. centre-rotate, centre-combined, corner-lamp, or `long-term`, e.g.
+    /// lookalike-front, crowd, panel), with its ground truth
     #[arg(long, value_name = "NAME", conflicts_with_all = ["path", "speed", "frames", "lighting", "clutter", "occlusion", "noise", "seed", "photo", "size"])]
     pub set: Option<String>,
     /// Output folder
@@ -79,9 +82,14 @@ pub struct SceneArgs {
 /// Writes the scene the options describe and says so.
 pub fn write_scene_files(args: SceneArgs) -> Result<(), CliError> {
     if let Some(name) = &args.set {
+        if let Some(set) = longterm::sets().into_iter().find(|s| s.name == name.as_str()) {
+            let n = write_long_term(&set, &args.out, args.force)?;
+            println!("wrote {n} frames of {name} ({} frames/s), groundtruth.csv and truth.csv to {}", longterm::FPS, args.out.display());
+            return Ok(());
+        }
         let sets: Vec<_> = appearance::conditions().into_iter().chain(real_images::conditions()).collect();
         let Some(c) = sets.iter().find(|c| &c.name == name) else {
-            let names: Vec<&str> = sets.iter().map(|c| c.name.as_str()).collect();
+            let names: Vec<&str> = sets.iter().map(|c| c.name.as_str()).chain(longterm::sets().iter().map(|s| s.name)).collect();
             return Err(CliError::arg(format!("--set {name}: no such sequence; the sequences are {}", names.join(", "))));
         };
         let n = write_scene(c.scene.clone(), &args.out, args.force, args.colour)?;
@@ -120,9 +128,6 @@ pub const MAX_FRAMES: usize = 20_000;
 /// whose files are kept apart from the scene's own; `force` never mixes two scenes: it refuses
 /// a folder holding frames numbered past this scene's last.
 pub fn write_scene(cfg: SceneConfig, out: &Path, force: bool, colour: bool) -> Result<usize, CliError> {
-    if cfg.frames == 0 || cfg.frames > MAX_FRAMES {
-        return Err(CliError::arg(format!("--frames must be 1..{MAX_FRAMES}, got {}", cfg.frames)));
-    }
     let number = |name: &str, v: f64, max: f64| {
         if v.is_nan() {
             Err(CliError::arg(format!("--{name} {v}: not a number")))
@@ -135,28 +140,7 @@ pub fn write_scene(cfg: SceneConfig, out: &Path, force: bool, colour: bool) -> R
     };
     number("speed", cfg.speed, 10_000.0)?;
     number("noise", cfg.noise, 255.0)?;
-    if check_folder(out, "--out")? {
-        let entries: Vec<String> = std::fs::read_dir(out)
-            .map_err(|e| io_error("read", out, e))?
-            .filter_map(|e| e.ok().map(|e| e.file_name().to_string_lossy().into_owned()))
-            .collect();
-        if !entries.is_empty() && !force {
-            return Err(CliError::arg(format!(
-                "--out {}: the folder is not empty ({} entries); give a new folder, or --force to write the scene's files into it",
-                out.display(),
-                entries.len()
-            )));
-        }
-        let stale = entries.iter().filter(|e| frame_number(e).is_some_and(|k| k >= cfg.frames)).count();
-        if stale > 0 {
-            return Err(CliError::arg(format!(
-                "--out {}: the folder holds {stale} frame(s) numbered past this scene's {} frames; they would mix two scenes: give a new folder",
-                out.display(),
-                cfg.frames
-            )));
-        }
-    }
-    create_folder(out, "--out")?;
+    prepare_folder(out, cfg.frames, force)?;
     let (w, h, n) = (cfg.width as u32, cfg.height as u32, cfg.frames);
     let scene = Scene::new(cfg);
     let mut truth = Vec::with_capacity(n);
@@ -175,6 +159,59 @@ pub fn write_scene(cfg: SceneConfig, out: &Path, force: bool, colour: bool) -> R
     }
     OutFile::check(&out.join("groundtruth.csv"), "--out")?.write(groundtruth::to_csv(truth).as_bytes())?;
     Ok(n)
+}
+
+/// Checks that `out` may take a scene of `frames` frames (see [`write_scene`]) and creates it.
+fn prepare_folder(out: &Path, frames: usize, force: bool) -> Result<(), CliError> {
+    if frames == 0 || frames > MAX_FRAMES {
+        return Err(CliError::arg(format!("--frames must be 1..{MAX_FRAMES}, got {frames}")));
+    }
+    if check_folder(out, "--out")? {
+        let entries: Vec<String> = std::fs::read_dir(out)
+            .map_err(|e| io_error("read", out, e))?
+            .filter_map(|e| e.ok().map(|e| e.file_name().to_string_lossy().into_owned()))
+            .collect();
+        if !entries.is_empty() && !force {
+            return Err(CliError::arg(format!(
+                "--out {}: the folder is not empty ({} entries); give a new folder, or --force to write the scene's files into it",
+                out.display(),
+                entries.len()
+            )));
+        }
+        let stale = entries.iter().filter(|e| frame_number(e).is_some_and(|k| k >= frames)).count();
+        if stale > 0 {
+            return Err(CliError::arg(format!(
+                "--out {}: the folder holds {stale} frame(s) numbered past this scene's {frames} frames; they would mix two scenes: give a new folder",
+                out.display()
+            )));
+        }
+    }
+    create_folder(out, "--out")
+}
+
+/// Writes a long-term set's frames into `out` as [`write_scene`] does, its `groundtruth.csv`
+/// (the target's centre, `visible` 0 where it is hidden or gone) and `truth.csv`
+/// (`frame,x,y,w,h,state`: the target's box as OpenCV's `x,y,w,h` and `visible`, `hidden` or
+/// `gone`, the columns of the hand-labelled clips in `fixtures/longterm/`).
+pub fn write_long_term(set: &longterm::LongTermSet, out: &Path, force: bool) -> Result<usize, CliError> {
+    prepare_folder(out, longterm::FRAMES, force)?;
+    let frames = set.render_all();
+    let (w, h) = (longterm::WIDTH as u32, longterm::HEIGHT as u32);
+    let half = (longterm::SIDE - 1.0) / 2.0;
+    let mut boxes = String::from("frame,x,y,w,h,state\n");
+    let mut truth = Vec::new();
+    for (k, t) in frames.truth.iter().enumerate() {
+        let path = out.join(format!("frame_{k:05}.png"));
+        let pixels = frames.pixels(k).map(<[u8]>::to_vec).unwrap_or_default();
+        let img = image::GrayImage::from_raw(w, h, pixels).ok_or_else(|| CliError::new("internal: frame buffer size mismatch"))?;
+        img.save(&path).map_err(|e| CliError::new(format!("cannot write {}: {e}", path.display())))?;
+        let (x, y) = t.centre;
+        let _ = writeln!(boxes, "{k},{:.3},{:.3},{},{},{}", x - half, y - half, longterm::SIDE, longterm::SIDE, t.presence.name());
+        truth.push(Truth { frame: k, centre: t.centre, corner: t.centre, visible: t.presence == Presence::Visible });
+    }
+    OutFile::check(&out.join("groundtruth.csv"), "--out")?.write(groundtruth::to_csv(truth).as_bytes())?;
+    OutFile::check(&out.join("truth.csv"), "--out")?.write(boxes.as_bytes())?;
+    Ok(frames.truth.len())
 }
 
 /// K for a file named `frame_K.png` (as [`write_scene`] names frames).

@@ -11,6 +11,7 @@ pub mod fig_2_9;
 pub mod fig_3_10;
 pub mod fig_3_5;
 pub mod fig_3_7;
+pub mod long_term;
 pub mod real_footage;
 pub mod real_images;
 pub mod setup;
@@ -62,6 +63,11 @@ pub enum Experiment {
     /// truth: positions, forward-backward error, agreement with CSRT.
     #[value(name = "real-footage")]
     RealFootage,
+    /// Long-term sets: look-alikes, occluders and a target that leaves, scored by the
+    /// precision of the `ok` 1 rows, their recall and the silence while the target is hidden
+    /// or gone (VOT-LT, OxUvA).
+    #[value(name = "long-term")]
+    LongTerm,
 }
 
 impl Experiment {
@@ -97,6 +103,7 @@ impl Experiment {
             Experiment::RealImages => return real_images::evaluate(ctx.dir, ctx.progress),
             Experiment::Appearance => return appearance::evaluate(ctx.dir, ctx.progress),
             Experiment::RealFootage => return real_footage::evaluate(ctx.dir, &ctx.clips, ctx.progress),
+            Experiment::LongTerm => return long_term::evaluate(ctx.dir, ctx.progress),
         };
         ctx.thesis_section(self.name(), body)
     }

@@ -1,7 +1,7 @@
 //! The CSV files of a tracking run: the per-frame record (`coopwin track --out`, the main
 //! job's `coop.csv`) and the frame listing (`coopwin track --list`).
 use crate::analysis::metrics::MAX_AGE;
-use crate::system::FrameRecord;
+use crate::system::{FrameRecord, TrackState};
 use coopwin_firmware::types::Source;
 use coopwin_firmware::processors::Mode;
 use std::fmt::Write as _;
@@ -54,10 +54,9 @@ pub fn write_track_csv(out: &mut dyn std::io::Write, frames: &[FrameRecord], inf
 /// measured in, the frame's file name (empty for frames from no file); then the box of
 /// `shape.size` centred on the position (OpenCV's convention: columns `box_x..box_x+box_w-1`),
 /// the confidence in 0..1 (the NCC score scaled from the acceptance level, 0, to a perfect
-/// match, 1; [`CD_CONFIDENCE`] for the corner detector alone), `ok`: 1 when the frame has a
-/// position measured at most [`MAX_AGE`] frames before, else 0; the frame's time in seconds
+/// match, 1; [`CD_CONFIDENCE`] for the corner detector alone), `ok` ([`verdict`]); the frame's time in seconds
 /// (empty when the video gives the frame no timestamp) and `damaged` (1 for a frame the
-/// decoder reported damaged); the `state` (`tracking`, `predicted`, `searching`, `lost`);
+/// decoder reported damaged); the `state` (`tracking`, `unconfirmed`, `predicted`, `searching`, `lost`);
 /// and where an adapting track measured it, the object's `scale` against lock-on and its
 /// turn `angle_deg` (clockwise on the screen), the box then scaled with it.
 /// Without a measured position the row gives the estimate (a coasting track's prediction, or
@@ -80,12 +79,8 @@ pub fn track_row(r: &FrameRecord, info: FrameInfo, shape: CsvBox) -> String {
         .map(|(x, y)| format!("{:.3},{:.3},{w_text},{h_text}", x - (w - 1.0) / 2.0, y - (h - 1.0) / 2.0))
         .unwrap_or_else(|| ",,,".into());
     let shaped = measured.map_or(",".into(), |s| format!("{:.4},{:.2}", s.scale, s.angle_deg));
-    let confidence = match (r.point, r.score) {
-        (None, _) => String::new(),
-        (Some(_), Some(v)) => format!("{:.3}", confidence(v, shape.acceptance)),
-        (Some(_), None) => format!("{CD_CONFIDENCE:.3}"),
-    };
-    let ok = r.measured_frame.is_some_and(|m| m <= r.frame && r.frame - m <= MAX_AGE) && r.point.is_some();
+    let (ok, confidence) = verdict(r, shape.acceptance);
+    let confidence = confidence.map(|c| format!("{c:.3}")).unwrap_or_default();
     let time = match info.times {
         Some(t) => t.get(frame).copied().unwrap_or(f64::NAN),
         None => frame as f64 * info.period,
@@ -101,6 +96,18 @@ pub fn track_row(r: &FrameRecord, info: FrameInfo, shape: CsvBox) -> String {
         u8::from(damaged),
         r.state.name()
     )
+}
+
+/// A row's `ok` and `confidence`: `ok` when the frame has a position measured at most
+/// [`MAX_AGE`] frames before that the firmware confirmed to be the target's
+/// ([`coopwin_firmware::processors::Identity`]; the state `unconfirmed` is not); the
+/// confidence of its position (NCC's score scaled from `acceptance`, or [`CD_CONFIDENCE`]),
+/// when it has one.
+pub fn verdict(r: &FrameRecord, acceptance: f32) -> (bool, Option<f64>) {
+    let fresh = r.measured_frame.is_some_and(|m| m <= r.frame && r.frame - m <= MAX_AGE) && r.point.is_some();
+    let ok = fresh && r.state != TrackState::Unconfirmed;
+    let c = r.point.map(|_| r.score.map_or(CD_CONFIDENCE, |v| confidence(v, acceptance)));
+    (ok, c)
 }
 
 /// An NCC score as a confidence: 0 at the acceptance level, 1 for a perfect match.

@@ -5,7 +5,7 @@ use super::SimError;
 use crate::units::RequestRefused;
 use coopwin_firmware::ports::position::{FramedPositionSink, PositionSink, PositionUpdate};
 use coopwin_firmware::types::{Point, Shape, Source, WindowRequest};
-use coopwin_firmware::processors::{Mode, Msg, Step};
+use coopwin_firmware::processors::{Identity, Mode, Msg, Step};
 use std::collections::VecDeque;
 
 /// What the system knew at the end of a frame period.
@@ -35,8 +35,11 @@ pub struct FrameRecord {
 /// What a track is doing in a frame, as a user reads it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TrackState {
-    /// A position measured in a recent window.
+    /// A position measured in a recent window, confirmed to be the target's.
     Tracking,
+    /// A position measured in a recent window that nothing confirms to be the target's (a
+    /// look-alike, an occluder or a changed look may be under the window): `ok` 0.
+    Unconfirmed,
     /// No measurement (an occluder, a blurred or changed look): the position is predicted
     /// from the motion, and the Foveal window looks there.
     Predicted,
@@ -52,6 +55,7 @@ impl TrackState {
     pub fn name(self) -> &'static str {
         match self {
             TrackState::Tracking => "tracking",
+            TrackState::Unconfirmed => "unconfirmed",
             TrackState::Predicted => "predicted",
             TrackState::Searching => "searching",
             TrackState::Lost => "lost",
@@ -74,6 +78,8 @@ pub struct Report {
     pub score: Option<f32>,
     /// The object's turn and scale, when an adapting track measured them.
     pub shape: Option<Shape>,
+    /// Whether the firmware confirmed the point to be the target's.
+    pub identity: Identity,
 }
 
 /// What a processor of the run does (thesis 2.3), for drawing its windows.
@@ -169,7 +175,7 @@ impl Recorder {
             self.last_seen = Some(*p);
         }
         if let Some((point, algo)) = step.report {
-            let r = Report { t, frame, point, algo, score: step.score, shape: step.shape };
+            let r = Report { t, frame, point, algo, score: step.score, shape: step.shape, identity: step.identity };
             self.emit(&r)?;
             self.log.reports.push(r);
             self.last = Some(r);
@@ -201,6 +207,7 @@ impl Recorder {
             Mode::Track if coasting => (TrackState::Predicted, roster.predicted().or(self.last_seen)),
             // Re-found, with its first Foveal window still to come: still searching.
             Mode::Track if tracked.is_none() => (TrackState::Searching, self.last_seen),
+            Mode::Track if tracked.is_some_and(|r| r.identity == Identity::Unconfirmed) => (TrackState::Unconfirmed, None),
             Mode::Track => (TrackState::Tracking, None),
             Mode::Detect => (TrackState::Searching, self.last_seen),
             Mode::Watch => (TrackState::Lost, self.last_seen),

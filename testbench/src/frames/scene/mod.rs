@@ -12,6 +12,7 @@
 //! - [`render`]: a frame's pixels (supersampling, occluder, lamp, noise);
 //! - [`rng`]: the deterministic generator behind texture, clutter and noise.
 pub mod appearance;
+pub mod longterm;
 pub mod path;
 pub mod render;
 pub mod rng;

@@ -14,7 +14,7 @@ const BACKGROUND_LEVEL: f64 = 60.0;
 
 /// The photographs behind [`SceneConfig::photo`], made from scikit-image's bundled images by
 /// `scripts/real_images.py extract`.
-const BACKGROUND_PHOTO: &[u8] = include_bytes!("../../../../fixtures/real/background.png");
+pub(super) const BACKGROUND_PHOTO: &[u8] = include_bytes!("../../../../fixtures/real/background.png");
 /// The part's surface photograph.
 pub(super) const PART_PHOTO: &[u8] = include_bytes!("../../../../fixtures/real/object.png");
 
@@ -52,7 +52,7 @@ impl Photo {
     }
 
     /// Pixel (x, y) with the photo mirrored at its borders, so it tiles any frame size.
-    fn mirrored(&self, x: i64, y: i64) -> f64 {
+    pub(super) fn mirrored(&self, x: i64, y: i64) -> f64 {
         let fold = |v: i64, n: usize| {
             let n = n.max(1) as i64;
             let m = v.rem_euclid(2 * n);
@@ -63,7 +63,7 @@ impl Photo {
 
     /// Bilinear interpolation at (x, y): the photo as a continuous surface, so that moving it by
     /// a fraction of a pixel moves its content by exactly that much.
-    fn bilinear(&self, x: f64, y: f64) -> f64 {
+    pub(super) fn bilinear(&self, x: f64, y: f64) -> f64 {
         let (fx, fy) = (x.floor(), y.floor());
         let (ax, ay) = (x - fx, y - fy);
         let (ix, iy) = (fx as i64, fy as i64);

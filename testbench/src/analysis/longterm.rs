@@ -1,0 +1,159 @@
+//! Long-term scores (issue 38): a tracker judged by the rows it vouches for, as VOT-LT
+//! (Lukezic et al., "Now you see me", 2018) and OxUvA (Valmadre et al., 2018) judge one.
+//!
+//! A row is *vouched* when it has `ok` 1; it is *right* when the target is present (visible)
+//! in its frame and the row's point lies within [`RIGHT_PX`] of the target's. With the rows
+//! vouched at confidence at least `tau`:
+//! - precision `Pr(tau)` = right rows / vouched rows (1 when none is vouched: nothing promised,
+//!   nothing broken; VOT-LT's convention);
+//! - recall `Re(tau)` = right rows / frames where the target is visible;
+//! - `F(tau) = 2 Pr Re / (Pr + Re)`, and VOT-LT's F is its largest over `tau`;
+//! - OxUvA's TPR is the recall at `tau = 0` (every `ok` 1 row), its TNR the share of frames
+//!   where the target is hidden or gone whose row is not vouched.
+//!
+//! The confidences' AUROC separates right rows from wrong ones among every row (a row not
+//! vouched has confidence -1, and is "wrong" for the AUROC when the target is visible).
+
+use super::metrics::auroc;
+
+/// Largest distance in pixels from the target's point at which a row is right (5 px, as in
+/// the real-image evaluation and the issue's criterion).
+pub const RIGHT_PX: f64 = 5.0;
+
+/// One frame's row, as the tracker's CSV gives it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Row {
+    /// The row's `ok`.
+    pub ok: bool,
+    /// Its confidence (ignored when not `ok`).
+    pub confidence: f64,
+    /// Its point, when it has one.
+    pub point: Option<(f64, f64)>,
+}
+
+/// The target in one frame: its point, when it can be seen.
+pub type Present = Option<(f64, f64)>;
+
+/// A tracker's long-term scores on one sequence.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LongTermScore {
+    /// Frames.
+    pub frames: usize,
+    /// Frames where the target is visible.
+    pub visible: usize,
+    /// Rows vouched (`ok` 1).
+    pub vouched: usize,
+    /// Rows vouched and wrong: off the target by more than [`RIGHT_PX`], or while it is hidden
+    /// or gone.
+    pub wrong: usize,
+    /// Precision of every vouched row.
+    pub precision: f64,
+    /// OxUvA's TPR: the recall of every vouched row.
+    pub recall: f64,
+    /// OxUvA's TNR; `None` when the target is never absent.
+    pub tnr: Option<f64>,
+    /// VOT-LT's F: the largest F over the confidence thresholds.
+    pub f: f64,
+    /// The confidence threshold of that F.
+    pub tau: f64,
+    /// AUROC of the confidence, right rows against the others; `None` when all are one kind.
+    pub auroc: Option<f64>,
+}
+
+/// Scores `rows` against `truth` (one entry a frame; the shorter decides the frames).
+pub fn score(rows: &[Row], truth: &[Present]) -> LongTermScore {
+    let n = rows.len().min(truth.len());
+    let (rows, truth) = (&rows[..n], &truth[..n]);
+    let right = |r: &Row, t: &Present| match (r.ok, r.point, t) {
+        (true, Some(p), Some(q)) => (p.0 - q.0).hypot(p.1 - q.1) <= RIGHT_PX,
+        _ => false,
+    };
+    let visible = truth.iter().filter(|t| t.is_some()).count();
+    let vouched: Vec<(f64, bool)> = rows.iter().zip(truth).filter(|(r, _)| r.ok).map(|(r, t)| (r.confidence, right(r, t))).collect();
+    let wrong = vouched.iter().filter(|v| !v.1).count();
+    let pr_re = |tau: f64| {
+        let (mut kept, mut good) = (0usize, 0usize);
+        for &(c, ok) in &vouched {
+            if c >= tau {
+                kept += 1;
+                good += usize::from(ok);
+            }
+        }
+        let pr = if kept == 0 { 1.0 } else { good as f64 / kept as f64 };
+        (pr, good as f64 / visible.max(1) as f64)
+    };
+    let f_of = |(pr, re): (f64, f64)| if pr + re > 0.0 { 2.0 * pr * re / (pr + re) } else { 0.0 };
+    let mut taus: Vec<f64> = vouched.iter().map(|v| v.0).collect();
+    taus.push(f64::NEG_INFINITY);
+    let (f, tau) = taus.iter().map(|&t| (f_of(pr_re(t)), t)).fold((0.0, f64::NEG_INFINITY), |b, c| if c.0 > b.0 { c } else { b });
+    let (precision, recall) = pr_re(f64::NEG_INFINITY);
+    let absent: Vec<bool> = rows.iter().zip(truth).filter(|(_, t)| t.is_none()).map(|(r, _)| !r.ok).collect();
+    let tnr = (!absent.is_empty()).then(|| absent.iter().filter(|s| **s).count() as f64 / absent.len() as f64);
+    let judged: Vec<(f64, bool)> = rows.iter().zip(truth).map(|(r, t)| (if r.ok { r.confidence } else { -1.0 }, !right(r, t))).collect();
+    LongTermScore {
+        frames: n,
+        visible,
+        vouched: vouched.len(),
+        wrong,
+        precision,
+        recall,
+        tnr,
+        f,
+        tau: tau.max(0.0),
+        auroc: auroc(&judged),
+    }
+}
+
+/// A reliability diagram's bins: for each tenth of the confidence range, the vouched rows in it
+/// and the share of them that is right.
+pub fn reliability(rows: &[Row], truth: &[Present]) -> [(usize, usize); 10] {
+    let mut bins = [(0usize, 0usize); 10];
+    for (r, t) in rows.iter().zip(truth).filter(|(r, _)| r.ok) {
+        let b = ((r.confidence.clamp(0.0, 1.0) * 10.0) as usize).min(9);
+        bins[b].0 += 1;
+        let right = r.point.zip(*t).is_some_and(|(p, q)| (p.0 - q.0).hypot(p.1 - q.1) <= RIGHT_PX);
+        bins[b].1 += usize::from(right);
+    }
+    bins
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(ok: bool, confidence: f64, x: f64) -> Row {
+        Row { ok, confidence, point: Some((x, 0.0)) }
+    }
+
+    #[test]
+    fn scores_match_a_hand_count() {
+        // Five frames: target at x 0 in frames 0-2, absent in 3-4.
+        // Rows: right (0.9), wrong by 6 px (0.8), not vouched, vouched while absent (0.3),
+        // silent while absent.
+        let truth = [Some((0.0, 0.0)), Some((0.0, 0.0)), Some((0.0, 0.0)), None, None];
+        let rows = [row(true, 0.9, 1.0), row(true, 0.8, 6.0), row(false, 0.0, 0.0), row(true, 0.3, 0.0), row(false, 0.0, 0.0)];
+        let s = score(&rows, &truth);
+        assert_eq!((s.frames, s.visible, s.vouched, s.wrong), (5, 3, 3, 2));
+        // Every vouched row: precision 1/3, recall 1/3; TNR 1/2.
+        assert!((s.precision - 1.0 / 3.0).abs() < 1e-12 && (s.recall - 1.0 / 3.0).abs() < 1e-12);
+        assert_eq!(s.tnr, Some(0.5));
+        // From tau 0.9: precision 1, recall 1/3, F = 2 (1/3) / (4/3) = 0.5, the best.
+        assert!((s.f - 0.5).abs() < 1e-12 && s.tau == 0.9, "{s:?}");
+        // AUROC: the one right row (0.9) above the four others (0.8, -1, 0.3, -1): 1.
+        assert_eq!(s.auroc, Some(1.0));
+    }
+
+    #[test]
+    fn silence_is_precise_but_recalls_nothing() {
+        let truth = [Some((0.0, 0.0)), None];
+        let s = score(&[row(false, 0.0, 0.0), row(false, 0.0, 0.0)], &truth);
+        assert_eq!((s.precision, s.recall, s.f, s.tnr), (1.0, 0.0, 0.0, Some(1.0)));
+    }
+
+    #[test]
+    fn reliability_bins_by_tenths() {
+        let truth = [Some((0.0, 0.0)); 3];
+        let bins = reliability(&[row(true, 0.95, 0.0), row(true, 0.91, 9.0), row(true, 0.05, 0.0)], &truth);
+        assert_eq!((bins[9], bins[0], bins[5]), ((2, 1), (1, 1), (0, 0)));
+    }
+}

@@ -1,0 +1,158 @@
+//! The long-term evaluation (issue 38): does the tracker know when it is *not* on its target?
+//! Each set of [`crate::frames::scene::longterm`] is tracked from the target's box on frame 0,
+//! with the adapting default and with the thesis's fixed template (`--fixed-template`), and
+//! scored as VOT-LT and OxUvA score a tracker ([`crate::analysis::longterm`]): the precision
+//! of the `ok` 1 rows, their recall, and the silence (TNR) while the target is hidden or gone.
+use super::ExperimentError;
+use crate::analysis::longterm::{self, LongTermScore, Present, Row};
+use crate::frames::scene::longterm::{sets, LongTermFrames, LongTermSet, Presence};
+use crate::report::csv;
+use crate::report::plot::{self, Chart, Series};
+use crate::system::cost::CostModel;
+use crate::system::{self, CoopPolicy, RunLog, SimError, Strategy, SystemConfig};
+use coopwin_firmware::processors::Params;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// Foveal search margin, as `track`'s default (`--search 2`).
+const SEARCH: u16 = 2;
+
+/// The trackers compared: label, and whether the template adapts.
+pub const TRACKERS: [(&str, bool); 2] = [("COOP (default)", true), ("COOP --fixed-template", false)];
+
+/// The run of `track --target-box` on `set`'s frames, the template adapting when `adapt`.
+pub fn run(set: &LongTermSet, frames: &mut LongTermFrames, adapt: bool) -> Result<(RunLog, f32), SimError> {
+    let (x, y, w, h) = set.start_box();
+    let n = w.min(h).min(32) as u16;
+    let centre = (f64::from(x) + (f64::from(w) - 1.0) / 2.0, f64::from(y) + (f64::from(h) - 1.0) / 2.0);
+    let params = Params { template: n, foveal: n + 2 * SEARCH, ..Default::default() };
+    let params = if adapt { params.adaptive() } else { params };
+    let cfg = SystemConfig { params, policy: CoopPolicy::Guarded, ..SystemConfig::thesis(Strategy::Coop, CostModel::NATIVE, Some(centre)) };
+    let log = system::simulate(&cfg, frames, &mut |_| {})?;
+    Ok((log, params.correlation(adapt).1))
+}
+
+/// A run's rows, as its CSV's `ok`, `confidence` and point columns give them.
+pub fn rows(log: &RunLog, acceptance: f32) -> Vec<Row> {
+    log.frames
+        .iter()
+        .map(|r| {
+            let (ok, confidence) = csv::verdict(r, acceptance);
+            Row { ok, confidence: confidence.unwrap_or(-1.0), point: r.point.or(r.estimate) }
+        })
+        .collect()
+}
+
+/// Where the target can be seen in each frame.
+pub fn present(frames: &LongTermFrames) -> Vec<Present> {
+    frames.truth.iter().map(|t| (t.presence == Presence::Visible).then_some(t.centre)).collect()
+}
+
+/// Every tracker on every set: `table[set][tracker]`, with the rows and truth of each run for
+/// the reliability diagram.
+pub type Runs = Vec<Vec<(LongTermScore, Vec<Row>, Vec<Present>)>>;
+
+/// Runs every tracker of [`TRACKERS`] on every set.
+pub fn run_all(progress: &mut dyn FnMut(&str)) -> Result<(Vec<LongTermSet>, Runs), SimError> {
+    let sets = sets();
+    let mut table = Vec::new();
+    for set in &sets {
+        progress(set.name);
+        let mut frames = set.render_all();
+        let truth = present(&frames);
+        let mut row = Vec::new();
+        for &(_, adapt) in &TRACKERS {
+            let (log, acceptance) = run(set, &mut frames, adapt)?;
+            let rows = rows(&log, acceptance);
+            row.push((longterm::score(&rows, &truth), rows, truth.clone()));
+        }
+        table.push(row);
+    }
+    Ok((sets, table))
+}
+
+/// The evaluation: writes `long-term.csv`, `.md`, a precision/recall chart and the default's
+/// reliability diagram into `dir`, and returns the markdown.
+pub fn evaluate(dir: &Path, progress: &mut dyn FnMut(&str)) -> Result<String, ExperimentError> {
+    let (sets, table) = run_all(progress)?;
+    let mut csv = String::from("set,tracker,frames,visible,vouched,wrong,precision,recall,tnr,f,tau,auroc\n");
+    let mut md = String::from(
+        "## long-term (native profile)\n\nThe target among look-alikes, behind occluders and out of the view (`frames/scene/longterm.rs`), \
+         tracked from its box on frame 0 as `track --target-box` does. Precision of the `ok` 1 rows (within 5 px of the visible \
+         target), OxUvA's TPR (recall) and TNR (silence while the target is hidden or gone), VOT-LT's F at the best confidence \
+         threshold, wrong `ok` 1 rows of all vouched, and the confidence's AUROC.\n\n",
+    );
+    let _ = writeln!(md, "| set | what happens | tracker | precision | recall | TNR | F | wrong / vouched | AUROC |");
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|");
+    let opt = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.2}"));
+    for (set, row) in sets.iter().zip(&table) {
+        for ((label, _), (s, _, _)) in TRACKERS.iter().zip(row) {
+            let _ = writeln!(
+                csv,
+                "{},{label},{},{},{},{},{:.4},{:.4},{},{:.4},{:.3},{}",
+                set.name,
+                s.frames,
+                s.visible,
+                s.vouched,
+                s.wrong,
+                s.precision,
+                s.recall,
+                s.tnr.map_or(String::new(), |v| format!("{v:.4}")),
+                s.f,
+                s.tau,
+                s.auroc.map_or(String::new(), |v| format!("{v:.4}"))
+            );
+            let _ = writeln!(
+                md,
+                "| {} | {} | {label} | {:.3} | {:.3} | {} | {:.3} | {} / {} | {} |",
+                set.name, set.about, s.precision, s.recall, opt(s.tnr), s.f, s.wrong, s.vouched, opt(s.auroc)
+            );
+        }
+    }
+    std::fs::create_dir_all(dir).map_err(|source| ExperimentError::Io { action: "create", path: dir.into(), source })?;
+    let path = dir.join("long-term.csv");
+    std::fs::write(&path, csv).map_err(|source| ExperimentError::Io { action: "write", path, source })?;
+    let per_set = |k: usize, f: &dyn Fn(&LongTermScore) -> f64| Series {
+        label: TRACKERS[k].0.to_string(),
+        points: table.iter().enumerate().map(|(i, r)| (i as f64 + 1.0, Some(f(&r[k].0)))).collect(),
+    };
+    let names = sets.iter().map(|s| s.name).collect::<Vec<_>>().join(", ");
+    let chart = Chart {
+        title: "Long-term sets: precision of the ok=1 rows".into(),
+        x_label: format!("set (1-{}: {names})", sets.len()),
+        y_label: "precision".into(),
+        series: (0..TRACKERS.len()).map(|k| per_set(k, &|s| s.precision)).collect(),
+        y_range: Some((0.0, 1.0)),
+    };
+    plot::write(&chart, dir, "long-term")?;
+    // The default's reliability diagram over every set: the share of right rows per tenth of
+    // the confidence, against the diagonal a calibrated confidence would follow.
+    let mut bins = [(0usize, 0usize); 10];
+    for row in &table {
+        let (_, rows, truth) = &row[0];
+        for (b, add) in bins.iter_mut().zip(longterm::reliability(rows, truth)) {
+            (b.0, b.1) = (b.0 + add.0, b.1 + add.1);
+        }
+    }
+    let centre = |b: usize| (b as f64 + 0.5) / 10.0;
+    let diagram = Chart {
+        title: "Reliability of the default's confidence (every long-term set)".into(),
+        x_label: "confidence (bins of 0.1)".into(),
+        y_label: "share of ok=1 rows within 5 px of the visible target".into(),
+        series: vec![
+            Series { label: "COOP (default)".into(), points: bins.iter().enumerate().map(|(b, &(n, r))| (centre(b), (n > 0).then(|| r as f64 / n as f64))).collect() },
+            Series { label: "calibrated".into(), points: (0..10).map(|b| (centre(b), Some(centre(b)))).collect() },
+        ],
+        y_range: Some((0.0, 1.0)),
+    };
+    plot::write(&diagram, dir, "long-term-reliability")?;
+    let _ = writeln!(md, "\nReliability of the default's confidence over every set (`ok` 1 rows per confidence tenth, and the share right):\n");
+    let _ = writeln!(md, "| confidence | {} |", (0..10).map(|b| format!("{:.1}-{:.1}", b as f64 / 10.0, (b + 1) as f64 / 10.0)).collect::<Vec<_>>().join(" | "));
+    let _ = writeln!(md, "|---|{}", "---|".repeat(10));
+    let _ = writeln!(md, "| rows | {} |", bins.iter().map(|b| b.0.to_string()).collect::<Vec<_>>().join(" | "));
+    let _ = writeln!(md, "| right | {} |", bins.iter().map(|&(n, r)| if n > 0 { format!("{:.2}", r as f64 / n as f64) } else { "-".into() }).collect::<Vec<_>>().join(" | "));
+    md.push_str("\nFiles: `long-term.csv`, `long-term.svg`/`.png` (precision per set), `long-term-reliability.svg`/`.png`.\n");
+    let path = dir.join("long-term.md");
+    std::fs::write(&path, &md).map_err(|source| ExperimentError::Io { action: "write", path, source })?;
+    Ok(md)
+}
