@@ -192,7 +192,7 @@ pub fn detect_motion(
         return Err(MotionError::SizeMismatch);
     }
     #[cfg(target_arch = "x86_64")]
-    if super::x86::has_avx512bw() {
+    if super::x86::path() == super::x86::Isa::Avx512 {
         // SAFETY: the CPU and the OS run AVX-512 F and BW, the function's only requirement.
         #[allow(unsafe_code)]
         return Ok(unsafe { motion_avx512(prev, next, threshold) });
@@ -442,7 +442,7 @@ mod tests {
                 };
                 assert_eq!(scan_row_blocks(&a, &b, 30), want, "blocks, {len} px, density {density}");
                 #[cfg(target_arch = "x86_64")]
-                if super::super::x86::has_avx512bw() {
+                if super::super::x86::detected() == super::super::x86::Isa::Avx512 {
                     #[allow(unsafe_code)]
                     let wide = unsafe { scan_row_avx512(&a, &b, 30) };
                     assert_eq!(wide, want, "AVX-512, {len} px, density {density}");
@@ -522,7 +522,7 @@ mod tests {
                                 assert_eq!(motion_rows(p, n, t, scan_row_blocks), want, "portable, {at:?}");
                                 assert_eq!(detect_motion(p, n, t).unwrap(), want, "{at:?}");
                                 #[cfg(target_arch = "x86_64")]
-                                if super::super::x86::has_avx512bw() {
+                                if super::super::x86::detected() == super::super::x86::Isa::Avx512 {
                                     // SAFETY: the CPU and the OS run AVX-512 F and BW (checked).
                                     #[allow(unsafe_code)]
                                     let wide = unsafe { motion_avx512(p, n, t) };
