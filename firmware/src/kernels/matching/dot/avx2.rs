@@ -2,7 +2,7 @@
 //! AVX-512 (`avx512.rs`, whose scheme this is with half-width registers).
 use super::{LANES, SCORE_CACHE};
 use crate::kernels::view::WindowView;
-use core::arch::x86_64::{__m128i, __m256i, _mm256_add_epi32, _mm256_castsi256_si128, _mm256_cvtepu8_epi16, _mm256_extracti128_si256, _mm256_hadd_epi32, _mm256_madd_epi16, _mm256_setzero_si256, _mm_add_epi32, _mm_loadu_si128, _mm_storeu_si128};
+use core::arch::x86_64::{__m128i, __m256i, _mm256_add_epi32, _mm256_castsi256_si128, _mm256_cvtepu8_epi16, _mm256_extracti128_si256, _mm256_and_si256, _mm256_hadd_epi32, _mm256_loadu_si256, _mm256_madd_epi16, _mm256_setzero_si256, _mm_add_epi32, _mm_loadu_si128, _mm_storeu_si128};
 use heapless::Vec;
 
 /// [`super::dot_products`] in AVX2, for templates of at most [`LANES`] x [`LANES`] pixels:
@@ -32,40 +32,70 @@ fn products<const K: usize>(win: &WindowView<'_>, tpl: &WindowView<'_>, dots: &m
     if tw == 0 || tw > 16 * K || th > LANES || nx * ny > SCORE_CACHE {
         return None;
     }
-    let (data, stride) = win.raw()?;
-    // Template row `v` at `v + 3`, rows of zeros around (see `avx512.rs`).
+    let ((data, stride), (tdata, tstride)) = (win.raw()?, tpl.raw()?);
+    // Template row `v` at `v + 3`, rows of zeros around (see `avx512.rs`), its lanes past `tw`
+    // zeroed: read in place, not from a copy whose byte stores the vector load would wait for
+    // (a third of the Foveal match's time).
+    let keep: [i16; LANES] = core::array::from_fn(|x| if x < tw { -1 } else { 0 });
     let mut t = [[_mm256_setzero_si256(); K]; LANES + 7];
     for v in 0..th {
-        let row = tpl.row(v)?.get(..tw)?;
-        *t.get_mut(v + 3)? = widen::<K>(row, 0, tw);
+        let row = widen::<K>(tdata, v * tstride, tw);
+        let tv = t.get_mut(v + 3)?;
+        for (k, (tv, &r)) in tv.iter_mut().zip(&row).enumerate() {
+            // SAFETY: 32 readable bytes at `16·k` of `keep` (k < 2).
+            #[allow(unsafe_code)]
+            let keep = unsafe { _mm256_loadu_si256(keep.as_ptr().add(16 * k).cast()) };
+            *tv = _mm256_and_si256(r, keep);
+        }
     }
     dots.clear();
     dots.resize(nx * ny, 0).ok()?;
     for px in 0..nx {
-        for py in (0..ny).step_by(4) {
-            let group = (ny - py).min(4);
-            let mut acc = [_mm256_setzero_si256(); 4];
-            for k in 3..group + th + 2 {
-                let w = widen::<K>(data, (py + k - 3) * stride + px, tw);
-                for (j, a) in acc.iter_mut().enumerate() {
-                    let tr = t.get(k - j)?;
-                    for (&tv, &wv) in tr.iter().zip(&w) {
-                        *a = _mm256_add_epi32(*a, _mm256_madd_epi16(tv, wv));
-                    }
-                }
-            }
-            let mut sums = [0u32; 4];
-            // SAFETY: 16 writable bytes.
-            #[allow(unsafe_code)]
-            unsafe {
-                _mm_storeu_si128(sums.as_mut_ptr().cast(), reduce4(acc));
-            }
+        let mut py = 0;
+        while py < ny {
+            // Four placement rows at a time, the last group as many as are left (no sums of
+            // rows no placement covers).
+            let (group, at) = ((ny - py).min(4), py * stride + px);
+            let sums = match group {
+                4 => column::<K, 4>(&t, data, stride, at, tw, th),
+                3 => column::<K, 3>(&t, data, stride, at, tw, th),
+                2 => column::<K, 2>(&t, data, stride, at, tw, th),
+                _ => column::<K, 1>(&t, data, stride, at, tw, th),
+            };
             for (j, &s) in sums.iter().enumerate().take(group) {
                 *dots.get_mut((py + j) * nx + px)? = s;
             }
+            py += group;
         }
     }
     Some(())
+}
+
+/// The dot products of the `G` placements of one column from the one whose patch starts at
+/// `data[at]` down (the rest of the four 0): window row `r` of the `G + th - 1` rows adds
+/// template row `r - j` (`t[r + 3 - j]`) to placement `j`'s sum.
+#[target_feature(enable = "avx2")]
+#[inline]
+fn column<const K: usize, const G: usize>(t: &[[__m256i; K]; LANES + 7], data: &[u8], stride: usize, at: usize, tw: usize, th: usize) -> [u32; 4] {
+    let zero = _mm256_setzero_si256();
+    let mut acc = [zero; 4];
+    for k in 3..G + th + 2 {
+        let w = widen::<K>(data, at + (k - 3) * stride, tw);
+        for (j, a) in acc.iter_mut().enumerate().take(G) {
+            if let Some(tr) = t.get(k - j) {
+                for (&tv, &wv) in tr.iter().zip(&w) {
+                    *a = _mm256_add_epi32(*a, _mm256_madd_epi16(tv, wv));
+                }
+            }
+        }
+    }
+    let mut sums = [0u32; 4];
+    // SAFETY: 16 writable bytes.
+    #[allow(unsafe_code)]
+    unsafe {
+        _mm_storeu_si128(sums.as_mut_ptr().cast(), reduce4(acc));
+    }
+    sums
 }
 
 /// `16·K` pixels of `data` from `at` widened to `i16`: read in place where `data` holds them,
