@@ -97,3 +97,36 @@ fn xcr0() -> u64 {
     // SAFETY: register-only; the feature is this function's.
     unsafe { _xgetbv(0) }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The `CPUID`/`XGETBV` answer against the standard library's own detection (which asks
+    /// the same registers, independently written): AVX-512 where F and BW run, else AVX2 where
+    /// it runs.
+    #[test]
+    fn detection_agrees_with_std() {
+        let want = if std::is_x86_feature_detected!("avx512f") && std::is_x86_feature_detected!("avx512bw") {
+            Isa::Avx512
+        } else if std::is_x86_feature_detected!("avx2") {
+            Isa::Avx2
+        } else {
+            Isa::Portable
+        };
+        assert_eq!(detected(), want);
+        assert_eq!(runnable().last(), Some(want));
+    }
+
+    /// A ceiling narrows the path and never widens it past the host's. (Other tests running
+    /// meanwhile may take a narrower path: every path gives the same results.)
+    #[test]
+    fn a_ceiling_narrows_the_path() {
+        for isa in Isa::ALL {
+            use_at_most(isa);
+            assert_eq!(path(), isa.min(detected()), "at most {isa:?}");
+        }
+        use_at_most(Isa::Avx512);
+        assert_eq!(path(), detected());
+    }
+}

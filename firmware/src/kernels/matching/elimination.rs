@@ -318,6 +318,32 @@ mod tests {
         }
     }
 
+    /// The window's box sums and the template's block sums against sums taken pixel by pixel
+    /// here: blocks of 2, 4 and 8 (templates 4 to 17 a side), windows from the block's size up
+    /// to 40x40, sub-views of a frame (rows `stride` apart), random and all-255 pixels (the
+    /// largest sums).
+    #[test]
+    fn box_sums_are_the_pixel_sums() {
+        let mut px = lcg(99);
+        let (fw, fh) = (50, 46);
+        for full in [false, true] {
+            let frame: std::vec::Vec<u8> = (0..fw * fh).map(|_| if full { 255 } else { px() }).collect();
+            let view = WindowView::packed(&frame, fw, fh).unwrap_or_else(|_| unreachable!());
+            for (x, y, ww, wh, tw, th) in [(0, 0, 40, 40, 16, 16), (3, 5, 20, 20, 8, 8), (1, 2, 31, 23, 9, 7), (2, 2, 13, 11, 5, 4), (4, 1, 17, 17, 17, 17), (0, 3, 8, 9, 4, 4)] {
+                let win = view.sub(x, y, ww, wh).unwrap_or_else(|| unreachable!());
+                let tpl = view.sub(x + 1, y + 1, tw, th).unwrap_or_else(|| unreachable!());
+                let (mut boxes, mut blocks) = (Vec::new(), Vec::new());
+                let el = Elimination::new(&win, &tpl, &mut boxes, &mut blocks).unwrap_or_else(|| unreachable!());
+                let b = el.b;
+                let sum = |x0: usize, y0: usize| -> i16 { (0..b * b).map(|i| i16::from(frame[(y0 + i / b) * fw + x0 + i % b])).sum() };
+                let want: std::vec::Vec<i16> = (0..(wh - b + 1) * el.cols).map(|k| sum(x + k % el.cols, y + k / el.cols)).collect();
+                assert_eq!(el.boxes, &want[..], "{tw}x{th} in {ww}x{wh}, blocks of {b}");
+                let want: std::vec::Vec<i16> = (0..(th / b) * el.bw).map(|k| sum(x + 1 + b * (k % el.bw), y + 1 + b * (k / el.bw))).collect();
+                assert_eq!(el.blocks, &want[..], "{tw}x{th} blocks of {b}");
+            }
+        }
+    }
+
     /// The scan of the bounds against `position` over every start and cut, on runs of bounds
     /// with and without a kept one, lengths not a multiple of [`RUN`] and starts past the end.
     #[test]
