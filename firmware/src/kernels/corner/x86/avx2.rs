@@ -5,7 +5,7 @@ use super::super::sobel::{reflect, row_mask};
 use super::{Gradients, MAX_W};
 use crate::kernels::view::WindowView;
 use core::arch::x86_64::{
-    __m256i, _mm256_abs_epi16, _mm256_add_epi16, _mm256_alignr_epi8, _mm256_blend_epi32, _mm256_blendv_epi8,
+    __m256i, _mm256_abs_epi16, _mm256_add_epi16, _mm256_alignr_epi8, _mm256_andnot_si256, _mm256_blend_epi32, _mm256_blendv_epi8,
     _mm256_castsi256_ps, _mm256_castsi256_si128, _mm256_cmpgt_epi16, _mm256_cmpgt_epi32, _mm256_cvtepu8_epi16,
     _mm256_extracti128_si256, _mm256_loadu_si256, _mm256_madd_epi16, _mm256_movemask_epi8, _mm256_movemask_ps,
     _mm256_packs_epi16, _mm256_permute2x128_si256, _mm256_permute4x64_epi64, _mm256_permutevar8x32_epi32,
@@ -176,18 +176,26 @@ fn mag2(gx: Row16, gy: Row16) -> Row8 {
 #[target_feature(enable = "avx2")]
 #[inline]
 fn greater(a: Row8, b: Row8) -> u32 {
-    let mut bits = 0u32;
-    for k in 0..4 {
-        bits |= (_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(a[k], b[k]))) as u32) << (8 * k);
-    }
-    bits
+    bits([_mm256_cmpgt_epi32(a[0], b[0]), _mm256_cmpgt_epi32(a[1], b[1]), _mm256_cmpgt_epi32(a[2], b[2]), _mm256_cmpgt_epi32(a[3], b[3])])
 }
 
-/// Bit `x`: `q ≥ a` and `q > b` at pixel `x`.
+/// Bit `x`: `q ≥ a` and `q > b` at pixel `x` (the tests combined before their bits are taken).
 #[target_feature(enable = "avx2")]
 #[inline]
 fn maximum(q: Row8, a: Row8, b: Row8) -> u32 {
-    greater(q, b) & !greater(a, q)
+    let at = |k: usize| _mm256_andnot_si256(_mm256_cmpgt_epi32(a[k], q[k]), _mm256_cmpgt_epi32(q[k], b[k]));
+    bits([at(0), at(1), at(2), at(3)])
+}
+
+/// Bit `x`: lane `x` of the compare results `m` is set.
+#[target_feature(enable = "avx2")]
+#[inline]
+fn bits(m: Row8) -> u32 {
+    let mut bits = 0u32;
+    for (k, &m) in m.iter().enumerate() {
+        bits |= (_mm256_movemask_ps(_mm256_castsi256_ps(m)) as u32) << (8 * k);
+    }
+    bits
 }
 
 /// Bit `x`: `|gy| > |gx|` at pixel `x` (the `i16` tests packed to bytes, back in pixel order).
