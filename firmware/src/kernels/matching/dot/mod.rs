@@ -17,6 +17,7 @@
 //!
 use super::SCORE_CACHE;
 use crate::kernels::view::WindowView;
+#[cfg(not(target_arch = "arm"))]
 use heapless::Vec;
 
 #[cfg(any(test, target_arch = "arm"))]
@@ -26,7 +27,9 @@ mod avx2;
 #[cfg(target_arch = "x86_64")]
 mod avx512;
 #[cfg(any(test, target_arch = "arm"))]
-pub(super) use arm::{dot_row_pairs, row_dot_products};
+pub(super) use arm::dot_row_pairs;
+#[cfg(test)]
+pub(super) use arm::row_dot_products;
 #[cfg(target_arch = "x86_64")]
 use crate::kernels::x86::Isa;
 
