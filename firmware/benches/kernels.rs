@@ -3,6 +3,10 @@
 //! 40x40 at 100 % and 25 %, Watch motion on 256x256, an adapting Peripheral's sweep tile
 //! (zero-mean NCC of a 20x20 template in a 128x128 tile at 25 %, every placement and by
 //! candidates), the corner detector on 20x20 and 24x24, and the COOP decision.
+//!
+//! On x86-64 the kernels take the widest path the host runs (AVX-512, AVX2, portable);
+//! `COOPWIN_ISA=avx2` (or `portable`) makes them take no wider one, so a narrower host's path
+//! can be measured here: `COOPWIN_ISA=avx2 cargo bench -p coopwin-firmware --bench kernels`.
 use coopwin_firmware::kernels::confidence::{ConfidencePolicy, SseCoop};
 use coopwin_firmware::types::Source;
 use coopwin_firmware::kernels::corner::{CornerDetector, CornerParams};
@@ -16,7 +20,23 @@ use std::hint::black_box;
 mod pgm;
 use pgm::read_pgm;
 
+/// The path `COOPWIN_ISA` names, if any, as the widest the kernels take.
+#[cfg(target_arch = "x86_64")]
+fn isa_from_env() {
+    use coopwin_firmware::kernels::x86::{detected, path, use_at_most, Isa};
+    let Ok(name) = std::env::var("COOPWIN_ISA") else { return };
+    match name.as_str() {
+        "portable" => use_at_most(Isa::Portable),
+        "avx2" => use_at_most(Isa::Avx2),
+        "avx512" => use_at_most(Isa::Avx512),
+        other => panic!("COOPWIN_ISA={other}: expected portable, avx2 or avx512"),
+    }
+    eprintln!("kernels' path: {:?} (COOPWIN_ISA={name}; the host runs {:?})", path(), detected());
+}
+
 fn kernels(c: &mut Criterion) {
+    #[cfg(target_arch = "x86_64")]
+    isa_from_env();
     let (ww, wh, fw) = read_pgm("foveal_window.pgm");
     let (tw, th, ft) = read_pgm("foveal_template.pgm");
     let win = WindowView::packed(&fw, ww, wh).unwrap();

@@ -12,8 +12,8 @@
 //! * [`confidence`]: the least-squares window confidence measure (4.3) and a Kalman-filter
 //!   policy (5.2);
 //! * [`fmath`]: the FPU's square root (and `dsp`, the DSP extension's dual multiply-add, for
-//!   the matching), through `asm!` on the Cortex-M4F and portable elsewhere; `x86`, which of
-//!   x86-64's wider vector extensions the host has.
+//!   the matching), through `asm!` on the Cortex-M4F and portable elsewhere; [`x86`], which of
+//!   x86-64's wider vector extensions the host has and the kernels use.
 pub mod confidence;
 pub mod corner;
 #[cfg(any(test, target_arch = "arm"))]
@@ -27,4 +27,4 @@ pub mod support;
 pub mod view;
 pub mod warp;
 #[cfg(target_arch = "x86_64")]
-mod x86;
+pub mod x86;

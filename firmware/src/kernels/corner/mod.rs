@@ -264,10 +264,7 @@ impl<const N: usize> CornerDetector<N> {
     /// by [`threshold_edges`](Self::threshold_edges).
     fn edges(&mut self, view: &WindowView<'_>, th: u16) -> bool {
         #[cfg(target_arch = "x86_64")]
-        if view.width() <= x86::MAX_W && crate::kernels::x86::has_avx512bw() {
-            // SAFETY: the CPU and the OS run AVX-512 F and BW, the function's only requirement.
-            #[allow(unsafe_code)]
-            let n = unsafe { self.grads.sobel(view, &mut self.bits, th2(th)) };
+        if let Some(n) = self.grads.sobel(crate::kernels::x86::path(), view, &mut self.bits, th2(th)) {
             self.edge_pixels = n;
             return true;
         }

@@ -348,23 +348,20 @@ fn detector_rejects_large_and_flat() {
     assert_eq!(d.edge_pixels(), 0);
 }
 
-/// The x86 vector pass (x86.rs) gives the portable one's edge map and count, and its peaks
-/// give exactly `collect_points`' sub-pixel points, of every pixel and of the edge pixels, on windows
-/// 1 to 32 wide and 1 to 64 high: random pixels, noisy wedges and step edges of every
-/// orientation, saturated checkerboards (the largest gradients), packed, strided and
-/// decimated views, thresholds from 0 to past the largest magnitude.
+/// Every x86 vector pass the host runs (x86/: AVX-512, AVX2) gives the portable one's edge map
+/// and count, and its peaks give exactly `collect_points`' sub-pixel points, of every pixel and
+/// of the edge pixels, on windows 1 to 32 wide and 1 to 64 high: random pixels, noisy wedges
+/// and step edges of every orientation, saturated checkerboards (the largest gradients),
+/// packed, strided and decimated views, thresholds from 0 to past the largest magnitude.
 #[cfg(target_arch = "x86_64")]
 #[test]
 fn vector_pass_matches_portable() {
     use super::sobel::row_mask;
-    if !crate::kernels::x86::has_avx512bw() {
-        std::eprintln!("no AVX-512 BW here: the vector pass is not run");
-        return;
-    }
+    use crate::kernels::x86::{runnable, Isa};
     let mut rnd = xorshift(0x5eed_c0ff_ee15_900d);
     let mut det = CornerDetector::new();
     let mut grads = super::x86::Gradients::<MAX_DIM>::new();
-    let (mut points, mut other) = (0, EdgePoints::<MAX_DIM>::new());
+    let (mut points, mut other) = (std::collections::BTreeMap::new(), EdgePoints::<MAX_DIM>::new());
     for case in 0..4000 {
         let (w, h) = (1 + (rnd() % 32) as usize, 1 + (rnd() % 64) as usize);
         let (step, pad) = (if case % 4 == 0 { 2 } else { 1 }, (rnd() % 3) as usize);
@@ -392,19 +389,26 @@ fn vector_pass_matches_portable() {
         }
         let th = [0, 1, 30, 50, 70, 300, 1020, 1021, 1500][case % 9];
         let n = det.threshold_edges(&v, th);
-        let mut bits = [0u64; MAX_DIM];
-        #[allow(unsafe_code)]
-        // SAFETY: the CPU and the OS run AVX-512 F and BW (checked above).
-        let m = unsafe { grads.sobel(&v, &mut bits[..h], th2(th)) };
-        assert_eq!((m, &bits[..h]), (n, &det.bits[..h]), "case {case}: {w}x{h}");
-        // Every pixel (the peak test everywhere), then the edge pixels.
-        let every = [row_mask(w); MAX_DIM];
-        for rows in [&every[..h], &bits[..h]] {
-            collect_points(&det.wide, rows, w, h, &mut det.points);
-            grads.collect_points(rows, &mut other);
-            assert!(det.points.bits().eq(other.bits()), "case {case}: {w}x{h}");
-            points += other.bits().count();
+        for isa in runnable().filter(|&i| i > Isa::Portable) {
+            let mut bits = [0u64; MAX_DIM];
+            // The AVX2 pass takes windows from 2 pixels wide.
+            let Some(m) = grads.sobel(isa, &v, &mut bits[..h], th2(th)) else {
+                assert!(isa == Isa::Avx2 && w == 1, "{isa:?}, case {case}: {w}x{h} not taken");
+                continue;
+            };
+            assert_eq!((m, &bits[..h]), (n, &det.bits[..h]), "{isa:?}, case {case}: {w}x{h}");
+            // Every pixel (the peak test everywhere), then the edge pixels.
+            let every = [row_mask(w); MAX_DIM];
+            for rows in [&every[..h], &bits[..h]] {
+                collect_points(&det.wide, rows, w, h, &mut det.points);
+                grads.collect_points(rows, &mut other);
+                assert!(det.points.bits().eq(other.bits()), "{isa:?}, case {case}: {w}x{h}");
+                *points.entry(isa).or_insert(0) += other.bits().count();
+            }
         }
     }
-    assert!(points > 20_000, "{points} points");
+    // Each vector path the host runs found many points (none where it runs neither).
+    for isa in runnable().filter(|&i| i > Isa::Portable) {
+        assert!(points.get(&isa).copied().unwrap_or(0) > 20_000, "{isa:?}: {points:?}");
+    }
 }

@@ -16,6 +16,8 @@
 //! How many placements are left depends on the images, not their size: a flat window keeps them
 //! all (then the bounds are extra work).
 use super::MAX_SEARCH_WIDTH;
+#[cfg(target_arch = "x86_64")]
+use crate::kernels::x86::Isa;
 use crate::kernels::view::WindowView;
 use heapless::Vec;
 
@@ -164,30 +166,55 @@ pub(super) fn search<S>(
     ssd: impl Fn(&S) -> u64,
 ) -> Option<Option<(usize, usize, S)>> {
     #[cfg(target_arch = "x86_64")]
-    if crate::kernels::x86::has_avx512bw() {
-        // SAFETY: the CPU and the OS run AVX-512 F and BW, the function's only requirement.
-        #[allow(unsafe_code)]
-        return unsafe { search_avx512(win, tpl, (nx, ny), sums, ssd) };
-    }
+    return search_on(crate::kernels::x86::path(), win, tpl, (nx, ny), sums, ssd);
+    #[cfg(not(target_arch = "x86_64"))]
     search_in(win, tpl, (nx, ny), sums, ssd)
 }
 
-/// [`search`] compiled for AVX-512 BW: its box sums, bounds and scans of the bounds in
-/// 512-bit vectors, where the baseline build's 128-bit ones took 3.3 us of the 40x40
-/// Peripheral match (this one 2.5; OpenCV on one thread takes about 30).
+/// [`search`] on the path `isa` (narrowed to what the host runs): its box sums, bounds and
+/// scans of the bounds in 512-bit or 256-bit vectors, where the baseline build's 128-bit ones
+/// took 3.3 us of the 40x40 Peripheral match (AVX-512 2.5, AVX2 3.0; OpenCV on one thread
+/// takes about 30).
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx512bw")]
-fn search_avx512<S>(
+fn search_on<S>(
+    isa: Isa,
     win: &WindowView<'_>,
     tpl: &WindowView<'_>,
     placed: (usize, usize),
     sums: impl FnMut(usize, usize) -> Option<S>,
     ssd: impl Fn(&S) -> u64,
 ) -> Option<Option<(usize, usize, S)>> {
-    search_in(win, tpl, placed, sums, ssd)
+    // SAFETY: the host runs the path (narrowed by `detected`), the functions' only requirement.
+    #[allow(unsafe_code)]
+    match isa.min(crate::kernels::x86::detected()) {
+        Isa::Avx512 => unsafe { search_avx512(win, tpl, placed, sums, ssd) },
+        Isa::Avx2 => unsafe { search_avx2(win, tpl, placed, sums, ssd) },
+        Isa::Portable => search_in(win, tpl, placed, sums, ssd),
+    }
 }
 
-/// [`search`]'s body, inlined into each build of it (the baseline's and AVX-512's).
+/// [`search_in`] compiled for an instruction set: `$name` requires the CPU to run `$features`.
+#[cfg(target_arch = "x86_64")]
+macro_rules! search_build {
+    ($name:ident, $features:literal) => {
+        #[target_feature(enable = $features)]
+        fn $name<S>(
+            win: &WindowView<'_>,
+            tpl: &WindowView<'_>,
+            placed: (usize, usize),
+            sums: impl FnMut(usize, usize) -> Option<S>,
+            ssd: impl Fn(&S) -> u64,
+        ) -> Option<Option<(usize, usize, S)>> {
+            search_in(win, tpl, placed, sums, ssd)
+        }
+    };
+}
+#[cfg(target_arch = "x86_64")]
+search_build!(search_avx512, "avx512f,avx512bw");
+#[cfg(target_arch = "x86_64")]
+search_build!(search_avx2, "avx2");
+
+/// [`search`]'s body, inlined into each build of it (the baseline's, AVX2's and AVX-512's).
 #[inline(always)]
 fn search_in<S>(
     win: &WindowView<'_>,
@@ -291,6 +318,32 @@ mod tests {
         }
     }
 
+    /// The window's box sums and the template's block sums against sums taken pixel by pixel
+    /// here: blocks of 2, 4 and 8 (templates 4 to 17 a side), windows from the block's size up
+    /// to 40x40, sub-views of a frame (rows `stride` apart), random and all-255 pixels (the
+    /// largest sums).
+    #[test]
+    fn box_sums_are_the_pixel_sums() {
+        let mut px = lcg(99);
+        let (fw, fh) = (50, 46);
+        for full in [false, true] {
+            let frame: std::vec::Vec<u8> = (0..fw * fh).map(|_| if full { 255 } else { px() }).collect();
+            let view = WindowView::packed(&frame, fw, fh).unwrap_or_else(|_| unreachable!());
+            for (x, y, ww, wh, tw, th) in [(0, 0, 40, 40, 16, 16), (3, 5, 20, 20, 8, 8), (1, 2, 31, 23, 9, 7), (2, 2, 13, 11, 5, 4), (4, 1, 17, 17, 17, 17), (0, 3, 8, 9, 4, 4)] {
+                let win = view.sub(x, y, ww, wh).unwrap_or_else(|| unreachable!());
+                let tpl = view.sub(x + 1, y + 1, tw, th).unwrap_or_else(|| unreachable!());
+                let (mut boxes, mut blocks) = (Vec::new(), Vec::new());
+                let el = Elimination::new(&win, &tpl, &mut boxes, &mut blocks).unwrap_or_else(|| unreachable!());
+                let b = el.b;
+                let sum = |x0: usize, y0: usize| -> i16 { (0..b * b).map(|i| i16::from(frame[(y0 + i / b) * fw + x0 + i % b])).sum() };
+                let want: std::vec::Vec<i16> = (0..(wh - b + 1) * el.cols).map(|k| sum(x + k % el.cols, y + k / el.cols)).collect();
+                assert_eq!(el.boxes, &want[..], "{tw}x{th} in {ww}x{wh}, blocks of {b}");
+                let want: std::vec::Vec<i16> = (0..(th / b) * el.bw).map(|k| sum(x + 1 + b * (k % el.bw), y + 1 + b * (k / el.bw))).collect();
+                assert_eq!(el.blocks, &want[..], "{tw}x{th} blocks of {b}");
+            }
+        }
+    }
+
     /// The scan of the bounds against `position` over every start and cut, on runs of bounds
     /// with and without a kept one, lengths not a multiple of [`RUN`] and starts past the end.
     #[test]
@@ -307,16 +360,12 @@ mod tests {
         }
     }
 
-    /// The AVX-512 build of the search against the baseline's (where the host runs it), with
-    /// the SSD of each placement summed pixel by pixel: the same placement and sums for
-    /// templates of the Peripheral's sizes and others (odd sides, blocks of 2, 4 and 8), in
-    /// sub-views of a frame, on noise, on a window holding the template, flat and all-255.
-    #[cfg(target_arch = "x86_64")]
+    /// Every build of the search the host runs (AVX-512, AVX2, the baseline's) against the SSD
+    /// of each placement summed pixel by pixel: the same placement and sums for templates of the
+    /// Peripheral's sizes and others (odd sides, blocks of 2, 4 and 8), in sub-views of a frame,
+    /// on noise, on a window holding the template, flat and all-255.
     #[test]
-    fn the_avx512_search_is_the_baseline_one() {
-        if !crate::kernels::x86::has_avx512bw() {
-            return;
-        }
+    fn every_build_of_the_search_is_the_baseline_one() {
         let mut px = lcg(7);
         let (fw, fh) = (72, 60);
         for case in 0..4 {
@@ -340,10 +389,10 @@ mod tests {
                 };
                 let placed = (ww - tw + 1, wh - th + 1);
                 let base = search_in(&win, &tpl, placed, ssd, |&s| s);
-                // SAFETY: the host runs AVX-512 F and BW (checked above).
-                #[allow(unsafe_code)]
-                let wide = unsafe { search_avx512(&win, &tpl, placed, ssd, |&s| s) };
-                assert_eq!(wide, base, "case {case}: {tw}x{th} in {ww}x{wh} at ({x}, {y})");
+                #[cfg(target_arch = "x86_64")]
+                for isa in crate::kernels::x86::runnable() {
+                    assert_eq!(search_on(isa, &win, &tpl, placed, ssd, |&s| s), base, "{isa:?}, case {case}: {tw}x{th} in {ww}x{wh} at ({x}, {y})");
+                }
                 // The windows up to 40x40 fit the buffers (larger ones are searched in full).
                 if case == 0 && ww * wh <= 40 * 40 {
                     assert_eq!(base, Some(Some((3, 2, 1))), "{tw}x{th} in {ww}x{wh} at ({x}, {y})");

@@ -1,6 +1,6 @@
-use super::dot::{dot_row_bytes, dot_row_pairs, row_dot_products, strip_dot_products};
 #[cfg(target_arch = "x86_64")]
-use super::dot::dot_products_avx512;
+use super::dot::dot_products_on;
+use super::dot::{dot_row_bytes, dot_row_pairs, row_dot_products, strip_dot_products};
 #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
 use super::dot::patch_dots;
 use super::subpixel::parabola;
@@ -87,41 +87,42 @@ fn the_arm_row_dot_products_equal_the_strip_ones() {
     }
 }
 
-/// The AVX-512 dot products (on a host that has it) against the hand formula, as the Arm
-/// ones above: templates up to 32x32 (the largest it takes; 33 wide or high, or over 1,024
-/// placements, is left to the strips), placement rows a multiple of 4 and not, one-pixel and
-/// one-row templates, a sub-view whose rows are `stride` apart.
+/// The dot products of every path the host runs (AVX-512, AVX2, the strips) against the hand
+/// formula, as the Arm ones above: templates up to 32x32 (the largest the vector paths take;
+/// 33 wide or high goes to the strips), 1 to 16 and 17 to 32 wide (one or two AVX2 registers a
+/// row), placement rows a multiple of 4 and not, one-pixel and one-row templates, a sub-view
+/// whose rows are `stride` apart, in a frame that ends with the window (the last rows' pixels
+/// read from a padded copy) and one that goes on past it.
 #[cfg(target_arch = "x86_64")]
 #[test]
-fn the_avx512_dot_products_equal_the_formula() {
-    if !crate::kernels::x86::has_avx512bw() {
-        return;
-    }
+fn every_paths_dot_products_equal_the_formula() {
     let mut px = lcg(4242);
-    let sizes = [(20, 20, 24, 24), (16, 16, 40, 40), (8, 8, 20, 20), (7, 5, 13, 11), (32, 32, 56, 56), (32, 1, 40, 9), (1, 32, 9, 40), (1, 1, 5, 6), (3, 6, 9, 9), (10, 10, 32, 32), (12, 9, 17, 30), (33, 3, 40, 9), (3, 33, 9, 40)];
+    let sizes = [(20, 20, 24, 24), (16, 16, 40, 40), (8, 8, 20, 20), (7, 5, 13, 11), (32, 32, 56, 56), (32, 1, 40, 9), (1, 32, 9, 40), (1, 1, 5, 6), (3, 6, 9, 9), (10, 10, 32, 32), (12, 9, 17, 30), (17, 4, 19, 7), (33, 3, 40, 9), (3, 33, 9, 40)];
+    let mut checked = 0;
     for (tw, th, ww, wh) in sizes {
-        let t = pixels(&mut px, tw * th);
-        // The window a sub-view of a wider frame: 3 columns and 2 rows in, rows `ww + 5` apart.
-        let stride = ww + 5;
-        let frame = pixels(&mut px, stride * (wh + 2));
-        let wv = WindowView::new(&frame, stride, wh + 2, stride, 0, 0).unwrap().sub(3, 2, ww, wh).unwrap();
-        let mut dots = Vec::new();
-        // SAFETY: the CPU has AVX-512 F and BW (asked above).
-        #[allow(unsafe_code)]
-        let got = unsafe { dot_products_avx512(&wv, &v(&t, tw, th), &mut dots) };
-        if tw > 32 || th > 32 {
-            assert_eq!(got, None, "{tw}x{th}: wider or higher than a register's 32 lanes");
-            continue;
+        for below in [0, 2] {
+            let t = pixels(&mut px, tw * th);
+            // The window a sub-view of a wider frame: 3 columns and 2 rows in, rows `ww + 5`
+            // apart, `below` rows after it.
+            let stride = ww + 5;
+            let frame = pixels(&mut px, stride * (wh + 2 + below));
+            let wv = WindowView::new(&frame, stride, wh + 2 + below, stride, 0, 0).unwrap().sub(3, 2, ww, wh).unwrap();
+            let want: std::vec::Vec<u32> = (0..(ww - tw + 1) * (wh - th + 1))
+                .map(|k| {
+                    let (ox, oy) = (k % (ww - tw + 1), k / (ww - tw + 1));
+                    (0..tw * th).map(|i| u32::from(t[i]) * u32::from(frame[(2 + oy + i / tw) * stride + 3 + ox + i % tw])).sum()
+                })
+                .collect();
+            for isa in crate::kernels::x86::runnable() {
+                let mut dots = Vec::new();
+                let got = dot_products_on(isa, &wv, &v(&t, tw, th), &mut dots);
+                assert_eq!(got, Some(()), "{isa:?}, {tw}x{th} in {ww}x{wh}");
+                assert_eq!(&dots[..], &want[..], "{isa:?}, {tw}x{th} in {ww}x{wh}");
+                checked += 1;
+            }
         }
-        assert_eq!(got, Some(()), "{tw}x{th} in {ww}x{wh}");
-        let want: std::vec::Vec<u32> = (0..(ww - tw + 1) * (wh - th + 1))
-            .map(|k| {
-                let (ox, oy) = (k % (ww - tw + 1), k / (ww - tw + 1));
-                (0..tw * th).map(|i| u32::from(t[i]) * u32::from(frame[(2 + oy + i / tw) * stride + 3 + ox + i % tw])).sum()
-            })
-            .collect();
-        assert_eq!(&dots[..], &want[..], "{tw}x{th} in {ww}x{wh}");
     }
+    assert!(checked >= 2 * sizes.len(), "{checked}");
 }
 
 /// A pyramid level, two pixels a word: against the rounded mean of each 2x2 block (a hand

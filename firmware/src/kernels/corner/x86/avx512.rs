@@ -1,17 +1,7 @@
-//! The Sobel pass in AVX-512 BW, on an x86-64 host that has it (`kernels::x86::has_avx512bw`),
-//! for windows up to [`MAX_W`] wide.
-//!
-//! A window row is one register of 32 `i16`, read from the view's bytes (no widened copy);
-//! the horizontal neighbours come from permutes by reflect-101 indices, not from margins
-//! stored then reloaded (whose scalar stores stall the vector loads over them). The pass also
-//! keeps what `lines::collect_points` needs, so that [`Gradients::collect_points`] reads each
-//! edge pixel's values instead of computing three Sobel sums per pixel: the gradients, the
-//! squared magnitudes, and which pixels are maxima along their axis, tested for a whole row at
-//! a time without a branch per pixel. Its sub-pixel points are the portable path's, bit for
-//! bit (`tests.rs`, `vector_pass_matches_portable`).
-
-use super::lines::{push_peak, EdgePoints};
-use super::sobel::{reflect, row_mask};
+//! [`Gradients::sobel`] in AVX-512 BW: a row of 32 `i16` in one register, the neighbours by
+//! reflect-101 permutes.
+use super::super::sobel::{reflect, row_mask};
+use super::{Gradients, MAX_W};
 use crate::kernels::view::WindowView;
 use core::arch::x86_64::{
     __m256i, __m512i, _mm512_abs_epi16, _mm512_add_epi16, _mm512_castsi512_si256, _mm512_cmpge_epi16_mask,
@@ -21,29 +11,10 @@ use core::arch::x86_64::{
     _mm512_storeu_si512, _mm512_sub_epi16,
 };
 
-/// Widest window of the vector pass: a row of `i16` fills one 512-bit register.
-pub(super) const MAX_W: usize = 32;
-
-/// The last window's Sobel gradients and squared magnitudes, and its pixels that are maxima
-/// of the magnitude along their axis, for windows up to `MAX_W x N`.
-pub(super) struct Gradients<const N: usize> {
-    gx: [[i16; MAX_W]; N],
-    gy: [[i16; MAX_W]; N],
-    m2: [[i32; MAX_W]; N],
-    /// Bit `x` of row `y`: pixel `(x, y)` is a peak, a pixel that `collect_points` takes:
-    /// interior, a maximum of the magnitude along the axis closer to its gradient, its two
-    /// neighbours there interior too.
-    maxima: [u64; N],
-}
-
 /// Two halves of a row of 32 `i32` (pixels 0-15, 16-31).
 type Row32 = (__m512i, __m512i);
 
 impl<const N: usize> Gradients<N> {
-    pub(super) const fn new() -> Self {
-        Self { gx: [[0; MAX_W]; N], gy: [[0; MAX_W]; N], m2: [[0; MAX_W]; N], maxima: [0; N] }
-    }
-
     /// `sobel_rows`' edge map of `view` (`w <= MAX_W`, `h <= N`) into `bits`: pixel
     /// `(x, y)` is an edge iff `gx² + gy² > th2`, with
     /// `gx = s(x+1) - s(x-1)`, `s = up + 2 mid + down` and `gy = d(x-1) + 2 d(x) + d(x+1)`,
@@ -51,7 +22,7 @@ impl<const N: usize> Gradients<N> {
     /// the squared magnitudes and the peaks; returns the number of edge pixels.
     #[target_feature(enable = "avx512f,avx512bw")]
     #[allow(unsafe_code)]
-    pub(super) fn sobel(&mut self, view: &WindowView<'_>, bits: &mut [u64], th2: i32) -> u32 {
+    pub(super) fn sobel_avx512(&mut self, view: &WindowView<'_>, bits: &mut [u64], th2: i32) -> u32 {
         let (w, h) = (view.width().min(MAX_W), view.height().min(N).min(bits.len()));
         let row = |y: usize| -> __m512i {
             let mut buf = [0u8; MAX_W];
@@ -140,38 +111,4 @@ impl<const N: usize> Gradients<N> {
 fn mag2(gx: __m256i, gy: __m256i) -> __m512i {
     let pairs = _mm512_or_si512(_mm512_cvtepu16_epi32(gx), _mm512_slli_epi32(_mm512_cvtepu16_epi32(gy), 16));
     _mm512_madd_epi16(pairs, pairs)
-}
-
-impl<const N: usize> Gradients<N> {
-    /// `lines::collect_points` of the last window from what [`sobel`](Self::sobel) kept: the
-    /// points of the clean edge pixels `rows` that are peaks.
-    pub(super) fn collect_points(&self, rows: &[u64], pts: &mut EdgePoints<N>) {
-        pts.clear();
-        for (y, (&row, &peaks)) in rows.iter().zip(&self.maxima).enumerate() {
-            let mut bits = row & peaks;
-            while bits != 0 {
-                let x = bits.trailing_zeros() as usize;
-                bits &= bits - 1;
-                let Some((g, q, horizontal)) = self.peak(x, y) else { continue };
-                if !push_peak(pts, (x, y), g, q, horizontal) {
-                    return;
-                }
-            }
-        }
-    }
-
-    /// The gradient at peak `(x, y)`, the squared magnitudes before, at and after it along
-    /// its axis, and whether that is `x`; `None` outside the window's rows.
-    fn peak(&self, x: usize, y: usize) -> Option<((i32, i32), [i32; 3], bool)> {
-        let at = |a: &[[i16; MAX_W]; N]| a.get(y).and_then(|r| r.get(x)).map(|&g| i32::from(g));
-        let (gx, gy) = (at(&self.gx)?, at(&self.gy)?);
-        let m2 = |x: usize, y: usize| self.m2.get(y).and_then(|r| r.get(x)).copied();
-        let horizontal = gx.abs() >= gy.abs();
-        let (q0, q2) = if horizontal {
-            (m2(x.wrapping_sub(1), y)?, m2(x + 1, y)?)
-        } else {
-            (m2(x, y.wrapping_sub(1))?, m2(x, y + 1)?)
-        };
-        Some(((gx, gy), [q0, m2(x, y)?, q2], horizontal))
-    }
 }

@@ -8,22 +8,34 @@
 //! product. The dot products of all placements ([`dot_products`]) come, on x86-64, from
 //! column strips widened to `i16` (see `strip_dot_products`), in which every patch is one
 //! contiguous run; four placements share each template load and LLVM turns the 16-lane
-//! `i16·i16 -> i32` reduction into `pmaddwd`. Where the CPU has AVX-512 (asked at run time),
-//! templates up to 32x32 are multiplied from the pixel rows instead, a template row a
-//! register (`dot_products_avx512`). A 32-bit Arm core (the Cortex-M4) has no such
+//! `i16·i16 -> i32` reduction into `pmaddwd`. Where the CPU has AVX-512 or AVX2 (asked at run
+//! time), templates up to 32x32 are multiplied from the pixel rows instead, a template row a
+//! register or two (`avx512.rs`, `avx2.rs`). A 32-bit Arm core (the Cortex-M4) has no such
 //! vectors, so widening the window buys nothing there; its DSP extension multiplies pairs
-//! of 16-bit halves instead, fed straight from the pixel rows (`row_dot_products`).
+//! of 16-bit halves instead, fed straight from the pixel rows (`arm.rs`).
 //! Windows too large for either use per-row `u8` dot products.
 //!
 use super::SCORE_CACHE;
-#[cfg(any(test, target_arch = "arm"))]
-use crate::kernels::dsp::{pair, smlad};
 use crate::kernels::view::WindowView;
+#[cfg(not(target_arch = "arm"))]
 use heapless::Vec;
+
+#[cfg(any(test, target_arch = "arm"))]
+mod arm;
+#[cfg(target_arch = "x86_64")]
+mod avx2;
+#[cfg(target_arch = "x86_64")]
+mod avx512;
+#[cfg(any(test, target_arch = "arm"))]
+pub(super) use arm::dot_row_pairs;
+#[cfg(test)]
+pub(super) use arm::row_dot_products;
+#[cfg(target_arch = "x86_64")]
+use crate::kernels::x86::Isa;
 
 /// Row dot products accumulate in `u32` in chunks of this many pixels:
 /// `16384 · 255² < 2³²`, so no chunk can overflow.
-const DOT_CHUNK: usize = 16384;
+pub(super) const DOT_CHUNK: usize = 16384;
 
 /// `Σ a·b` of two pixel rows (the shorter's length).
 #[inline(always)]
@@ -132,29 +144,6 @@ fn lane_sum(l: core::arch::x86_64::__m128i) -> u64 {
     u64::from(_mm_cvtsi128_si32(l) as u32)
 }
 
-/// [`dot_row`] four pixels at a time on the Cortex-M4: each word's pixels spread over two
-/// words of 16-bit halves and multiplied in pairs by `SMLAD` (see [`group`]).
-#[cfg(any(test, target_arch = "arm"))]
-#[inline(always)]
-pub(super) fn dot_row_pairs(a: &[u8], b: &[u8]) -> u64 {
-    let n = a.len().min(b.len());
-    let (Some(a), Some(b)) = (a.get(..n), b.get(..n)) else { return 0 };
-    let mut s = 0u64;
-    for (ca, cb) in a.chunks(DOT_CHUNK).zip(b.chunks(DOT_CHUNK)) {
-        let (qa, qb) = (ca.chunks_exact(4), cb.chunks_exact(4));
-        let tail = qa.remainder().iter().zip(qb.remainder()).fold(0u32, |acc, (&x, &y)| acc + u32::from(x) * u32::from(y));
-        // At most DOT_CHUNK·255² < 2³¹: the `i32` sum does not wrap.
-        let d = qa.zip(qb).fold(0i32, |acc, (x, y)| match <&[u8; 4]>::try_from(x) {
-            Ok(&x) => {
-                let x = u32::from_le_bytes(x);
-                group(acc, x & 0x00ff_00ff, (x >> 8) & 0x00ff_00ff, y)
-            }
-            Err(_) => acc,
-        });
-        s += u64::from(d as u32) + u64::from(tail);
-    }
-    s
-}
 
 /// `Σ |a - b|` of two pixel rows.
 #[inline(always)]
@@ -258,7 +247,7 @@ pub(super) fn dot_placement<const N: usize>(
 
 /// Capacity, in pixels, of the column strip of [`strip_dot_products`] (window height x
 /// template width) and of its widened template copy.
-const STRIP_CAP: usize = 4096;
+pub(super) const STRIP_CAP: usize = 4096;
 
 /// Widens `src` (`u8`) into `dst` (`i16`, same length). For runs of at least 8 pixels
 /// this copies fixed 8-pixel chunks (the last one overlapping the previous, if the
@@ -463,275 +452,37 @@ fn dot_long4(t: &[i16], s: &[i16], step: usize) -> [i32; 4] {
 /// `scripts/board.sh`).
 #[cfg(not(target_arch = "arm"))]
 pub(super) use host_dot_products as dot_products;
+#[cfg(target_arch = "arm")]
+pub(super) use arm::row_dot_products as dot_products;
 
-/// [`dot_products`] on a host: in AVX-512 where the CPU has it and the template is at most
-/// [`LANES`] pixels wide and high ([`dot_products_avx512`]), else from column strips.
+/// [`dot_products`] on a host: on x86-64 in the widest vectors the host runs
+/// ([`dot_products_on`]), else from column strips.
 #[cfg(not(target_arch = "arm"))]
 pub(super) fn host_dot_products(win: &WindowView<'_>, tpl: &WindowView<'_>, dots: &mut Vec<u32, SCORE_CACHE>) -> Option<()> {
     #[cfg(target_arch = "x86_64")]
-    if crate::kernels::x86::has_avx512bw() && tpl.width() <= LANES && tpl.height() <= LANES {
-        // SAFETY: the CPU has AVX-512 F and BW (asked above), all the function requires.
+    return dot_products_on(crate::kernels::x86::path(), win, tpl, dots);
+    #[cfg(not(target_arch = "x86_64"))]
+    strip_dot_products(win, tpl, dots)
+}
+
+/// [`dot_products`] on the path `isa` (narrowed to what the host runs): in AVX-512 or AVX2 for
+/// templates of at most [`LANES`] pixels a side, else from column strips.
+#[cfg(target_arch = "x86_64")]
+pub(super) fn dot_products_on(isa: Isa, win: &WindowView<'_>, tpl: &WindowView<'_>, dots: &mut Vec<u32, SCORE_CACHE>) -> Option<()> {
+    if tpl.width() <= LANES && tpl.height() <= LANES {
+        // SAFETY: the host runs the path (narrowed by `detected`), the functions' only
+        // requirement.
         #[allow(unsafe_code)]
-        return unsafe { dot_products_avx512(win, tpl, dots) };
+        match isa.min(crate::kernels::x86::detected()) {
+            Isa::Avx512 => return unsafe { avx512::dot_products(win, tpl, dots) },
+            Isa::Avx2 => return unsafe { avx2::dot_products(win, tpl, dots) },
+            Isa::Portable => {}
+        }
     }
     strip_dot_products(win, tpl, dots)
 }
 
-/// Template rows of at most this many pixels fill one AVX-512 register as `i16`, and at most
-/// this many rows are held widened ([`dot_products_avx512`]).
+/// Template rows of at most this many pixels fill one AVX-512 register (or two AVX2 ones) as
+/// `i16`, and at most this many rows are held widened.
 #[cfg(target_arch = "x86_64")]
 const LANES: usize = 32;
-
-/// [`dot_products`] in AVX-512 BW, for templates of at most [`LANES`] x [`LANES`] pixels: each
-/// template row is widened once into a register of 32 `i16` lanes (0 past the row), and each
-/// window row under a placement column once per four placement rows; `pmaddwd` multiplies it
-/// with the template rows it meets in those four placements (`Σ R·I` of placement `(px, py)`
-/// gains row `r` times template row `r - py`). No strip is copied: the Foveal 20x20-in-24 match
-/// widens 230 window rows instead of writing 2,400 strip pixels (five columns of 20x24) and
-/// reading them back. Lanes cannot overflow: each gains at most `2·255²` a row, at most
-/// [`LANES`] rows.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx512bw")]
-#[allow(unsafe_code)]
-pub(super) fn dot_products_avx512(win: &WindowView<'_>, tpl: &WindowView<'_>, dots: &mut Vec<u32, SCORE_CACHE>) -> Option<()> {
-    use core::arch::x86_64::{__m512i, _mm512_add_epi32, _mm512_castsi512_si256, _mm512_cvtepu8_epi16, _mm512_madd_epi16, _mm512_maskz_loadu_epi8, _mm512_reduce_add_epi32, _mm512_setzero_si512};
-    let (tw, th) = (tpl.width(), tpl.height());
-    let nx = win.width().checked_sub(tw)? + 1;
-    let ny = win.height().checked_sub(th)? + 1;
-    if tw == 0 || tw > LANES || th > LANES || nx * ny > SCORE_CACHE {
-        return None;
-    }
-    let keep = (1u64 << tw) - 1;
-    // `tw` pixels from `row`'s start, widened.
-    let widen = |row: &[u8]| -> Option<__m512i> {
-        let row = row.get(..tw)?;
-        // SAFETY: only the `tw` bytes of `keep`, inside `row`, are read; masked-off bytes are
-        // neither read nor able to fault.
-        Some(_mm512_cvtepu8_epi16(_mm512_castsi512_si256(unsafe { _mm512_maskz_loadu_epi8(keep, row.as_ptr().cast()) })))
-    };
-    // Template row `v` at `v + 3`, rows of zeros around: window row `r` adds template row
-    // `r - py - j` to placement row `py + j`'s sum, `t[r - py + 3 - j]`, zeros where that
-    // placement does not cover the row, so the four sums need no test.
-    let mut t = [_mm512_setzero_si512(); LANES + 7];
-    for (v, t) in t.iter_mut().skip(3).enumerate().take(th) {
-        *t = widen(tpl.row(v)?)?;
-    }
-    dots.clear();
-    dots.resize(nx * ny, 0).ok()?;
-    for px in 0..nx {
-        for py in (0..ny).step_by(4) {
-            let group = (ny - py).min(4);
-            let mut acc = [_mm512_setzero_si512(); 4];
-            for k in 3..group + th + 2 {
-                let w = widen(win.row(py + k - 3)?.get(px..)?)?;
-                for (j, a) in acc.iter_mut().enumerate() {
-                    *a = _mm512_add_epi32(*a, _mm512_madd_epi16(*t.get(k - j)?, w));
-                }
-            }
-            for (j, a) in acc.iter().enumerate().take(group) {
-                *dots.get_mut((py + j) * nx + px)? = _mm512_reduce_add_epi32(*a) as u32;
-            }
-        }
-    }
-    Some(())
-}
-#[cfg(target_arch = "arm")]
-pub(super) use row_dot_products as dot_products;
-
-/// [`dot_products`] for 32-bit Arm (Cortex-M4, thesis 2.6's processors on a
-/// microcontroller). `SMLAD` ([`crate::kernels::dsp`]) adds the products of two pairs of
-/// 16-bit halves, and `UXTB16` (LLVM's for `w & 0x00ff_00ff`) spreads a word of four window
-/// pixels `(w0, w1, w2, w3)` over two such pairs, `(w0, w2)` and `(w1, w3)`; so the template
-/// is rearranged once into those halves, `(t0, t2)` and `(t1, t3)` per group of four
-/// pixels, and four neighbouring placements of a row share each template word (their window
-/// words are one row's bytes from four offsets in a row, loads at fixed offsets from one
-/// pointer). A row's last `tw % 4` pixels make a last group padded with zero pixels,
-/// multiplied with the window's four pixels from there wherever they are in the window's
-/// memory (the pixels past the patch count zero times); where they are not (the last
-/// placements of the window's last rows), those pixels are summed one at a time. A row's last
-/// `nx % 4` placements go one at a time. The sums stay under `4096·255² < 2³¹`.
-#[cfg(any(test, target_arch = "arm"))]
-pub(super) fn row_dot_products(win: &WindowView<'_>, tpl: &WindowView<'_>, dots: &mut Vec<u32, SCORE_CACHE>) -> Option<()> {
-    let (tw, th, ww, wh) = (tpl.width(), tpl.height(), win.width(), win.height());
-    let nx = ww.checked_sub(tw)? + 1;
-    let ny = wh.checked_sub(th)? + 1;
-    // The template's words (two a group of four pixels, padded) must fit too: pushes past
-    // their capacity end the function with `None`.
-    if nx * ny > SCORE_CACHE || tw.checked_mul(wh)? > STRIP_CAP || tw == 0 || th == 0 {
-        return None;
-    }
-    let body = tw - tw % 4;
-    // Pixels a row's groups cover, the last padded.
-    let padded = tw.div_ceil(4) * 4;
-    let mut words: Vec<u32, { STRIP_CAP / 2 }> = Vec::new();
-    for v in 0..th {
-        let (groups, rest) = tpl.row(v)?.split_at_checked(body)?;
-        for g in groups.chunks_exact(4) {
-            if let &[t0, t1, t2, t3] = g {
-                words.push(pair(i16::from(t0), i16::from(t2))).ok()?;
-                words.push(pair(i16::from(t1), i16::from(t3))).ok()?;
-            }
-        }
-        if !rest.is_empty() {
-            let px = |i: usize| rest.get(i).map_or(0, |&p| i16::from(p));
-            words.push(pair(px(0), px(2))).ok()?;
-            words.push(pair(px(1), px(3))).ok()?;
-        }
-    }
-    let rows = Rows { words: &words, per_row: padded / 2, th, one_last: tw % 4 == 1 };
-    let (data, stride) = win.raw()?;
-    // Patch pixels each call multiplies: the padded groups where the last of the calls' `span`
-    // patches (at `at + span`) has them in `data`, else the groups of four only.
-    let len = |at: usize, span: usize| if at + span + (th - 1) * stride + padded <= data.len() { padded } else { body };
-    // Placement `(px, py)`'s dot product from the sum of its rows' groups, adding its last
-    // `tw % 4` pixels one at a time unless `len` covered them.
-    let product = |px: usize, py: usize, sum: i32, len: usize| -> Option<u32> {
-        let mut tail = 0u32;
-        if len < tw {
-            for v in 0..th {
-                let start = (py + v) * stride + px;
-                let (t, w) = (tpl.row(v)?.get(len..)?, data.get(start + len..start + tw)?);
-                tail = t.iter().zip(w).fold(tail, |s, (&t, &w)| s.wrapping_add(u32::from(t) * u32::from(w)));
-            }
-        }
-        Some((sum as u32).wrapping_add(tail))
-    };
-    // In raster order: four placements of a row at a time, then one at a time.
-    dots.clear();
-    for py in 0..ny {
-        let mut px = 0;
-        while px + 4 <= nx {
-            let at = py * stride + px;
-            let n = len(at, 3);
-            for (j, &sum) in rows.dot4(data, stride, at, n)?.iter().enumerate() {
-                dots.push(if n >= tw { sum as u32 } else { product(px + j, py, sum, n)? }).ok()?;
-            }
-            px += 4;
-        }
-        while px < nx {
-            let at = py * stride + px;
-            let n = len(at, 0);
-            dots.push(product(px, py, rows.dot(data, stride, at, n)?, n)?).ok()?;
-            px += 1;
-        }
-    }
-    Some(())
-}
-
-/// The template words of [`row_dot_products`] (halves `(t0, t2)`, `(t1, t3)` per group of
-/// four pixels, each row's last group padded with zeros): `per_row` words a row, `th` rows.
-#[cfg(any(test, target_arch = "arm"))]
-struct Rows<'w> {
-    words: &'w [u32],
-    per_row: usize,
-    th: usize,
-    /// Whether each row's last group holds one pixel (its odd word and the even word's high
-    /// half are zeros).
-    one_last: bool,
-}
-
-#[cfg(any(test, target_arch = "arm"))]
-impl Rows<'_> {
-    /// The products with the patches at `at`, `at + 1`, `at + 2` and `at + 3` of the window
-    /// pixels `data` (rows `stride` apart), over each row's first `len` pixels (whole groups):
-    /// four neighbouring placements of a row sharing each template word. Rows of the common
-    /// widths (the padded template's whole row, 8, 12, 16 or 20 pixels) go to
-    /// [`Rows::fixed`].
-    #[inline(never)]
-    fn dot4(&self, data: &[u8], stride: usize, at: usize, len: usize) -> Option<[i32; 4]> {
-        if len == 2 * self.per_row {
-            match (len, self.one_last) {
-                (8, true) => return self.fixed::<4, 8, 4, 11, true>(data, stride, at),
-                (8, false) => return self.fixed::<4, 8, 4, 11, false>(data, stride, at),
-                (12, _) => return self.fixed::<4, 12, 6, 15, false>(data, stride, at),
-                (16, _) => return self.fixed::<4, 16, 8, 19, false>(data, stride, at),
-                (20, _) => return self.fixed::<4, 20, 10, 23, false>(data, stride, at),
-                _ => {}
-            }
-        }
-        let mut a = [0i32; 4];
-        for (v, t) in self.words.chunks(self.per_row.max(1)).take(self.th).enumerate() {
-            let row = data.get(at + v * stride..)?.get(..len + 3)?;
-            for (g, t) in t.chunks_exact(2).enumerate() {
-                if let &[even, odd] = t {
-                    for (k, acc) in a.iter_mut().enumerate() {
-                        *acc = group(*acc, even, odd, row.get(k + 4 * g..k + 4 * g + 4).unwrap_or(&[]));
-                    }
-                }
-            }
-        }
-        Some(a)
-    }
-
-    /// The products with the `K` patches from `at` (neighbours in a row, [`Rows::dot4`]'s four or
-    /// [`Rows::dot`]'s one) over rows of `P` pixels (`W = P / 2` template words), unrolled: the
-    /// patches' row is one array of `R = P + K - 1` pixels (one bounds check a row), from which
-    /// every group is read at a fixed offset. A narrow template's rows (the Peripheral's
-    /// 5-pixel half-resolution one, 2 groups) spent more on checks and pointers than on their
-    /// products. With `ONE` (rows of `P - 3` pixels, as that one's) the last group is its one
-    /// pixel's product, not two `SMLAD`s of mostly zeros.
-    #[inline(always)]
-    fn fixed<const K: usize, const P: usize, const W: usize, const R: usize, const ONE: bool>(&self, data: &[u8], stride: usize, at: usize) -> Option<[i32; K]> {
-        let mut a = [0i32; K];
-        for (v, t) in self.words.chunks_exact(W).take(self.th).enumerate() {
-            let t = <&[u32; W]>::try_from(t).ok()?;
-            let row = <&[u8; R]>::try_from(data.get(at + v * stride..)?.get(..R)?).ok()?;
-            for (g, pair) in t.chunks_exact(2).enumerate() {
-                if let &[even, odd] = pair {
-                    for (k, acc) in a.iter_mut().enumerate() {
-                        *acc = if ONE && g == W / 2 - 1 {
-                            // The even word's low half is the pixel (at most 255).
-                            acc.wrapping_add((even & 0xffff) as i32 * i32::from(row.get(k + 4 * g).copied().unwrap_or(0)))
-                        } else {
-                            group(*acc, even, odd, row.get(k + 4 * g..k + 4 * g + 4).unwrap_or(&[]))
-                        };
-                    }
-                }
-            }
-        }
-        Some(a)
-    }
-
-    /// [`Rows::dot4`] for the one placement at `at` (a row's last `nx % 4`).
-    #[inline(never)]
-    fn dot(&self, data: &[u8], stride: usize, at: usize, len: usize) -> Option<i32> {
-        let one = match (len == 2 * self.per_row, len, self.one_last) {
-            (true, 8, true) => self.fixed::<1, 8, 4, 8, true>(data, stride, at),
-            (true, 8, false) => self.fixed::<1, 8, 4, 8, false>(data, stride, at),
-            (true, 12, _) => self.fixed::<1, 12, 6, 12, false>(data, stride, at),
-            (true, 16, _) => self.fixed::<1, 16, 8, 16, false>(data, stride, at),
-            (true, 20, _) => self.fixed::<1, 20, 10, 20, false>(data, stride, at),
-            _ => return self.dot_any(data, stride, at, len),
-        };
-        one.map(|[a]| a)
-    }
-
-    /// [`Rows::dot`] over rows of any length.
-    fn dot_any(&self, data: &[u8], stride: usize, at: usize, len: usize) -> Option<i32> {
-        let mut a = 0i32;
-        for (v, t) in self.words.chunks(self.per_row.max(1)).take(self.th).enumerate() {
-            let row = data.get(at + v * stride..at + v * stride + len)?;
-            a = t.chunks_exact(2).zip(row.chunks_exact(4)).fold(a, |s, (t, c)| match t {
-                &[even, odd] => group(s, even, odd, c),
-                _ => s,
-            });
-        }
-        Some(a)
-    }
-}
-
-/// `acc` plus the products of one group: the window word's pixels `(w0, w1, w2, w3)` spread
-/// over the halves `(w0, w2)` and `(w1, w3)` (`UXTB16`), each pair multiplied and added by
-/// one `SMLAD`.
-#[cfg(any(test, target_arch = "arm"))]
-#[inline(always)]
-fn group(acc: i32, even: u32, odd: u32, w: &[u8]) -> i32 {
-    // The four bytes as one array (one load), not four (which LLVM would mask apart).
-    match <&[u8; 4]>::try_from(w) {
-        Ok(&bytes) => {
-            let w = u32::from_le_bytes(bytes);
-            smlad(smlad(acc, even, w & 0x00ff_00ff), odd, (w >> 8) & 0x00ff_00ff)
-        }
-        Err(_) => acc,
-    }
-}
