@@ -19,11 +19,11 @@ Commands (clip = file stem in --data, e.g. vtest; frames are decoded once per ru
       object's label file as `visible` rows, replacing the rows strictly after FRAME up to
       LAST (before FRAME when going backward). Each proposal is also appended to
       --work/<clip>-<object>.proposals.csv, which `count` compares the labels with.
-  sheet CLIP OBJECT [--from F] [--to T] [--per 20]
+  sheet CLIP OBJECT [--from F] [--to T] [--per 20] [--disagree]
       Contact sheets of the keyframes: a zoomed crop around each box (the label's box in
       green, CSRT's forward box from the object's start in red, dashed when CSRT reports
       failure), frame number and state printed, coordinate ticks every 10 px on the crop's
-      edges (labelled every 50). PNGs in --work.
+      edges (labelled every 50). PNGs in --work. --disagree: only the keyframes `check` lists.
   check CLIP OBJECT
       Keyframes where the label and CSRT's forward run from the start box disagree by more
       than half a box (centre distance > half the label's smaller side), or where one of
@@ -215,6 +215,12 @@ def cmd_sheet(a, frames) -> None:
     labels = read_labels(label_path(a.clip, a.object))
     ref = csrt_reference(frames, a.clip, a.object)
     keys = [f for f in sorted(labels) if a.first <= f <= a.last]
+    if a.disagree:
+        odd = {f for f, _ in disagreements(labels, ref)}
+        keys = [f for f in keys if f in odd]
+    if not keys:
+        print("no keyframes to show")
+        return
     H, W = frames[0].shape[:2]
     CW, CH, Z = 150, 190, 1.5  # crop size (source px) and zoom
     last_box = None
@@ -251,7 +257,7 @@ def cmd_sheet(a, frames) -> None:
         chunk = tiles[s:s + a.per]
         chunk += [np.full_like(tiles[0], 255)] * (-len(chunk) % cols)
         rows = [np.hstack(chunk[i:i + cols]) for i in range(0, len(chunk), cols)]
-        out = a.work / f"sheet-{a.clip}-{a.object}-{keys[s]:03d}.png"
+        out = a.work / f"sheet-{a.clip}-{a.object}{'-second' if a.disagree else ''}-{keys[s]:03d}.png"
         cv2.imwrite(str(out), np.vstack(rows))
         print(out)
 
@@ -321,6 +327,8 @@ def main() -> None:
     s.add_argument("--from", dest="first", type=int, default=0)
     s.add_argument("--to", dest="last", type=int, default=10**9)
     s.add_argument("--per", type=int, default=20)
+    s.add_argument("--disagree", action="store_true",
+                   help="only the keyframes `check` lists (the second look)")
     for name in ("check", "interpolate"):
         s = sub.add_parser(name)
         s.add_argument("clip"), s.add_argument("object")
