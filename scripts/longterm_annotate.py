@@ -5,8 +5,10 @@ The labels are keyframes, one file per object, `fixtures/longterm/<clip>/<object
 
     frame,x,y,w,h,state
 
-every 5th frame, `state` one of `visible`, `hidden` (more than half of the person covered),
-`gone` (out of the view; x,y,w,h empty). Boxes follow OpenCV's convention: the box covers
+every 5th frame (and at shot cuts and damaged frames of the footage clips), `state` one of
+`visible`, `hidden` (more than half of the object covered; the box is where it is behind the
+cover, or empty when that cannot be seen, e.g. an earring turned away), `gone` (out of the
+view; x,y,w,h empty). Boxes follow OpenCV's convention: the box covers
 pixel columns x..x+w-1 and rows y..y+h-1 of the full frame, pixel centres at integer
 coordinates, frames numbered from 0 in decoding order (cv2.VideoCapture). The labels are
 written by a person looking at the sheets this script renders; the script only proposes.
@@ -17,7 +19,7 @@ Commands (clip = file stem in --data, e.g. vtest; frames are decoded once per ru
       Run CSRT (cv2.TrackerCSRT_create, colour frames) from FRAME with the box, forward to
       LAST (or backward when LAST < FRAME), and write its box on every 5th frame into the
       object's label file as `visible` rows, replacing the rows strictly after FRAME up to
-      LAST (before FRAME when going backward). Each proposal is also appended to
+      LAST (before FRAME when going backward), and FRAME itself when it has no row yet. Each proposal is also appended to
       --work/<clip>-<object>.proposals.csv, which `count` compares the labels with.
   sheet CLIP OBJECT [--from F] [--to T] [--per 20] [--disagree]
       Contact sheets of the keyframes: a zoomed crop around each box (the label's box in
@@ -29,9 +31,9 @@ Commands (clip = file stem in --data, e.g. vtest; frames are decoded once per ru
       than half a box (centre distance > half the label's smaller side), or where one of
       them has a box and the other not: the frames to look at a second time.
   count CLIP
-      Per object: keyframes, keyframes whose label differs from the last proposal for that
-      frame (corrected by hand: box moved by more than 2 px on any side, or state changed),
-      and interpolated frames per state.
+      Per object: keyframes and what became of CSRT's last proposal for each (kept, box
+      redrawn by hand, only marked hidden, marked gone; see cmd_count), the second look's
+      count, and interpolated frames per state.
   interpolate CLIP OBJECT
       Print the per-frame labels (see `interpolate()`).
 
@@ -82,8 +84,8 @@ def read_labels(path: Path) -> dict[int, tuple[Box | None, str]]:
             if r["state"] not in STATES:
                 sys.exit(f"{path}: frame {r['frame']}: state {r['state']!r} is not one of {STATES}")
             box = None if r["x"] == "" else tuple(float(r[k]) for k in "xywh")
-            if box is None and r["state"] != "gone":
-                sys.exit(f"{path}: frame {r['frame']}: a {r['state']} row needs a box")
+            if box is None and r["state"] == "visible":
+                sys.exit(f"{path}: frame {r['frame']}: a visible row needs a box")
             out[int(r["frame"])] = (box, r["state"])
     return out
 
@@ -160,7 +162,7 @@ def cmd_propose(a, frames) -> None:
         if new:
             w.writerow(["frame", "x", "y", "w", "h", "state"])
         for f in range(lo, hi + 1):
-            if f % STEP or f == a.frame and a.frame in labels:
+            if f % STEP and f != a.frame or f == a.frame and a.frame in labels:
                 continue
             b = run[f]
             if b is None:
@@ -283,25 +285,35 @@ def cmd_check(a, frames) -> None:
 
 
 def cmd_count(a, frames) -> None:
-    print("object,keyframes,corrected,disagree_csrt,frames,visible,hidden,gone")
+    """Keyframes per object and what the person did to CSRT's proposals: kept as proposed,
+    box redrawn (a side moved by more than 2 px; any state but gone), only the state changed
+    (the box kept, marked hidden), marked gone; `disagree_csrt` is the second look's count."""
+    print("object,keyframes,kept,box_redrawn,state_only,gone_marked,disagree_csrt,frames,visible,hidden,gone")
     for obj in objects(a.clip):
         labels = read_labels(label_path(a.clip, obj))
         proposed = {}
         log = a.work / f"{a.clip}-{obj}.proposals.csv"
         if log.exists():
-            for b, s, f in ((r, r["state"], int(r["frame"])) for r in csv.DictReader(log.open())):
-                proposed[f] = (tuple(float(b[k]) for k in "xywh"), s)
-        corrected = 0
+            with log.open() as fh:
+                for r in csv.DictReader(fh):
+                    proposed[int(r["frame"])] = tuple(float(r[k]) for k in "xywh")
+        n = dict.fromkeys(("kept", "box", "state", "gone"), 0)
         for f, (box, state) in labels.items():
             p = proposed.get(f)
-            if p is None or p[1] != state or box is None or max(abs(u - v) for u, v in zip(
-                    (box[0], box[1], box[0] + box[2], box[1] + box[3]),
-                    (p[0][0], p[0][1], p[0][0] + p[0][2], p[0][1] + p[0][3]))) > 2:
-                corrected += 1
+            if state == "gone":
+                n["gone"] += 1
+            elif p is None or max(abs(u - v) for u, v in zip(
+                    (box[0], box[1], box[0] + box[2], box[1] + box[3]), (p[0], p[1], p[0] + p[2], p[1] + p[3]))) > 2:
+                n["box"] += 1
+            elif state != "visible":
+                n["state"] += 1
+            else:
+                n["kept"] += 1
         per = interpolate(labels)
-        n = {s: sum(1 for _, st in per.values() if st == s) for s in STATES}
+        m = {s: sum(1 for _, st in per.values() if st == s) for s in STATES}
         dis = len(disagreements(labels, csrt_reference(frames, a.clip, obj)))
-        print(f"{obj},{len(labels)},{corrected},{dis},{len(per)},{n['visible']},{n['hidden']},{n['gone']}")
+        print(f"{obj},{len(labels)},{n['kept']},{n['box']},{n['state']},{n['gone']},{dis},"
+              f"{len(per)},{m['visible']},{m['hidden']},{m['gone']}")
 
 
 def cmd_interpolate(a, frames) -> None:
