@@ -1,8 +1,11 @@
 #!/usr/bin/env python3
 """OpenCV's trackers on the hand-labelled long-term objects, scored as VOT-LT and OxUvA do.
 
-    python3 scripts/opencv_longterm.py [--clip vtest] [--data /usr/share/doc/opencv-doc/examples/data]
-        [--out fixtures/longterm/opencv] [--only OBJECT]
+    python3 scripts/opencv_longterm.py [--clip CLIP [--only OBJECT]]
+        [--data /usr/share/doc/opencv-doc/examples/data] [--out fixtures/longterm/opencv]
+
+Without --clip it runs every clip that has fixtures/longterm/<clip>/objects.csv (vtest,
+Megamind, Megamind_bugy, tree; about 10 minutes on one core, TLD taking most of it).
 
 The objects are fixtures/longterm/<clip>/objects.csv (object,first,last,x,y,w,h) and their
 hand labels fixtures/longterm/<clip>/<object>.csv (keyframes, interpolated by
@@ -26,22 +29,25 @@ object's box and runs to `last`. Frames are decoded by cv2.VideoCapture, convert
   tld    cv2.legacy.TrackerTLD_create() (opencv-contrib), default parameters;
          update() == False (TLD's "not found"): ok=0.
 
-Output (in --out): <tracker>_<object>.csv with frame,ok,x,y,w,h,score (x..h the box in
+Output: in --out for vtest, in --out/<clip>/ for the other clips: <tracker>_<object>.csv with frame,ok,x,y,w,h,score (x..h the box in
 OpenCV's convention, columns x..x+w-1, empty when ok=0; score = MOSSE's PSR, which exists on
-every frame, empty for the others, which expose no confidence), and summary.csv, which the
-script also prints.
+every frame, empty for the others, which expose no confidence), and summary.csv (per clip),
+which the script also prints.
 
 Scoring, per tracker and object, over the frames first+1..last (the start frame is given).
 The labels say per frame `visible`, `hidden` (more than half covered; the box is where the
-person is behind the cover) or `gone` (out of the view, no box). A row with ok=1 is right
+object is behind the cover, or empty) or `gone` (out of the view, no box). A row with ok=1 is right
 when its centre (x + (w-1)/2, y + (h-1)/2) lies inside the labelled box (columns x..x+w-1,
 rows y..y+h-1) or within 5 px of the labelled centre; on `gone` frames it is wrong.
   VOT-LT (Lukezic et al. 2020): precision = right rows / rows with ok=1, recall = right rows
   on visible frames / visible frames, F = 2PR / (P + R), at the confidence threshold that
   maximises F (rows with ok=1 and score >= threshold count as predictions; MOSSE's PSR is
-  the only confidence; the others are scored on ok alone).
+  the only confidence; the others are scored on ok alone). No row with ok=1: precision is
+  empty and F is 0. A hidden frame's row counts as right inside the box where the object is
+  behind the cover (none when that box is empty).
   OxUvA (Valmadre et al. 2018): TPR = right rows on visible frames / visible frames (rows
-  with ok=1 as they are), TNR = frames labelled hidden or gone with ok=0 / such frames.
+  with ok=1 as they are), TNR = frames labelled hidden or gone with ok=0 / such frames
+  (empty when the object is never hidden or gone).
 """
 
 from __future__ import annotations
@@ -234,9 +240,9 @@ def score(rows, labels) -> dict:
     for t in thresholds:
         pred = [r for r in rows if r[1] and (t is None or r[3] >= t)]
         good = [r for r in pred if right(r[2], labels[r[0]])]
-        p = len(good) / len(pred) if pred else 0.0
+        p = len(good) / len(pred) if pred else None
         rc = sum(1 for r in good if labels[r[0]][1] == "visible") / visible if visible else 0.0
-        f = 2 * p * rc / (p + rc) if p + rc else 0.0
+        f = 2 * p * rc / (p + rc) if p and p + rc else 0.0
         if best is None or f > best["F"]:
             best = {"threshold": t, "precision": p, "recall": rc, "F": f, "rows": len(pred), "wrong": len(pred) - len(good)}
     ok_rows = [r for r in rows if r[1]]
@@ -246,42 +252,56 @@ def score(rows, labels) -> dict:
             "ok_rows": len(ok_rows), "ok_wrong": sum(1 for r in ok_rows if not right(r[2], labels[r[0]]))}
 
 
+def out_dir(base: Path, clip: str) -> Path:
+    """vtest's fixtures sit in --out itself, every other clip's in a folder of its name."""
+    return base if clip == "vtest" else base / clip
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--clip", default="vtest")
-    ap.add_argument("--data", type=Path, default=DATA)
+    ap.add_argument("--clip", help="one clip (default: every clip with fixtures/longterm/<clip>/objects.csv)")
+    ap.add_argument("--data", type=Path, default=DATA, help="folder of the clips (default: %(default)s)")
     ap.add_argument("--out", type=Path, default=REPO / "fixtures" / "longterm" / "opencv")
-    ap.add_argument("--only", help="one object (default: every object of the clip)")
+    ap.add_argument("--only", help="one object of --clip (no summary.csv is written)")
     a = ap.parse_args()
+    if a.only and not a.clip:
+        ap.error("--only needs --clip")
     cv2.setNumThreads(1)
-    root = REPO / "fixtures" / "longterm" / a.clip
-    with (root / "objects.csv").open() as fh:
-        objects = [(r["object"], int(r["first"]), int(r["last"]), tuple(int(r[k]) for k in "xywh"))
-                   for r in csv.DictReader(fh)]
-    if a.only:
-        objects = [o for o in objects if o[0] == a.only]
-        if not objects:
-            sys.exit(f"{a.only}: not in {root / 'objects.csv'}")
-    frames = read_clip(a.data / f"{a.clip}.avi")
-    a.out.mkdir(parents=True, exist_ok=True)
-    print(f"OpenCV {cv2.__version__}, numpy {np.__version__}, {a.clip}.avi: {len(frames)} frames", file=sys.stderr)
-    table = []
-    for obj, first, last, box in objects:
-        labels = interpolate(read_labels(root / f"{obj}.csv"))
-        for name in TRACKERS:
-            t0 = time.perf_counter()
-            rows = run(name, frames, first, last, box)
-            write_rows(a.out / f"{name}_{obj}.csv", rows)
-            s = score(rows, labels)
-            table.append((name, obj, s))
-            print(f"{name:5s} {obj:8s} {last - first} frames in {time.perf_counter() - t0:.1f} s", file=sys.stderr)
+    base = REPO / "fixtures" / "longterm"
+    clips = [a.clip] if a.clip else sorted(p.parent.name for p in base.glob("*/objects.csv"))
+    print(f"OpenCV {cv2.__version__}, numpy {np.__version__}", file=sys.stderr)
     cols = ["tracker", "object", "frames", "visible", "absent", "ok_rows", "ok_wrong", "threshold",
             "precision", "recall", "F", "TPR", "TNR"]
-    fmt = lambda v: "" if v is None else f"{v:.3f}" if isinstance(v, float) else str(v)
-    lines = [",".join(cols)] + [",".join([n, o] + [fmt(s[c]) for c in cols[2:]]) for n, o, s in table]
-    if not a.only:
-        (a.out / "summary.csv").write_text("\n".join(lines) + "\n")
-    print("\n".join(lines))
+    fmt = lambda v: "" if v is None or v != v else f"{v:.3f}" if isinstance(v, float) else str(v)
+    for clip in clips:
+        root = base / clip
+        if not (root / "objects.csv").exists():
+            sys.exit(f"{root / 'objects.csv'}: no such file (clips: {', '.join(p.parent.name for p in base.glob('*/objects.csv'))})")
+        with (root / "objects.csv").open() as fh:
+            objects = [(r["object"], int(r["first"]), int(r["last"]), tuple(int(r[k]) for k in "xywh"))
+                       for r in csv.DictReader(fh)]
+        if a.only:
+            objects = [o for o in objects if o[0] == a.only]
+            if not objects:
+                sys.exit(f"{a.only}: not in {root / 'objects.csv'}")
+        frames = read_clip(a.data / f"{clip}.avi")
+        out = out_dir(a.out, clip)
+        out.mkdir(parents=True, exist_ok=True)
+        print(f"{clip}.avi: {len(frames)} frames", file=sys.stderr)
+        table = []
+        for obj, first, last, box in objects:
+            labels = interpolate(read_labels(root / f"{obj}.csv"))
+            for name in TRACKERS:
+                t0 = time.perf_counter()
+                rows = run(name, frames, first, last, box)
+                write_rows(out / f"{name}_{obj}.csv", rows)
+                table.append((name, obj, score(rows, labels)))
+                print(f"  {name:5s} {obj:8s} {last - first} frames in {time.perf_counter() - t0:.1f} s", file=sys.stderr)
+        lines = [",".join(cols)] + [",".join([n, o] + [fmt(s[c]) for c in cols[2:]]) for n, o, s in table]
+        if not a.only:
+            (out / "summary.csv").write_text("\n".join(lines) + "\n")
+        print(f"# {clip}")
+        print("\n".join(lines))
 
 
 if __name__ == "__main__":
