@@ -21,7 +21,7 @@ Commands (clip = file stem in --data, e.g. vtest; frames are decoded once per ru
       object's label file as `visible` rows, replacing the rows strictly after FRAME up to
       LAST (before FRAME when going backward), and FRAME itself when it has no row yet. Each proposal is also appended to
       --work/<clip>-<object>.proposals.csv, which `count` compares the labels with.
-  sheet CLIP OBJECT [--from F] [--to T] [--per 20] [--disagree]
+  sheet CLIP OBJECT [--from F] [--to T] [--per 20] [--disagree | --consensus]
       Contact sheets of the keyframes: a zoomed crop around each box (the label's box in
       green, CSRT's forward box from the object's start in red, dashed when CSRT reports
       failure), frame number and state printed, coordinate ticks every 10 px on the crop's
@@ -29,7 +29,9 @@ Commands (clip = file stem in --data, e.g. vtest; frames are decoded once per ru
   check CLIP OBJECT
       Keyframes where the label and CSRT's forward run from the start box disagree by more
       than half a box (centre distance > half the label's smaller side), or where one of
-      them has a box and the other not: the frames to look at a second time.
+      them has a box and the other not: the frames to look at a second time. Then the
+      keyframes where two or more of OpenCV's trackers in fixtures/longterm/opencv agree
+      with each other (centres within 8 px) off the label (`sheet --consensus` shows them).
   count CLIP
       Per object: keyframes and what became of CSRT's last proposal for each (kept, box
       redrawn by hand, only marked hidden, marked gone; see cmd_count), the second look's
@@ -217,8 +219,12 @@ def cmd_sheet(a, frames) -> None:
     labels = read_labels(label_path(a.clip, a.object))
     ref = csrt_reference(frames, a.clip, a.object)
     keys = [f for f in sorted(labels) if a.first <= f <= a.last]
+    cv_rows = opencv_rows(a.clip, a.object) if a.consensus else {}
     if a.disagree:
         odd = {f for f, _ in disagreements(labels, ref)}
+        keys = [f for f in keys if f in odd]
+    if a.consensus:
+        odd = {f for f, _ in consensus(labels, cv_rows)}
         keys = [f for f in keys if f in odd]
     if not keys:
         print("no keyframes to show")
@@ -229,7 +235,8 @@ def cmd_sheet(a, frames) -> None:
     tiles = []
     for f in keys:
         box, state = labels[f]
-        last_box = box or last_box or ref.get(f)
+        seen = [rows[f] for rows in cv_rows.values() if f in rows and off_label(rows[f], labels[f])]
+        last_box = box or (seen[0] if seen else None) or last_box or ref.get(f)
         cx, cy = centre(last_box) if last_box else (W / 2, H / 2)
         ox = int(min(max(cx - CW / 2, 0), W - CW))
         oy = int(min(max(cy - CH / 2, 0), H - CH))
@@ -239,6 +246,9 @@ def cmd_sheet(a, frames) -> None:
         r = ref.get(f)
         if r is not None:
             draw_box(view, r, ox, oy, Z, (0, 0, 255))
+        for name, rows in cv_rows.items():
+            if f in rows:
+                draw_box(view, rows[f], ox, oy, Z, OPENCV_COLOURS[name])
         if box is not None:
             draw_box(view, box, ox, oy, Z, (0, 255, 0), dashed=state != "visible")
         for x in range((ox + 9) // 10 * 10, ox + CW, 10):
@@ -259,7 +269,7 @@ def cmd_sheet(a, frames) -> None:
         chunk = tiles[s:s + a.per]
         chunk += [np.full_like(tiles[0], 255)] * (-len(chunk) % cols)
         rows = [np.hstack(chunk[i:i + cols]) for i in range(0, len(chunk), cols)]
-        out = a.work / f"sheet-{a.clip}-{a.object}{'-second' if a.disagree else ''}-{keys[s]:03d}.png"
+        out = a.work / f"sheet-{a.clip}-{a.object}{'-second' if a.disagree else '-consensus' if a.consensus else ''}-{keys[s]:03d}.png"
         cv2.imwrite(str(out), np.vstack(rows))
         print(out)
 
@@ -278,9 +288,52 @@ def disagreements(labels, ref) -> list[tuple[int, str]]:
     return out
 
 
+OPENCV = ("csrt", "kcf", "mosse", "tld")
+# BGR colours of OpenCV's fixture boxes on the sheets (`--consensus`).
+OPENCV_COLOURS = {"csrt": (255, 255, 0), "kcf": (0, 255, 255), "mosse": (255, 0, 255), "tld": (255, 0, 0)}
+
+
+def opencv_rows(clip: str, obj: str) -> dict[str, dict[int, Box]]:
+    """The boxes (ok=1 rows) of scripts/opencv_longterm.py's fixtures for one object."""
+    base = REPO / "fixtures" / "longterm" / "opencv"
+    folder = base if clip == "vtest" else base / clip
+    out = {}
+    for name in OPENCV:
+        path = folder / f"{name}_{obj}.csv"
+        if path.exists():
+            with path.open() as fh:
+                out[name] = {int(r["frame"]): tuple(float(r[k]) for k in "xywh")
+                             for r in csv.DictReader(fh) if r["ok"] == "1"}
+    return out
+
+
+def off_label(b: Box, label) -> bool:
+    """Is a tracker's box off the label (its centre outside the box and more than 5 px away)?"""
+    box, _ = label
+    if box is None:
+        return True
+    cx, cy = centre(b)
+    inside = box[0] <= cx <= box[0] + box[2] - 1 and box[1] <= cy <= box[1] + box[3] - 1
+    return not inside and math.dist((cx, cy), centre(box)) > 5
+
+
+def consensus(labels, rows) -> list[tuple[int, str]]:
+    """Keyframes where two or more of OpenCV's trackers report boxes within 8 px of each other
+    (centres) and off the label: where the label, not the trackers, might be wrong."""
+    out = []
+    for f in sorted(labels):
+        off = [(n, centre(r[f])) for n, r in rows.items() if f in r and off_label(r[f], labels[f])]
+        agree = sorted({n for n, c in off for m, d in off if m != n and math.dist(c, d) <= 8})
+        if len(agree) >= 2:
+            out.append((f, f"label {labels[f][1]}, {' and '.join(agree)} agree elsewhere"))
+    return out
+
+
 def cmd_check(a, frames) -> None:
     labels = read_labels(label_path(a.clip, a.object))
     for f, why in disagreements(labels, csrt_reference(frames, a.clip, a.object)):
+        print(f"{a.object} {f}: {why}")
+    for f, why in consensus(labels, opencv_rows(a.clip, a.object)):
         print(f"{a.object} {f}: {why}")
 
 
@@ -340,7 +393,10 @@ def main() -> None:
     s.add_argument("--to", dest="last", type=int, default=10**9)
     s.add_argument("--per", type=int, default=20)
     s.add_argument("--disagree", action="store_true",
-                   help="only the keyframes `check` lists (the second look)")
+                   help="only the keyframes where the label and CSRT disagree (the second look)")
+    s.add_argument("--consensus", action="store_true",
+                   help="only the keyframes where two of OpenCV's fixture trackers agree off the label, "
+                        "their boxes drawn (cyan CSRT, yellow KCF, magenta MOSSE, blue TLD)")
     for name in ("check", "interpolate"):
         s = sub.add_parser(name)
         s.add_argument("clip"), s.add_argument("object")
