@@ -13,7 +13,8 @@ scripts/longterm_annotate.py's interpolate()). Every tracker starts on frame `fi
 object's box and runs to `last`. Frames are decoded by cv2.VideoCapture, converted to gray
 (cv2.COLOR_BGR2GRAY, the picture coopwin sees) and given to the trackers as 3-channel BGR
 (gray replicated), as scripts/opencv_footage.py does. OpenCV runs single-threaded
-(cv2.setNumThreads(1)) so reruns give identical files.
+(cv2.setNumThreads(1)) and every run starts with cv2.setRNGSeed(0) (TLD draws random numbers
+from cv::theRNG()), so reruns give identical files whatever ran before.
 
   csrt   cv2.TrackerCSRT_create(), default parameters; update() == False: ok=0.
   kcf    cv2.TrackerKCF_create(), default parameters; update() == False: ok=0.
@@ -193,6 +194,8 @@ def make(name: str):
 
 def run(name: str, frames: list[np.ndarray], first: int, last: int, box) -> list[tuple]:
     """Rows (frame, ok, box or None, score or None) for frames first..last."""
+    # TLD draws from cv::theRNG(), whose state would otherwise carry over from earlier runs.
+    cv2.setRNGSeed(0)
     tr = make(name)
     tr.init(frames[first], tuple(int(v) for v in box))
     ref = None
