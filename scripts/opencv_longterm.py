@@ -13,8 +13,8 @@ scripts/longterm_annotate.py's interpolate()). Every tracker starts on frame `fi
 object's box and runs to `last`. Frames are decoded by cv2.VideoCapture, converted to gray
 (cv2.COLOR_BGR2GRAY, the picture coopwin sees) and given to the trackers as 3-channel BGR
 (gray replicated), as scripts/opencv_footage.py does. OpenCV runs single-threaded
-(cv2.setNumThreads(1)) and every run starts with cv2.setRNGSeed(0) (TLD draws random numbers
-from cv::theRNG()), so reruns give identical files whatever ran before.
+(cv2.setNumThreads(1)), and TLD, whose results depend on what ran before it in the same
+process, runs each object in a fresh process, so reruns give identical files.
 
   csrt   cv2.TrackerCSRT_create(), default parameters; update() == False: ok=0.
   kcf    cv2.TrackerKCF_create(), default parameters; update() == False: ok=0.
@@ -27,7 +27,8 @@ from cv::theRNG()), so reruns give identical files whatever ran before.
          PSR = (peak - mean) / (std + 1e-5) of the response < 5.7, which is then ok=0.
          The script runs OpenCV's own legacy MOSSE beside it and stops if the two disagree
          on any frame's ok or box (by more than 1e-6 px).
-  tld    cv2.legacy.TrackerTLD_create() (opencv-contrib), default parameters;
+  tld    cv2.legacy.TrackerTLD_create() (opencv-contrib), default parameters, in a fresh
+         process per object;
          update() == False (TLD's "not found"): ok=0.
 
 Output: in --out for vtest, in --out/<clip>/ for the other clips: <tracker>_<object>.csv with frame,ok,x,y,w,h,score (x..h the box in
@@ -54,8 +55,10 @@ rows y..y+h-1) or within 5 px of the labelled centre; on `gone` frames it is wro
 from __future__ import annotations
 
 import argparse
+import concurrent.futures
 import csv
 import math
+import multiprocessing
 import sys
 import time
 from pathlib import Path
@@ -192,10 +195,21 @@ def make(name: str):
             "tld": cv2.legacy.TrackerTLD_create, "mosse": Mosse}[name]()
 
 
+def run_fresh(name: str, clip: Path, first: int, last: int, box) -> list[tuple]:
+    """run() in a new process that decodes the clip itself: TLD's results depend on what ran
+    before it in the same process (cv2.setRNGSeed does not make them repeatable)."""
+    ctx = multiprocessing.get_context("spawn")
+    with concurrent.futures.ProcessPoolExecutor(max_workers=1, mp_context=ctx) as pool:
+        return pool.submit(_run_clip, name, clip, first, last, box).result()
+
+
+def _run_clip(name: str, clip: Path, first: int, last: int, box) -> list[tuple]:
+    cv2.setNumThreads(1)
+    return run(name, read_clip(clip), first, last, box)
+
+
 def run(name: str, frames: list[np.ndarray], first: int, last: int, box) -> list[tuple]:
     """Rows (frame, ok, box or None, score or None) for frames first..last."""
-    # TLD draws from cv::theRNG(), whose state would otherwise carry over from earlier runs.
-    cv2.setRNGSeed(0)
     tr = make(name)
     tr.init(frames[first], tuple(int(v) for v in box))
     ref = None
@@ -296,7 +310,8 @@ def main() -> None:
             labels = interpolate(read_labels(root / f"{obj}.csv"))
             for name in TRACKERS:
                 t0 = time.perf_counter()
-                rows = run(name, frames, first, last, box)
+                rows = (run_fresh(name, a.data / f"{clip}.avi", first, last, box) if name == "tld"
+                        else run(name, frames, first, last, box))
                 write_rows(out / f"{name}_{obj}.csv", rows)
                 table.append((name, obj, score(rows, labels)))
                 print(f"  {name:5s} {obj:8s} {last - first} frames in {time.perf_counter() - t0:.1f} s", file=sys.stderr)
