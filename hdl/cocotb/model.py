@@ -164,10 +164,10 @@ def crop(window: Window, line_lengths: list, pixel) -> list:
 
 # ------------------------------------------------------------------------------------------
 # window_unit_axis (hdl/verilog/window_unit_axis.v): the AXI4-Stream wrapper's contract, as
-# its header states it. Windows are inclusive rectangles (one pixel is a window), a commit
-# applies to the first frame whose tuser beat is taken on the commit's edge or later, a set
-# without `continuous` delivers one window, and each window's beats carry tuser on its first
-# pixel and tlast on the last pixel of each of its rows.
+# its header states it. Windows are inclusive rectangles at least two pixels wide and high
+# (the bare unit's rule, thesis 2.2.1), a commit applies to the first frame whose tuser beat is
+# taken on the commit's edge or later, a set without `continuous` delivers one window, and each
+# window's beats carry tuser on its first pixel and tlast on the last pixel of each of its rows.
 # ------------------------------------------------------------------------------------------
 
 # Register offsets (bytes): global, then window k at AXIS_WINDOW * (k + 1) + offset.
@@ -189,7 +189,7 @@ class Rect:
     continuous: bool = False
 
     def valid(self, width: int, height: int) -> bool:
-        return self.xmin <= self.xmax < width and self.ymin <= self.ymax < height
+        return self.xmin < self.xmax < width and self.ymin < self.ymax < height
 
     def contains(self, x: int, y: int) -> bool:
         if not (self.xmin <= x <= self.xmax and self.ymin <= y <= self.ymax):

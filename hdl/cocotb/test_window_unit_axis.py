@@ -59,14 +59,15 @@ SITUATIONS = [
     "commit 1 edge after a tuser beat that takes a pending set (waits)",
     "commit during a frame, for the next", "a later commit replaces a pending one",
     "three windows open in one frame, overlapping", "window on the frame's first pixel",
-    "window on the last column", "window on the last row", "full-frame window", "1x1 window",
-    "one-row window", "one-column window", "decimated, odd width and height",
-    "decimated, even width and height", "decimated 1x1", "continuous over 3+ frames",
+    "window on the last column", "window on the last row", "full-frame window", "2x2 window",
+    "two-row window", "two-column window", "decimated, odd width and height",
+    "decimated, even width and height", "decimated 2x2 (one pixel)", "continuous over 3+ frames",
     "continuous replaced by a one-shot set", "input tvalid gaps",
     "back-pressure: tvalid and not tready", "back-pressure absorbed without loss",
     "overflow counted and flagged", "dropped tuser carried to the next beat",
     "overflow flag cleared by writing 1", "invalid: xmax beyond the sensor",
     "invalid: ymax beyond the sensor", "invalid: xmin > xmax", "invalid: ymin > ymax",
+    "invalid: xmin = xmax (one column)", "invalid: ymin = ymax (one row)",
     "invalid keeps the pending set", "invalid keeps the repeating set",
     "interrupt raised and cleared", "reset in a frame",
 ]
@@ -99,14 +100,14 @@ def cover_shape(r: Rect) -> None:
         cover("full-frame window")
     w, h = r.xmax - r.xmin + 1, r.ymax - r.ymin + 1
     if not r.decimate:
-        if (w, h) == (1, 1):
-            cover("1x1 window")
-        elif h == 1:
-            cover("one-row window")
-        elif w == 1:
-            cover("one-column window")
-    elif (w, h) == (1, 1):
-        cover("decimated 1x1")
+        if (w, h) == (2, 2):
+            cover("2x2 window")
+        elif h == 2:
+            cover("two-row window")
+        elif w == 2:
+            cover("two-column window")
+    elif (w, h) == (2, 2):
+        cover("decimated 2x2 (one pixel)")
     elif w % 2 and h % 2:
         cover("decimated, odd width and height")
     elif w % 2 == 0 and h % 2 == 0:
@@ -366,9 +367,9 @@ async def start(dut, name: str) -> Bench:
 
 
 def random_rect(rng: random.Random) -> Rect:
-    x0, y0 = rng.randrange(W), rng.randrange(H)
-    x1 = rng.choice([x0, min(W - 1, x0 + rng.randrange(1, 12)), rng.randrange(x0, W), W - 1])
-    y1 = rng.choice([y0, min(H - 1, y0 + rng.randrange(1, 8)), rng.randrange(y0, H), H - 1])
+    x0, y0 = rng.randrange(W - 1), rng.randrange(H - 1)
+    x1 = rng.choice([x0 + 1, min(W - 1, x0 + rng.randrange(1, 12)), rng.randrange(x0 + 1, W), W - 1])
+    y1 = rng.choice([y0 + 1, min(H - 1, y0 + rng.randrange(1, 8)), rng.randrange(y0 + 1, H), H - 1])
     return Rect(x0, x1, y0, y1, rng.random() < 0.4, rng.random() < 0.3)
 
 
@@ -377,8 +378,8 @@ async def test_shapes(dut):
     """Every window shape the coverage lists, three at a time, without back-pressure: the
     outputs must be the model's exactly."""
     b = await start(dut, "test_shapes")
-    shapes = [Rect(0, W - 1, 0, H - 1), Rect(0, 0, 0, 0), Rect(3, 20, 5, 5), Rect(W - 1, W - 1, 2, H - 1),
-              Rect(1, 9, 2, 8, True), Rect(2, 9, 4, 11, True), Rect(W - 5, W - 5, H - 3, H - 3, True),
+    shapes = [Rect(0, W - 1, 0, H - 1), Rect(0, 1, 0, 1), Rect(3, 20, 5, 6), Rect(W - 2, W - 1, 2, H - 1),
+              Rect(1, 9, 2, 8, True), Rect(2, 9, 4, 11, True), Rect(W - 5, W - 4, H - 3, H - 2, True),
               Rect(W - 7, W - 1, H - 6, H - 1), Rect(0, 5, 0, 3, True), Rect(10, 30, 10, 20),
               Rect(15, 40, 5, 25, True), Rect(20, 25, 12, 14, False, True)]
     for i in range(0, len(shapes), N):
@@ -409,7 +410,7 @@ async def test_commit_races(dut):
         for k in range(N):
             # Set A pending, then set B written and committed in the race: B applies to the
             # frame, or waits and A does.
-            await b.set_window(k, Rect(k * (delay + 5), k * 5 + 17, k * 4, k + 6, k == 2))
+            await b.set_window(k, Rect(k * (delay + 5), k * 5 + 17, k * 4, k + 7, k == 2))
             await b.set_window(k, Rect(k * 3 + delay + 4, k * 3 + 20, k, k + 10, k == 1), commit=False)
         commits = cocotb.start_soon(commit_all(max(delay, 0)))
         await ClockCycles(dut.aclk, max(-delay, 0))
@@ -460,6 +461,8 @@ async def test_invalid_sets(dut):
            (Rect(0, 5, 0, H), "invalid: ymax beyond the sensor"),
            (Rect(6, 5, 0, 5), "invalid: xmin > xmax"),
            (Rect(0, 5, 9, 8), "invalid: ymin > ymax"),
+           (Rect(5, 5, 0, 5), "invalid: xmin = xmax (one column)"),
+           (Rect(0, 5, 7, 7), "invalid: ymin = ymax (one row)"),
            (Rect(0, 0xFFFF, 0, 0xFFFF), "invalid: xmax beyond the sensor")]
     for i, (r, label) in enumerate(bad):
         good = Rect(i, i + 7, 1, 6, False, i % 2 == 1)

@@ -95,7 +95,7 @@ module window_unit_axis_props #(
     wire wr = s_axil_awvalid && s_axil_awready && s_axil_wvalid && s_axil_wready;
     reg [4:0] w_x0 = 0, w_x1 = 0, w_y0 = 0, w_y1 = 0;   // below 32 (A_data)
     reg w_dec = 1'b0, w_cont = 1'b0;
-    wire w_ok = w_x0 <= w_x1 && {27'd0, w_x1} < WIDTH && w_y0 <= w_y1 && {27'd0, w_y1} < HEIGHT;
+    wire w_ok = w_x0 < w_x1 && {27'd0, w_x1} < WIDTH && w_y0 < w_y1 && {27'd0, w_y1} < HEIGHT;
     wire commit = wr && s_axil_awaddr == 12'h2C && w_ok;   // a valid set committed now
     reg pend = 1'b0;
     reg [4:0] p_x0 = 0, p_x1 = 0, p_y0 = 0, p_y1 = 0;

@@ -170,27 +170,39 @@ fn a_640x480_10_bit_run_with_gaps_and_a_reset_replays_and_delivers_the_crops() {
     assert_replays("vga", &rec, &g);
 }
 
-/// Verilator's -Wall finds nothing in the unit or the network at any contract size, with no
-/// warning switched off.
+/// Verilator's -Wall finds nothing in any generated file (the unit, a 2-unit network, the
+/// AXI4-Stream wrapper with 1, 4 and 32 windows and its AXI4-Lite crossing) at any contract size, with no warning switched
+/// off, and every generated file sets its `timescale (Icarus warns without one, and Verilator
+/// refuses a design where only some modules have one).
 #[test]
 fn verilator_lint_is_clean_for_every_size() {
     if !have_tool("verilator") {
         return;
     }
     let dir = scratch("lint");
-    for (wd, ht, bits) in [(256, 256, 8), (640, 480, 10), (1920, 1080, 12), (16, 16, 8), (4096, 4096, 16), (17, 300, 9)] {
-        let g = Geometry::new(wd, ht, bits).unwrap();
-        for (name, text) in coopwin_hdl::verilog::exported(2, &g) {
-            std::fs::write(dir.join(name), text).unwrap();
-        }
+    let lint = |top: &str, files: &[&str], params: &[String], what: &str| {
         let out = Command::new("verilator")
-            .args(["--lint-only", "-Wall", "--top-module", "window_network"])
-            .arg(dir.join("window_unit.v"))
-            .arg(dir.join("window_network.v"))
+            .args(["--lint-only", "-Wall", "--top-module", top])
+            .args(params)
+            .args(files.iter().map(|f| dir.join(f)))
             .output()
             .expect("run verilator");
         let text = String::from_utf8_lossy(&out.stderr);
-        assert!(out.status.success() && !text.contains("%Warning"), "{wd}x{ht}x{bits}:\n{text}");
+        assert!(out.status.success() && !text.contains("%Warning"), "{what}:\n{text}");
+    };
+    for (wd, ht, bits) in [(256, 256, 8), (640, 480, 10), (1920, 1080, 12), (16, 16, 8), (4096, 4096, 16), (17, 300, 9)] {
+        let g = Geometry::new(wd, ht, bits).unwrap();
+        let wrapper = coopwin_hdl::verilog::axis_files(4, &g);
+        for (name, text) in coopwin_hdl::verilog::exported(2, &g).into_iter().chain(wrapper) {
+            assert!(text.lines().any(|l| l == "`timescale 1ns / 1ps"), "{name} at {wd}x{ht}x{bits} has no `timescale");
+            std::fs::write(dir.join(name), text).unwrap();
+        }
+        let size = format!("{wd}x{ht}x{bits}");
+        lint("window_network", &["window_unit.v", "window_network.v"], &[], &size);
+        for windows in [1, 4, 32] {
+            lint("window_unit_axis", &["window_unit_axis.v"], &[format!("-GWINDOWS={windows}")], &format!("axis {size}, {windows} windows"));
+        }
+        lint("axil_cdc", &["axil_cdc.v"], &[], "axil_cdc");
     }
 }
 

@@ -1,11 +1,11 @@
 //! The committed Verilog in hdl/verilog is what the export writes today.
 //! Regenerate with: cargo run --release -- verilog --axis --out hdl/verilog
-use coopwin_hdl::verilog::{exported, window_network, window_unit_axis, Geometry, DEFAULT_UNITS};
+use coopwin_hdl::verilog::{axis_files, exported, window_network, Geometry, DEFAULT_UNITS};
 
 #[test]
 fn committed_verilog_is_current() {
-    let wrapper = ("window_unit_axis.v", window_unit_axis(DEFAULT_UNITS, &Geometry::CA_D1));
-    for (name, text) in exported(DEFAULT_UNITS, &Geometry::CA_D1).into_iter().chain([wrapper]) {
+    let wrapper = axis_files(DEFAULT_UNITS, &Geometry::CA_D1);
+    for (name, text) in exported(DEFAULT_UNITS, &Geometry::CA_D1).into_iter().chain(wrapper) {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("verilog").join(name);
         let committed = std::fs::read_to_string(&path).unwrap_or_default();
         assert!(

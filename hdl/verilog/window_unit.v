@@ -25,6 +25,7 @@
 // least 2 clocks of lval low between them, and a frame at least 2 clocks of fval high before
 // its first lval (the Y flags are registered). Pixels beyond column WIDTH-1 or lines beyond
 // HEIGHT-1 are never delivered.
+`timescale 1ns / 1ps
 `default_nettype none
 
 module window_unit #(

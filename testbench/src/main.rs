@@ -15,7 +15,7 @@ struct Cli {
 }
 
 const EXAMPLES: &str = "Examples:
-  coopwin verilog --axis --out hdl/verilog     export window_unit.v, window_network.v, window_unit_axis.v
+  coopwin verilog --axis --out hdl/verilog     export window_unit.v, window_network.v, window_unit_axis.v, axil_cdc.v
   coopwin waves --out run.vcd                  simulate one acquisition, VCD + Appendix B SVGs
   coopwin waves --out w.vcd --window 10,40,20,50 --frames 2
   coopwin scene --path triangle --speed 100 --frames 300 --lighting ramp --out tri

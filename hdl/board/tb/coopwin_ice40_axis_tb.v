@@ -225,10 +225,10 @@ module coopwin_ice40_axis_tb;
         reg_write(16'h000C, 0);
         // The same with tready gaps on both outputs: the FIFOs absorb them, nothing is lost.
         run_windows(2'b11, 0);
-        // The frame's edges: its whole first line; its last column, one pixel a row (tlast on
-        // each), with tready gaps.
-        set_window(0, 0, 79, 0, 0, 0);
-        set_window(1, 79, 79, 0, 59, 0);
+        // The frame's edges: its first two lines whole; its last two columns, two pixels a
+        // row (a window is at least 2 x 2), with tready gaps.
+        set_window(0, 0, 79, 0, 1, 0);
+        set_window(1, 78, 79, 0, 59, 0);
         run_windows(2'b10, 0);
         // Decimated from an odd corner to an odd end; window 1 refused (xmin > xmax).
         set_window(0, 11, 30, 3, 12, 1);

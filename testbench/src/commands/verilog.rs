@@ -1,7 +1,7 @@
 //! `coopwin verilog`: the window logic's Verilog export (thesis Appendix A) for a sensor's size.
 use super::args::SensorArgs;
 use super::{output::OutFile, CliError};
-use coopwin_hdl::verilog::{window_unit_axis, Geometry, Netlist, AXIS_MAX_WINDOWS};
+use coopwin_hdl::verilog::{axis_files, Geometry, Netlist, AXIS_MAX_WINDOWS};
 use std::path::{Path, PathBuf};
 
 /// Examples shown after `coopwin verilog --help`.
@@ -15,8 +15,8 @@ Examples:
       rust-hdl's own netlist of the blocks for that size, proven equivalent to the readable
       module (hdl/tests/equivalence.rs); fixed widths, no parameters
   coopwin verilog --axis --out hdl/verilog
-      also window_unit_axis.v, the AXI4-Stream video wrapper with --units windows
-      (docs/window-logic.md; the committed copy)
+      also window_unit_axis.v, the AXI4-Stream video wrapper with --units windows, and
+      axil_cdc.v, its register port on another clock (docs/window-logic.md; the committed copy)
 The parameters WIDTH, HEIGHT and PIXEL_BITS of the readable module stay overridable in the
 Verilog; these options set their defaults. Check a size with
 scripts/icarus-check.sh --size WxH --bits P.";
@@ -54,8 +54,8 @@ pub struct VerilogArgs {
     /// Which window_unit to write
     #[arg(long, value_enum, default_value_t = NetlistArg::Readable)]
     pub netlist: NetlistArg,
-    /// Also write window_unit_axis.v: AXI4-Stream video in, --units cropped AXI4-Stream
-    /// windows out (1..32), AXI4-Lite registers
+    /// Also write window_unit_axis.v (AXI4-Stream video in, --units cropped AXI4-Stream
+    /// windows out (1..32), AXI4-Lite registers) and axil_cdc.v (those registers on another clock)
     #[arg(long)]
     pub axis: bool,
 }
@@ -78,7 +78,7 @@ pub fn export(args: VerilogArgs) -> Result<(), CliError> {
 }
 
 /// Writes `window_unit.v` (`netlist`'s) and `window_network.v` (with `units` units) for `g`
-/// into `out`, and with `axis` `window_unit_axis.v` (with `units` windows).
+/// into `out`, and with `axis` `window_unit_axis.v` (with `units` windows) and `axil_cdc.v`.
 pub fn write_verilog(out: &Path, units: usize, g: &Geometry, netlist: Netlist, axis: bool) -> Result<Vec<PathBuf>, CliError> {
     if units == 0 || units > 64 {
         return Err(CliError::arg(format!("--units must be 1..64, got {units}")));
@@ -87,7 +87,7 @@ pub fn write_verilog(out: &Path, units: usize, g: &Geometry, netlist: Netlist, a
         return Err(CliError::arg(format!("--axis takes at most {AXIS_MAX_WINDOWS} windows (--units), got {units}")));
     }
     let files = coopwin_hdl::verilog::exported_netlist(netlist, units, g).map_err(|e| CliError::arg(e.to_string()))?;
-    let wrapper = axis.then(|| ("window_unit_axis.v", window_unit_axis(units, g)));
+    let wrapper = axis.then(|| axis_files(units, g)).into_iter().flatten();
     super::output::create_folder(out, "--out")?;
     let mut written = Vec::new();
     for (name, text) in files.into_iter().chain(wrapper) {
