@@ -232,6 +232,43 @@ fn a_clip_cut_short_is_refused_and_tracked_only_when_allowed() {
     assert!(rows.len() < 200, "half the clip decodes, not {}", rows.len());
 }
 
+/// FFmpeg's MD5 of each decoded frame of `clip`, with `input` decoder options (`-ec 0`: no
+/// error concealment).
+fn frame_md5s(clip: &Path, input: &[&str]) -> Vec<String> {
+    let out = Command::new("ffmpeg").args(["-v", "quiet", "-nostdin", "-threads", "1"]).args(input).arg("-i").arg(clip).args(["-map", "0:v:0", "-fps_mode", "passthrough", "-f", "framemd5", "-"]).output().expect("ffmpeg");
+    String::from_utf8_lossy(&out.stdout).lines().filter(|l| !l.starts_with('#')).filter_map(|l| l.rsplit(',').next().map(|m| m.trim().to_string())).collect()
+}
+
+#[test]
+fn a_clip_whose_decoder_errors_change_no_pixel_tracks_with_no_row_damaged() {
+    // Issue 39: opencv-doc's box.mp4 has a stray unit in its first packet, which FFmpeg logs as
+    // errors; the decoder skips it. The reference is FFmpeg's own per-frame MD5s: every frame
+    // decodes to the same pixels with error concealment off (`-ec 0`) as with it on, so no
+    // frame was concealed, and none may be called damaged (OpenCV plays the clip as well).
+    let gz = Path::new("/usr/share/doc/opencv-doc/opencv4/html/box.mp4.gz");
+    if !gz.exists() {
+        common::missing_tool("opencv-doc's box.mp4", "apt-get install -y opencv-doc");
+        return;
+    }
+    let d = scratch("box");
+    let clip = d.join("box.mp4");
+    let unzipped = Command::new("gzip").arg("-dc").arg(gz).output().expect("gzip");
+    std::fs::write(&clip, unzipped.stdout).unwrap();
+    let logged = Command::new("ffmpeg").args(["-v", "error", "-nostdin", "-i", s(&clip), "-map", "0:v:0", "-f", "null", "-"]).output().unwrap();
+    assert!(stderr(&logged).contains("[h264 @"), "FFmpeg logs decoding errors on this clip: {}", stderr(&logged));
+    let (concealed, plain) = (frame_md5s(&clip, &[]), frame_md5s(&clip, &["-ec", "0"]));
+    assert!(!concealed.is_empty());
+    assert_eq!(concealed, plain, "the same pixels with and without concealment");
+    let o = coopwin(&["track", "--frames", s(&clip), "--target-box", "395,50,140,70", "--out", "-"]);
+    assert!(o.status.success(), "box.mp4 tracks by default: {}", stderr(&o));
+    // FFmpeg's own log lines never reach the user, nor a warning of damage.
+    assert!(!stderr(&o).contains(" @ 0x") && !stderr(&o).contains("warning"), "stderr: {}", stderr(&o));
+    let rows = csv_rows(&String::from_utf8_lossy(&o.stdout));
+    // Reference: ffprobe's count of the frames that decode.
+    assert_eq!(rows.len(), frame_count(&clip));
+    assert!(rows.iter().all(|r| r[14] == "0"), "no row damaged");
+}
+
 #[test]
 fn garbage_in_the_middle_is_refused_and_its_frames_flagged_when_allowed() {
     let d = scratch("garbage");
