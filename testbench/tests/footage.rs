@@ -404,7 +404,7 @@ fn ctrl_c_exits_130_and_leaves_earlier_outputs_as_they_were() {
 }
 
 #[test]
-fn progress_shows_on_a_terminal_only() {
+fn progress_is_redrawn_on_a_terminal_and_written_as_lines_elsewhere() {
     // `script` (util-linux) runs the command on a pseudo-terminal.
     let d = scratch("progress");
     let c = clip(&d, "c.mp4", "160x120", 25, 2.0);
@@ -413,8 +413,10 @@ fn progress_shows_on_a_terminal_only() {
     let text = String::from_utf8_lossy(&tty.stdout);
     assert!(tty.status.success(), "{text}");
     assert!(text.contains("frame 50/50") && text.contains("frames/s") && text.contains("ETA"), "{text}");
+    assert!(text.contains('\r'), "redrawn in place: {text:?}");
+    // Piped, a whole line every few seconds (tests/cli.rs counts them), never redrawn.
     let piped = coopwin(&["track", "--frames", s(&c), "--target-box", "60,40,32,24"]);
-    assert!(piped.status.success() && !stderr(&piped).contains("ETA"), "{}", stderr(&piped));
+    assert!(piped.status.success() && !stderr(&piped).contains('\r'), "{}", stderr(&piped));
 }
 
 // Issue 24, case 5: frames up to the largest sensor the Verilog takes.
@@ -438,6 +440,39 @@ fn a_1080p_clip_tracks() {
     let big = d.join("big.mp4");
     ffmpeg(&["-f", "lavfi", "-i", "color=size=4112x64:rate=5", "-frames:v", "2", "-c:v", "libx264", "-pix_fmt", "yuv420p", s(&big)]);
     fails(&coopwin(&["track", "--frames", s(&big), "--out", "/dev/null"]), 1, &["64x64 to 4096x4096", "4112x64"], "4112 px wide");
+}
+
+#[test]
+fn overlays_are_bounded_an_mp4_at_1080p_under_200_mb_and_a_gif_to_its_pixel_budget() {
+    // Issue 39's bound for the MP4: peak memory under 200 MB at 1080p (the kernel's wait4
+    // record: the largest of coopwin and its FFmpeg children; it was 527 MB). Reference for
+    // the file: ffprobe's frame count and size.
+    let d = scratch("overlay_bounds");
+    let hd = clip(&d, "hd.mp4", "1920x1080", 25, 1.0);
+    let mp4 = d.join("o.mp4");
+    let (status, kib) = peak_rss(&["track", "--frames", s(&hd), "--target-box", "1660,640,32,32", "--overlay", s(&mp4)]);
+    assert!(status.success(), "{status}");
+    println!("1080p MP4 overlay: peak {kib} KiB");
+    assert!(kib < 200 * 1024, "peak {kib} KiB");
+    assert_eq!(ffprobe(&mp4, &["-count_frames", "-show_entries", "stream=width,height,nb_read_frames"]), ["1920,1080,25"]);
+    // The GIF: 300 frames of 640x480 are scaled to 480x360 (480 px a side at most), and
+    // 300 of those would be 51.8 M pixels, over the 50 M budget: one frame in 2 is kept, each
+    // shown 2/25 s. Reference: that arithmetic, and the gif crate reading the file back.
+    let vga = clip(&d, "vga.mp4", "640x480", 25, 12.0);
+    let gif_path = d.join("o.gif");
+    let o = coopwin(&["track", "--frames", s(&vga), "--target-box", "300,220,40,40", "--overlay", s(&gif_path)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("(scaled from 640x480 to 480x360, one frame in 2 kept"), "{out}");
+    let mut opts = gif::DecodeOptions::new();
+    opts.set_color_output(gif::ColorOutput::Indexed);
+    let mut dec = opts.read_info(std::fs::File::open(&gif_path).unwrap()).unwrap();
+    let mut frames = 0;
+    while let Some(f) = dec.read_next_frame().unwrap() {
+        assert_eq!((f.width, f.height, f.delay), (480, 360, 8));
+        frames += 1;
+    }
+    assert_eq!(frames, 150);
 }
 
 // Issue 24, case 5 (and issue 22, item 4): the clocked window units at any geometry
