@@ -44,12 +44,30 @@ const TRACK_EXAMPLES: &str = "Examples:
   coopwin track --frames tri --profile c40 --strategy mpdf
       the thesis's C40 processor timing, as the experiments use it
   coopwin track --frames damaged.mp4 --allow-damaged --out t.csv
-      a video FFmpeg reports decoding errors in: track what decodes, flag the damaged frames
-CSV columns: frame,x,y,mode,source,measured_frame,file,box_x,box_y,box_w,box_h,confidence,ok,time_s,damaged,state,scale,angle_deg
-  (x, y: pixel centres at integers; confidence: NCC's score from 0 at its acceptance level
-  to 1; ok: a position measured at most 2 frames before; time_s: the video's own timestamp,
-  or frame/fps; damaged: 1 for a frame FFmpeg reported damaged; scale, angle_deg: the
-  object's size and turn against lock-on, where the adapting template measured them)
+      a damaged video (missing data, or pixels the decoder concealed): track what decodes,
+      flag the damaged frames
+  coopwin track --frames clip.mp4 --start-frame 40 --end-frame 120 --target-box 120,80,32,24
+      frames 40 to 119 only (stop before a shot cut at 120)
+CSV columns (--out), one row a frame:
+  frame                     the source's frame number (as ffprobe -count_frames and OpenCV)
+  x, y                      the position, pixel centres at integers: measured, or the
+                            estimate (a prediction, or the last position) when not
+  mode                      watch, detect or track
+  source                    ncc or cd: what measured the position; none
+  measured_frame            the frame the position was measured in
+  file                      the frame's file name (a folder of PNG frames)
+  box_x, box_y, box_w, box_h  the box around the position (OpenCV's convention)
+  confidence                NCC's score from 0 at its acceptance level to 1; 0.5 for cd alone
+  ok                        1: a position measured at most 2 frames before
+  time_s                    the video's own timestamp, or frame/fps
+  damaged                   1: a video frame after missing data, or one the decoder concealed
+  state                     tracking, predicted, searching or lost
+  scale, angle_deg          the object's size and turn (degrees, clockwise) against lock-on,
+                            where the adapting template measured them
+Progress: on a terminal a line redrawn in place; otherwise (a log, a pipe) a line every 5 s
+  (COOPWIN_PROGRESS_SECS sets the seconds). The closing line gives the frames/s wall-clock
+  on this machine; the run itself is simulated (camera, window units and processors in
+  simulated time at the source's frame rate).
 Exit codes: 0 done, 1 error (a damaged video too), 2 bad argument (an output that is an
   input too), 130 Ctrl-C (nothing replaced)";
 

@@ -34,7 +34,7 @@ fn track_fails(dir: &Path, expect: &str) {
 #[test]
 fn track_refuses_bad_folders_with_one_clear_line() {
     let d = scratch("cli_missing");
-    track_fails(&d.join("nope"), "cannot read the frames folder");
+    track_fails(&d.join("nope"), "no such file or folder");
     track_fails(&d, "no PNG frames");
     let mixed = scratch("cli_mixed");
     image::GrayImage::new(64, 64).save(mixed.join("a.png")).unwrap();
@@ -195,4 +195,124 @@ fn kernel_commands_answer_in_json_and_refuse_bad_input() {
     assert!(ok, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!((v["xmin"].as_u64(), v["ymin"].as_u64(), v["count"].as_u64()), (Some(30), Some(5), Some(1)), "{out}");
+}
+
+// Issue 39: the CLI's rough edges, each through the binary.
+
+/// Runs coopwin with `envs` set: (exit code, stdout, stderr).
+fn coopwin_env(args: &[&str], envs: &[(&str, &str)]) -> (Option<i32>, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_coopwin")).args(args).envs(envs.iter().copied()).output().expect("run coopwin");
+    (out.status.code(), String::from_utf8_lossy(&out.stdout).into(), String::from_utf8_lossy(&out.stderr).into())
+}
+
+#[test]
+fn errors_name_the_option_given_and_a_missing_input_is_no_such_file() {
+    let (d, frames) = triangle_scene("cli_option_named", 4);
+    let f = frames.to_str().unwrap();
+    // A box whose centre (259.5, 259.5) is off the 256x256 frames: named as given.
+    let (code, _, err) = coopwin_env(&["track", "--frames", f, "--target-box", "240,240,40,40"], &[]);
+    assert_eq!(code, Some(2), "{err}");
+    one_error_line(&err);
+    assert!(err.contains("--target-box 240,240,40,40: its centre (259.5, 259.5) is outside the 256x256 frames"), "{err}");
+    assert!(!err.contains("--target "), "an option the user did not give: {err}");
+    let (code, _, err) = coopwin_env(&["track", "--frames", f, "--target", "300,10"], &[]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("--target 300,10 is outside the 256x256 frames"), "{err}");
+    // A missing video is no such file, not a folder that cannot be read.
+    let missing = d.join("missing.avi");
+    let (code, _, err) = coopwin_env(&["track", "--frames", missing.to_str().unwrap(), "--target-box", "10,10,20,20"], &[]);
+    assert_eq!(code, Some(1), "{err}");
+    one_error_line(&err);
+    assert!(err.contains("missing.avi: no such file or folder") && !err.contains("folder missing.avi"), "{err}");
+}
+
+#[test]
+fn end_frame_stops_before_the_frame_named() {
+    let (d, frames) = triangle_scene("cli_end_frame", 20);
+    let (f, csv) = (frames.to_str().unwrap(), d.join("t.csv"));
+    let truth = std::fs::read_to_string(frames.join("groundtruth.csv")).unwrap();
+    let t: Vec<f64> = truth.lines().nth(3).unwrap().split(',').map(|v| v.parse().unwrap()).collect();
+    let target = format!("{},{}", t[3], t[4]);
+    let track = |extra: &[&str]| {
+        let mut args = vec!["track", "--frames", f, "--target", &target, "--out", csv.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        coopwin_env(&args, &[])
+    };
+    let (code, out, err) = track(&["--start-frame", "2", "--end-frame", "12"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(out.contains("10 frames, "), "{out}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let numbers: Vec<usize> = text.lines().skip(1).map(|l| l.split(',').next().unwrap().parse().unwrap()).collect();
+    assert_eq!(numbers, (2..12).collect::<Vec<_>>(), "frames 2 to 11, the source's numbers");
+    for (extra, expect) in [
+        (["--start-frame", "2", "--end-frame", "2"], "--end-frame 2: the run stops before this frame, so it must come after --start-frame 2"),
+        (["--start-frame", "0", "--end-frame", "21"], "--end-frame 21: the input has 20 frames (0..19); --end-frame 20 tracks to the last"),
+    ] {
+        let (code, _, err) = track(&extra);
+        assert_eq!(code, Some(2), "{extra:?}: {err}");
+        one_error_line(&err);
+        assert!(err.contains(expect), "{err}");
+    }
+}
+
+#[test]
+fn progress_goes_to_a_log_as_lines_and_the_closing_line_says_wall_clock() {
+    let (d, frames) = triangle_scene("cli_progress", 30);
+    let truth = std::fs::read_to_string(frames.join("groundtruth.csv")).unwrap();
+    let t: Vec<f64> = truth.lines().nth(1).unwrap().split(',').map(|v| v.parse().unwrap()).collect();
+    let target = format!("{},{}", t[3], t[4]);
+    let csv = d.join("t.csv");
+    let args = ["track", "--frames", frames.to_str().unwrap(), "--target", &target, "--out", csv.to_str().unwrap()];
+    // Standard error is a pipe here, not a terminal: whole lines, never redrawn in place.
+    // With no pause between lines, one a frame.
+    let (code, out, err) = coopwin_env(&args, &[("COOPWIN_PROGRESS_SECS", "0")]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(!err.contains('\r'), "no carriage returns in a log: {err:?}");
+    let lines: Vec<&str> = err.lines().filter(|l| l.starts_with("tracking: frame ")).collect();
+    assert_eq!(lines.len(), 30, "{err}");
+    assert!(lines[29].starts_with("tracking: frame 30/30, ") && lines[29].contains(" frames/s, ETA 0:00"), "{}", lines[29]);
+    // The default: at most one line every 5 s of the run.
+    let started = std::time::Instant::now();
+    let (code, _, err) = coopwin_env(&args, &[]);
+    let secs = started.elapsed().as_secs_f64();
+    assert_eq!(code, Some(0), "{err}");
+    let shown = err.lines().filter(|l| l.starts_with("tracking: frame ")).count();
+    assert!(shown as f64 <= secs / 5.0, "{shown} lines in {secs:.1} s: {err}");
+    // The closing line: frames/s wall-clock, and what is simulated at which rate. Reference:
+    // the rate is the one the CSV's times step at.
+    let closing = out.lines().find(|l| l.starts_with("30 frames, ")).unwrap_or_else(|| panic!("{out}"));
+    assert!(closing.contains(" frames/s wall-clock (") && closing.contains("s on this machine); simulated: the camera, window units and processors in simulated time"), "{closing}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let times: Vec<f64> = text.lines().skip(1).map(|l| l.split(',').nth(13).unwrap().parse().unwrap()).collect();
+    let rate = format!("at the source's {:.2} frames/s", 1.0 / (times[1] - times[0]));
+    assert!(closing.contains(&rate), "{rate} in {closing}");
+}
+
+#[test]
+fn every_csv_column_is_explained_in_track_help_and_the_readme() {
+    let (d, frames) = triangle_scene("cli_columns", 3);
+    let csv = d.join("t.csv");
+    let (ok, _, err) = coopwin(&["track", "--frames", frames.to_str().unwrap(), "--out", csv.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let header = text.lines().next().unwrap().to_string();
+    let (ok, help, _) = coopwin(&["track", "--help"]);
+    assert!(ok);
+    // The help's column list: a line per column (or group), its names, then what it holds.
+    let explained: Vec<String> = help
+        .lines()
+        .skip_while(|l| !l.starts_with("CSV columns"))
+        .skip(1)
+        .take_while(|l| l.starts_with("  "))
+        .filter_map(|l| l.trim().split_once("  ").map(|(names, what)| (names.to_string(), what.trim().to_string())))
+        .filter(|(_, what)| !what.is_empty())
+        .flat_map(|(names, _)| names.split(", ").map(str::to_string).collect::<Vec<_>>())
+        .collect();
+    // The README names each in backticks, alone or in a group, besides the header itself.
+    let readme = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../README.md")).unwrap();
+    let spans: Vec<&str> = readme.split('`').skip(1).step_by(2).filter(|s| *s != header).collect();
+    for column in header.split(',') {
+        assert!(explained.iter().any(|c| c == column), "`track --help` does not explain {column}: {explained:?}");
+        assert!(spans.iter().any(|s| s.split(',').any(|c| c.trim() == column)), "the README does not name `{column}`");
+    }
 }

@@ -232,6 +232,43 @@ fn a_clip_cut_short_is_refused_and_tracked_only_when_allowed() {
     assert!(rows.len() < 200, "half the clip decodes, not {}", rows.len());
 }
 
+/// FFmpeg's MD5 of each decoded frame of `clip`, with `input` decoder options (`-ec 0`: no
+/// error concealment).
+fn frame_md5s(clip: &Path, input: &[&str]) -> Vec<String> {
+    let out = Command::new("ffmpeg").args(["-v", "quiet", "-nostdin", "-threads", "1"]).args(input).arg("-i").arg(clip).args(["-map", "0:v:0", "-fps_mode", "passthrough", "-f", "framemd5", "-"]).output().expect("ffmpeg");
+    String::from_utf8_lossy(&out.stdout).lines().filter(|l| !l.starts_with('#')).filter_map(|l| l.rsplit(',').next().map(|m| m.trim().to_string())).collect()
+}
+
+#[test]
+fn a_clip_whose_decoder_errors_change_no_pixel_tracks_with_no_row_damaged() {
+    // Issue 39: opencv-doc's box.mp4 has a stray unit in its first packet, which FFmpeg logs as
+    // errors; the decoder skips it. The reference is FFmpeg's own per-frame MD5s: every frame
+    // decodes to the same pixels with error concealment off (`-ec 0`) as with it on, so no
+    // frame was concealed, and none may be called damaged (OpenCV plays the clip as well).
+    let gz = Path::new("/usr/share/doc/opencv-doc/opencv4/html/box.mp4.gz");
+    if !gz.exists() {
+        common::missing_tool("opencv-doc's box.mp4", "apt-get install -y opencv-doc");
+        return;
+    }
+    let d = scratch("box");
+    let clip = d.join("box.mp4");
+    let unzipped = Command::new("gzip").arg("-dc").arg(gz).output().expect("gzip");
+    std::fs::write(&clip, unzipped.stdout).unwrap();
+    let logged = Command::new("ffmpeg").args(["-v", "error", "-nostdin", "-i", s(&clip), "-map", "0:v:0", "-f", "null", "-"]).output().unwrap();
+    assert!(stderr(&logged).contains("[h264 @"), "FFmpeg logs decoding errors on this clip: {}", stderr(&logged));
+    let (concealed, plain) = (frame_md5s(&clip, &[]), frame_md5s(&clip, &["-ec", "0"]));
+    assert!(!concealed.is_empty());
+    assert_eq!(concealed, plain, "the same pixels with and without concealment");
+    let o = coopwin(&["track", "--frames", s(&clip), "--target-box", "395,50,140,70", "--out", "-"]);
+    assert!(o.status.success(), "box.mp4 tracks by default: {}", stderr(&o));
+    // FFmpeg's own log lines never reach the user, nor a warning of damage.
+    assert!(!stderr(&o).contains(" @ 0x") && !stderr(&o).contains("warning"), "stderr: {}", stderr(&o));
+    let rows = csv_rows(&String::from_utf8_lossy(&o.stdout));
+    // Reference: ffprobe's count of the frames that decode.
+    assert_eq!(rows.len(), frame_count(&clip));
+    assert!(rows.iter().all(|r| r[14] == "0"), "no row damaged");
+}
+
 #[test]
 fn garbage_in_the_middle_is_refused_and_its_frames_flagged_when_allowed() {
     let d = scratch("garbage");
@@ -367,7 +404,7 @@ fn ctrl_c_exits_130_and_leaves_earlier_outputs_as_they_were() {
 }
 
 #[test]
-fn progress_shows_on_a_terminal_only() {
+fn progress_is_redrawn_on_a_terminal_and_written_as_lines_elsewhere() {
     // `script` (util-linux) runs the command on a pseudo-terminal.
     let d = scratch("progress");
     let c = clip(&d, "c.mp4", "160x120", 25, 2.0);
@@ -376,8 +413,10 @@ fn progress_shows_on_a_terminal_only() {
     let text = String::from_utf8_lossy(&tty.stdout);
     assert!(tty.status.success(), "{text}");
     assert!(text.contains("frame 50/50") && text.contains("frames/s") && text.contains("ETA"), "{text}");
+    assert!(text.contains('\r'), "redrawn in place: {text:?}");
+    // Piped, a whole line every few seconds (tests/cli.rs counts them), never redrawn.
     let piped = coopwin(&["track", "--frames", s(&c), "--target-box", "60,40,32,24"]);
-    assert!(piped.status.success() && !stderr(&piped).contains("ETA"), "{}", stderr(&piped));
+    assert!(piped.status.success() && !stderr(&piped).contains('\r'), "{}", stderr(&piped));
 }
 
 // Issue 24, case 5: frames up to the largest sensor the Verilog takes.
@@ -401,6 +440,39 @@ fn a_1080p_clip_tracks() {
     let big = d.join("big.mp4");
     ffmpeg(&["-f", "lavfi", "-i", "color=size=4112x64:rate=5", "-frames:v", "2", "-c:v", "libx264", "-pix_fmt", "yuv420p", s(&big)]);
     fails(&coopwin(&["track", "--frames", s(&big), "--out", "/dev/null"]), 1, &["64x64 to 4096x4096", "4112x64"], "4112 px wide");
+}
+
+#[test]
+fn overlays_are_bounded_an_mp4_at_1080p_under_200_mb_and_a_gif_to_its_pixel_budget() {
+    // Issue 39's bound for the MP4: peak memory under 200 MB at 1080p (the kernel's wait4
+    // record: the largest of coopwin and its FFmpeg children; it was 527 MB). Reference for
+    // the file: ffprobe's frame count and size.
+    let d = scratch("overlay_bounds");
+    let hd = clip(&d, "hd.mp4", "1920x1080", 25, 1.0);
+    let mp4 = d.join("o.mp4");
+    let (status, kib) = peak_rss(&["track", "--frames", s(&hd), "--target-box", "1660,640,32,32", "--overlay", s(&mp4)]);
+    assert!(status.success(), "{status}");
+    println!("1080p MP4 overlay: peak {kib} KiB");
+    assert!(kib < 200 * 1024, "peak {kib} KiB");
+    assert_eq!(ffprobe(&mp4, &["-count_frames", "-show_entries", "stream=width,height,nb_read_frames"]), ["1920,1080,25"]);
+    // The GIF: 300 frames of 640x480 are scaled to 480x360 (480 px a side at most), and
+    // 300 of those would be 51.8 M pixels, over the 50 M budget: one frame in 2 is kept, each
+    // shown 2/25 s. Reference: that arithmetic, and the gif crate reading the file back.
+    let vga = clip(&d, "vga.mp4", "640x480", 25, 12.0);
+    let gif_path = d.join("o.gif");
+    let o = coopwin(&["track", "--frames", s(&vga), "--target-box", "300,220,40,40", "--overlay", s(&gif_path)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("(scaled from 640x480 to 480x360, one frame in 2 kept"), "{out}");
+    let mut opts = gif::DecodeOptions::new();
+    opts.set_color_output(gif::ColorOutput::Indexed);
+    let mut dec = opts.read_info(std::fs::File::open(&gif_path).unwrap()).unwrap();
+    let mut frames = 0;
+    while let Some(f) = dec.read_next_frame().unwrap() {
+        assert_eq!((f.width, f.height, f.delay), (480, 360, 8));
+        frames += 1;
+    }
+    assert_eq!(frames, 150);
 }
 
 // Issue 24, case 5 (and issue 22, item 4): the clocked window units at any geometry

@@ -3,7 +3,7 @@
 use super::{output::OutFile, CliError};
 use crate::experiments::setup::{run_scene, triangle};
 use crate::frames::scene::{Scene, SceneConfig};
-use super::track::OverlayKind;
+use crate::report::overlay::{OverlayKind, Painter};
 use crate::analysis::metrics::true_points;
 use crate::frames::scene::SceneFrames;
 use crate::report::csv::{write_track_csv, CsvBox, FrameInfo};
@@ -76,7 +76,8 @@ pub fn write_report(out: &Path) -> Result<(), CliError> {
     summary_md.write(table.as_bytes())?;
     let coop = &logs[0].1;
     let points = true_points(coop, &truth);
-    OverlayKind::Gif.write(&overlay, &mut SceneFrames::new(scene), coop, Some(&points), shape.size, (1.0 / coop.frame_period, 0))?.finish()?;
+    let painter = Painter::new(coop, Some(&points), shape.size);
+    OverlayKind::Gif.write(overlay.stream()?, &mut SceneFrames::new(scene), painter, 1.0 / coop.frame_period)?.0.finish()?;
     println!("wrote {0}/coop.csv, {0}/summary.md, {0}/error.svg, {0}/error.png, {0}/overlay.gif", out.display());
     Ok(())
 }

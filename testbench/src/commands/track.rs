@@ -3,15 +3,17 @@
 //! a VCD and its requests CSV; on request an overlay GIF or MP4), and prints the summary
 //! against `groundtruth.csv` when the folder has one.
 use super::args::{self, HdlArg, PolicyArg, ProfileArg, StrategyArg, WatchArg};
-use super::output::{self, OutFile, Shared, Stream};
+use super::output::{self, OutFile, Shared};
 use super::{interrupt, CliError};
 use crate::analysis::audit::requests;
 use crate::analysis::metrics;
 use crate::frames::folder::FolderFrames;
-use crate::frames::video::{self, Scan, VideoError, VideoFrames};
-use crate::frames::{groundtruth, FrameError, FrameSource, Skip};
+use crate::frames::input::{Input, InputError, RowFacts};
+use crate::frames::video::VideoError;
+use crate::frames::{groundtruth, FrameSource, Skip};
 use crate::report::csv::{CsvBox, FrameInfo};
-use crate::report::{self, csv, overlay};
+use crate::report::overlay::{OverlayError, OverlayKind, Painter};
+use crate::report::{self, csv};
 use crate::system::{self, RunLog, SystemConfig};
 use crate::units::clocked::Trace;
 use crate::units::clocks::Clocks;
@@ -22,7 +24,7 @@ use coopwin_firmware::types::Point;
 use coopwin_hdl::sim::camera::Jitter;
 use std::io::{IsTerminal, Write};
 use std::ops::Range;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// `coopwin track`'s options.
 #[derive(clap::Args)]
@@ -50,6 +52,10 @@ pub struct TrackArgs {
     /// the source's frame numbers (a clip that opens on black frames starts later)
     #[arg(long, value_name = "N", default_value_t = 0)]
     pub start_frame: usize,
+    /// Stop before frame N (numbered as --start-frame; N itself is not tracked), e.g. at a
+    /// shot cut [default: the last frame]
+    #[arg(long, value_name = "N")]
+    pub end_frame: Option<usize>,
     /// Frames per second of the source [default: a video's own rate; 114 for PNG frames,
     /// the thesis's camera]
     #[arg(long, value_parser = args::parse_fps)]
@@ -81,22 +87,25 @@ pub struct TrackArgs {
     /// Kalman filter (5.2)
     #[arg(long, value_enum, default_value_t = PolicyArg::Guarded)]
     pub policy: PolicyArg,
-    /// CSV to write, one line a frame (frame,x,y,mode,source,measured_frame,file,box_x,box_y,
-    /// box_w,box_h,confidence,ok,state; see the README); - for standard output
+    /// CSV to write, one line a frame (the columns are listed below); - for standard output
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Animated overlay of the run: FILE.gif, or FILE.mp4 (needs FFmpeg): each frame with the
-    /// Watch (blue), Peripheral (yellow) and Foveal (green; COOP's corner window magenta)
-    /// windows, the position and its box (red: NCC, orange: corner detector) and the true
-    /// point when groundtruth.csv is there (cyan x)
+    /// Animated overlay of the run: FILE.mp4 (needs FFmpeg; every frame, full size), or
+    /// FILE.gif (bounded to about 15 MB: frames over 480 px scaled down, and on a long run
+    /// every k-th frame; the run's report says what was reduced): each frame with the Watch
+    /// (blue), Peripheral (yellow) and Foveal (green; COOP's corner window magenta) windows,
+    /// the position and its box (red: NCC, orange: corner detector) and the true point when
+    /// groundtruth.csv is there (cyan x)
     #[arg(long, value_name = "FILE")]
     pub overlay: Option<PathBuf>,
     /// Print the frames in the order they are tracked (frame,file) and stop
     #[arg(long)]
     pub list: bool,
-    /// Track a video FFmpeg reports decoding errors in: the frames that decode are tracked,
-    /// and the damaged ones (decoded after an error, or predicted from such a frame up to the
-    /// next key frame) have damaged=1 in the CSV [default: refuse a damaged video, exit 1]
+    /// Track a damaged video: the frames that decode are tracked, and the damaged ones have
+    /// damaged=1 in the CSV. Damage is judged by the pixels: frames after missing or corrupt
+    /// data (up to the next key frame), and frames the decoder concealed errors in (pixels
+    /// that differ without FFmpeg's error concealment); a decoder error that changes no pixel
+    /// is not damage [default: refuse a damaged video, exit 1]
     #[arg(long)]
     pub allow_damaged: bool,
     /// Window units: the behavioural model, the rust-hdl blocks, or the Verilog in Verilator
@@ -175,124 +184,76 @@ impl TrackArgs {
             ..SystemConfig::thesis(self.strategy.into(), self.profile.into(), None)
         }
     }
-}
 
-/// Where the frames come from: a folder of PNG files or a video, decoded as it is tracked.
-pub enum Input {
-    /// A folder of PNG frames.
-    Folder(FolderFrames),
-    /// A video file and what its scan found.
-    Video {
-        /// The file.
-        path: PathBuf,
-        /// Its frames' timestamps and damage.
-        scan: Scan,
-    },
-}
-
-/// One pass over an input's frames.
-pub enum Frames<'a> {
-    /// A folder's frames, decoded on demand.
-    Folder(&'a mut FolderFrames),
-    /// A video being decoded.
-    Video(VideoFrames),
-}
-
-impl FrameSource for Frames<'_> {
-    fn size(&self) -> (usize, usize) {
-        match self {
-            Frames::Folder(f) => f.size(),
-            Frames::Video(v) => v.size(),
+    /// The source's frames to track: `--start-frame` up to `--end-frame` (excluded), checked
+    /// against the input's `n` frames.
+    fn frame_range(&self, n: usize) -> Result<Range<usize>, CliError> {
+        let last = n.saturating_sub(1);
+        if self.start_frame >= n {
+            return Err(CliError::arg(format!("--start-frame {}: the input has {n} frames (0..{last})", self.start_frame)));
         }
-    }
-    fn len(&self) -> usize {
-        match self {
-            Frames::Folder(f) => f.len(),
-            Frames::Video(v) => v.len(),
-        }
-    }
-    fn frame(&mut self, k: usize) -> Result<&[u8], FrameError> {
-        match self {
-            Frames::Folder(f) => f.frame(k),
-            Frames::Video(v) => v.frame(k),
-        }
-    }
-}
-
-fn video_error(e: VideoError) -> CliError {
-    match e {
-        VideoError::Interrupted => CliError::interrupted(),
-        e => CliError::new(e.to_string()),
-    }
-}
-
-/// What the CSV's rows say beyond the run's record: the folder's file names, or the video's
-/// timestamps and damage; taken from the input before its frames are read, so rows are
-/// written during the run.
-struct RowFacts {
-    names: Vec<String>,
-    video: Option<(Vec<f64>, Vec<bool>)>,
-}
-
-impl RowFacts {
-    fn of(input: &Input) -> RowFacts {
-        match input {
-            Input::Folder(f) => RowFacts { names: f.names(), video: None },
-            Input::Video { scan, .. } => RowFacts { names: Vec::new(), video: Some((scan.times.clone(), scan.damaged.clone())) },
+        match self.end_frame {
+            Some(end) if end <= self.start_frame => {
+                Err(CliError::arg(format!("--end-frame {end}: the run stops before this frame, so it must come after --start-frame {}", self.start_frame)))
+            }
+            Some(end) if end > n => Err(CliError::arg(format!("--end-frame {end}: the input has {n} frames (0..{last}); --end-frame {n} tracks to the last"))),
+            Some(end) => Ok(self.start_frame..end),
+            None => Ok(self.start_frame..n),
         }
     }
 
-    /// The rows' facts, frames `period` seconds apart where no timestamp says otherwise, the
-    /// run's frame 0 being the source's `first`.
-    fn info(&self, period: f64, first: usize) -> FrameInfo<'_> {
-        match &self.video {
-            None => FrameInfo { files: Some(&self.names), period, first, ..FrameInfo::default() },
-            Some((times, damaged)) => FrameInfo { times: Some(times), damaged: Some(damaged), period, first, files: None },
+    /// Checks the options that concern the frames against their `(w, h)` size and the
+    /// run's `n` frames, naming the option the user gave.
+    fn check_against(&self, (w, h): (usize, usize), n: usize) -> Result<(), CliError> {
+        let inside = |x: f64, y: f64| x <= (w - 1) as f64 && y <= (h - 1) as f64;
+        let extent = format!("the {w}x{h} frames (X 0..{}, Y 0..{})", w - 1, h - 1);
+        if let Some((x, y, bw, bh)) = self.target_box {
+            let (cx, cy) = self.target_point().unwrap_or_default();
+            if !inside(cx, cy) {
+                return Err(CliError::arg(format!("--target-box {x},{y},{bw},{bh}: its centre ({cx}, {cy}) is outside {extent}")));
+            }
+        } else if let Some((x, y)) = self.target.filter(|&(x, y)| !inside(x, y)) {
+            return Err(CliError::arg(format!("--target {x},{y} is outside {extent}")));
+        }
+        if let Some(phase) = self.write_phase {
+            let clocks = Clocks::camera_timing((w, h)).frame_clocks() as u64;
+            if phase >= clocks {
+                return Err(CliError::arg(format!("--write-phase {phase}: a {w}x{h} frame has {clocks} clocks (0..{})", clocks - 1)));
+            }
+        }
+        if let Some(r) = self.vcd_frames.as_ref().filter(|r| r.end > n) {
+            return Err(CliError::arg(format!("--vcd-frames {}..{}: the run has frames 0..{n} (the end is excluded; counted from --start-frame)", r.start, r.end)));
+        }
+        Ok(())
+    }
+}
+
+impl From<InputError> for CliError {
+    fn from(e: InputError) -> CliError {
+        match e {
+            InputError::Video(VideoError::Interrupted) => CliError::interrupted(),
+            e @ InputError::Damaged(..) => CliError::new(format!("{e}; --allow-damaged tracks the frames that decode and marks these in the CSV's damaged column")),
+            e => CliError::new(e.to_string()),
         }
     }
 }
 
-impl Input {
-    /// Opens `path`: a folder of frames, or a video file, scanned once through FFmpeg. A video
-    /// with decoding errors is refused unless `allow_damaged`.
-    pub fn open(path: &Path, allow_damaged: bool) -> Result<Input, CliError> {
-        if !path.is_file() {
-            return Ok(Input::Folder(FolderFrames::open(path)?));
-        }
-        let scan = video::scan(path, crate::frames::folder::SIDES, &interrupt::requested).map_err(video_error)?;
-        if scan.is_damaged() && !allow_damaged {
-            return Err(CliError::new(format!(
-                "{}: the video is damaged: {}; --allow-damaged tracks the frames that decode and marks these in the CSV's damaged column",
-                path.display(),
-                scan.damage_report()
-            )));
-        }
-        Ok(Input::Video { path: path.into(), scan })
+impl From<VideoError> for CliError {
+    fn from(e: VideoError) -> CliError {
+        CliError::from(InputError::Video(e))
     }
+}
 
-    /// A pass over the frames, from the first (a video is decoded again for each pass).
-    pub fn frames(&mut self) -> Result<Frames<'_>, CliError> {
-        match self {
-            Input::Folder(f) => Ok(Frames::Folder(f)),
-            Input::Video { path, scan } => Ok(Frames::Video(VideoFrames::open(path, scan).map_err(video_error)?)),
-        }
+impl From<OverlayError> for CliError {
+    fn from(e: OverlayError) -> CliError {
+        CliError::new(e.to_string())
     }
+}
 
-    /// Width and height of the frames.
-    fn size(&self) -> (usize, usize) {
-        match self {
-            Input::Folder(f) => f.size(),
-            Input::Video { scan, .. } => scan.size,
-        }
-    }
-
-    /// The rate the source declares (a video's), if any.
-    fn declared_fps(&self) -> Option<f64> {
-        match self {
-            Input::Folder(_) => None,
-            Input::Video { scan, .. } => scan.fps,
-        }
-    }
+/// The facts of `facts` for the CSV's rows, frames `period` seconds apart where no timestamp
+/// says otherwise, the run's frame 0 being the source's `first`.
+fn row_info(facts: &RowFacts, period: f64, first: usize) -> FrameInfo<'_> {
+    FrameInfo { files: facts.files(), times: facts.times(), damaged: facts.damaged(), period, first }
 }
 
 /// Tracks the frames, writes the outputs asked for and prints the report (on standard error
@@ -323,7 +284,10 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
         return Err(CliError::arg("--pixel-bits sets the clocked window units' pixel width: add --hdl rust-hdl or --hdl verilator"));
     }
     let overlay_out = match &args.overlay {
-        Some(p) => Some((OverlayKind::of(p)?, OutFile::check(p, "--overlay")?)),
+        Some(p) => {
+            let kind = OverlayKind::of(p).ok_or_else(|| CliError::arg(format!("--overlay {}: name a .gif or an .mp4 file", p.display())))?;
+            Some((kind, OutFile::check(p, "--overlay")?))
+        }
         None => None,
     };
     let named = [("--out", out.as_ref()), ("--overlay", overlay_out.as_ref().map(|(_, o)| o))]
@@ -335,12 +299,12 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
     // With the CSV on standard output, the report goes to standard error.
     let to_stdout = out.as_ref().is_some_and(OutFile::is_stdout);
     let say = |line: String| if to_stdout { eprintln!("{line}") } else { println!("{line}") };
-    let mut input = Input::open(&args.frames, args.allow_damaged)?;
-    if let Input::Video { scan, .. } = &input {
-        if scan.is_damaged() {
-            eprintln!("warning: {}: {}", args.frames.display(), scan.damage_report());
-        }
+    let mut input = Input::open(&args.frames, args.allow_damaged, &interrupt::requested)?;
+    if let Some(damage) = input.damage() {
+        eprintln!("warning: {}: {damage}", args.frames.display());
     }
+    let range = args.frame_range(input.len())?;
+    args.check_against(input.size(), range.len())?;
     let mut cfg = args.config();
     let fps = args.fps.or(input.declared_fps());
     if let Some(fps) = fps {
@@ -351,7 +315,7 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
     let started = std::time::Instant::now();
     let truth_path = args.frames.join("groundtruth.csv");
     let truth = if args.frames.is_dir() && truth_path.exists() { Some(groundtruth::read(&truth_path)?) } else { None };
-    let truth = truth.map(|t| t.get(args.start_frame..).unwrap_or_default().to_vec());
+    let truth = truth.map(|t| t.get(range.clone()).unwrap_or_default().to_vec());
     let shape = args.csv_box();
     let facts = RowFacts::of(&input);
     // The CSV is written a row as each frame ends (into a temporary file, put in place once
@@ -366,9 +330,9 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
     };
     let (log, vcd_stream) = {
         let mut all = input.frames()?;
-        let mut frames = started_at(&mut all, args.start_frame)?;
+        let mut frames = from_to(&mut all, range.clone())?;
         // The run's frame period, as the run computes it.
-        let info = facts.info(Clocks::for_frames(&frames, cfg.jitter).period() as f64 / cfg.pixel_clock_hz, args.start_frame);
+        let info = row_info(&facts, Clocks::for_frames(&frames, cfg.jitter).period() as f64 / cfg.pixel_clock_hz, range.start);
         let mut on_record = |r: &system::FrameRecord| {
             if let Some((_, stream, error @ None)) = &mut csv_out {
                 *error = writeln!(stream, "{}", csv::track_row(r, info, shape)).err();
@@ -377,7 +341,7 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
         track_frames(&mut frames, &cfg, vcd.as_ref().map(|(v, _)| (v, args.vcd_frames.clone())), &mut on_record)?
     };
     let summary = truth.as_ref().map(|t| metrics::summarise(&log, t));
-    let secs = started.elapsed().as_secs_f64();
+    let tracking_secs = started.elapsed().as_secs_f64();
     // Every output is completed only once all are written: an interrupted or failed run
     // replaces none of them.
     let mut done = Vec::new();
@@ -395,11 +359,12 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
     }
     if let Some((kind, o)) = &overlay_out {
         let points = truth.as_ref().map(|t| metrics::true_points(&log, t));
-        let fps = fps.unwrap_or(1.0 / log.frame_period);
+        let painter = Painter::new(&log, points.as_deref(), shape.size).numbered_from(range.start);
         let mut all = input.frames()?;
-        let mut frames = started_at(&mut all, args.start_frame)?;
-        let stream = kind.write(o, &mut interrupt::Interruptible(&mut frames), &log, points.as_deref(), shape.size, (fps, args.start_frame))?;
-        done.push((stream, Some(format!("wrote {}", o.path.display()))));
+        let mut frames = from_to(&mut all, range.clone())?;
+        let (stream, reduced) = kind.write(o.stream()?, &mut interrupt::Interruptible(&mut frames), painter, fps.unwrap_or(1.0 / log.frame_period))?;
+        let reduced = reduced.map(|r| format!(" ({r}, to bound the GIF's size; an .mp4 overlay keeps every frame at full size)")).unwrap_or_default();
+        done.push((stream, Some(format!("wrote {}{reduced}", o.path.display()))));
     }
     if interrupt::requested() {
         return Err(CliError::interrupted());
@@ -413,24 +378,26 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
             say(l);
         }
     }
+    let secs = started.elapsed().as_secs_f64().max(1e-9);
     let tracked = log.frames.iter().filter(|r| r.point.is_some()).count();
     if log.hdl_clocks > 0 {
         say(format!(
             "window units: {} pixel clocks, {:.2} M clocks/s over the run, about {:.0}% of the time in the HDL simulator",
             log.hdl_clocks,
-            log.hdl_clocks as f64 / secs.max(1e-9) / 1e6,
-            (100.0 * log.hdl_seconds / secs.max(1e-9)).min(100.0)
+            log.hdl_clocks as f64 / tracking_secs.max(1e-9) / 1e6,
+            (100.0 * log.hdl_seconds / tracking_secs.max(1e-9)).min(100.0)
         ));
     }
+    let n = log.frames.len();
     say(format!(
-        "{} frames, {} tracked, {} position reports, {:.0} frames/s simulated",
-        log.frames.len(),
-        tracked,
+        "{n} frames, {tracked} tracked, {} position reports; {:.0} frames/s wall-clock ({secs:.1} s on this machine); simulated: the camera, window units and processors in simulated time, at the source's {:.2} frames/s ({:.2} s of camera time)",
         log.reports.len(),
-        log.frames.len() as f64 / secs.max(1e-9)
+        n as f64 / secs,
+        1.0 / log.frame_period,
+        n as f64 * log.frame_period
     ));
     if let Some((k, (x, y))) = log.locked_on {
-        say(format!("locked on in frame {}: tracking the object's point at ({x:.1}, {y:.1}) there, the centre of the first motion seen", k + args.start_frame));
+        say(format!("locked on in frame {}: tracking the object's point at ({x:.1}, {y:.1}) there, the centre of the first motion seen", k + range.start));
     }
     if !(log.losses.is_empty() && log.watchdog.is_empty() && log.refused.is_empty()) {
         say(format!(
@@ -466,83 +433,52 @@ fn flat_target(frames: &mut dyn FrameSource, cfg: &SystemConfig) -> Result<Optio
     Ok(value.filter(|&v| px.all(|p| p == v)))
 }
 
-/// `frames` from `--start-frame first` on.
-fn started_at<'a>(frames: &'a mut dyn FrameSource, first: usize) -> Result<Skip<'a>, CliError> {
+/// `frames`' frames `range` (checked by [`TrackArgs::frame_range`]).
+fn from_to<'a>(frames: &'a mut dyn FrameSource, range: Range<usize>) -> Result<Skip<'a>, CliError> {
     let n = frames.len();
-    Skip::new(frames, first).ok_or_else(|| CliError::arg(format!("--start-frame {first}: the input has {n} frames (0..{})", n.saturating_sub(1))))
+    Skip::new(frames, range.clone()).ok_or_else(|| CliError::new(format!("internal: frames {}..{} of {n}", range.start, range.end)))
 }
 
-/// The overlay formats, told by the file's extension.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum OverlayKind {
-    /// An animated GIF (written by coopwin).
-    Gif,
-    /// An H.264 MP4 (through FFmpeg).
-    Mp4,
-}
+/// Seconds between two progress lines when standard error is not a terminal (a log file, a
+/// pipe): a long run shows it is alive without filling the log. `COOPWIN_PROGRESS_SECS`
+/// sets another.
+const LOG_PROGRESS_SECS: f64 = 5.0;
 
-impl OverlayKind {
-    /// The format of `path`: `.gif` or `.mp4`; anything else is an argument error.
-    pub fn of(path: &Path) -> Result<OverlayKind, CliError> {
-        match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
-            Some("gif") => Ok(OverlayKind::Gif),
-            Some("mp4") => Ok(OverlayKind::Mp4),
-            _ => Err(CliError::arg(format!("--overlay {}: name a .gif or an .mp4 file", path.display()))),
-        }
-    }
-
-    /// Draws the overlay of `log` over `frames` and writes it to `out`, a frame at a time,
-    /// labelling the run's frame 0 as the source's `first`, and returns the stream for the
-    /// caller to finish. A GIF shows each frame for `1/fps` s
-    /// rounded to hundredths, at least 0.02 s (browsers slow anything shorter).
-    pub fn write(self, out: &OutFile, frames: &mut dyn FrameSource, log: &RunLog, truth: Option<&[(f64, f64)]>, size: (usize, usize), (fps, first): (f64, usize)) -> Result<Stream, CliError> {
-        let painter = overlay::Painter::new(log, truth, size).numbered_from(first);
-        let stream = out.stream()?;
-        let err = |e: &dyn std::fmt::Display| CliError::new(e.to_string());
-        let stream = match self {
-            OverlayKind::Gif => {
-                let delay = (100.0 / fps.max(1e-3)).round().clamp(2.0, 65535.0) as u16;
-                let mut gif = overlay::GifWriter::new(stream, frames.size(), delay).map_err(|e| err(&e))?;
-                painter.draw_all(frames, &mut |c| gif.push(c).map_err(|e| err(&e)))?;
-                gif.finish().map_err(|e| err(&e))?
-            }
-            OverlayKind::Mp4 => {
-                let mut mp4 = video::Mp4Encoder::start(frames.size(), fps, stream).map_err(video_error)?;
-                painter.draw_all(frames, &mut |c| mp4.push(&c.to_rgb()).map_err(video_error))?;
-                mp4.finish().map_err(video_error)?
-            }
-        };
-        Ok(stream)
-    }
-}
-
-/// A progress line on stderr when it is a terminal: frames done, frames/s and the time left,
-/// redrawn at most four times a second.
+/// A progress line on stderr: frames done, frames/s (wall-clock) and the time left; on a
+/// terminal redrawn in place at most four times a second, elsewhere a line every
+/// [`LOG_PROGRESS_SECS`].
 pub fn progress_line(total: usize, label: &'static str) -> impl FnMut(usize) {
     let tty = std::io::stderr().is_terminal();
+    let log_secs = std::env::var("COOPWIN_PROGRESS_SECS").ok().and_then(|v| v.parse::<f64>().ok()).filter(|s| s.is_finite() && *s >= 0.0);
+    let every = if tty { 0.25 } else { log_secs.unwrap_or(LOG_PROGRESS_SECS) };
     let started = std::time::Instant::now();
     let mut shown = started;
     move |k: usize| {
         let now = std::time::Instant::now();
         let last = k + 1 == total;
-        if !tty || !(last || now.duration_since(shown).as_secs_f64() >= 0.25) {
+        let due = now.duration_since(shown).as_secs_f64() >= every;
+        if !(due || (last && tty)) {
             return;
         }
         shown = now;
         let rate = (k + 1) as f64 / now.duration_since(started).as_secs_f64().max(1e-9);
         let left = (total - k - 1) as f64 / rate.max(1e-9);
-        eprint!("\r{label}: frame {}/{total}, {rate:.0} frames/s, ETA {}:{:02}   ", k + 1, left as u64 / 60, left as u64 % 60);
-        if last {
-            eprintln!();
+        let line = format!("{label}: frame {}/{total}, {rate:.0} frames/s, ETA {}:{:02}", k + 1, left as u64 / 60, left as u64 % 60);
+        if tty {
+            eprint!("\r{line}   ");
+            if last {
+                eprintln!();
+            }
+        } else {
+            eprintln!("{line}");
         }
     }
 }
 
 /// Tracks `frames`, handing each frame's record to `on_record` as the frame ends; with `vcd`,
 /// every window unit is traced into it, for the frames in its range (all without), and its
-/// stream is returned for the caller to finish. The target, the
-/// traced range and the write phase are checked against the frames before the run (bad ones
-/// are argument errors).
+/// stream is returned for the caller to finish. A target on a flat template is refused
+/// before the run.
 pub fn track_frames(
     frames: &mut dyn FrameSource,
     cfg: &SystemConfig,
@@ -550,31 +486,17 @@ pub fn track_frames(
     on_record: &mut dyn FnMut(&system::FrameRecord),
 ) -> Result<(RunLog, Option<Shared>), CliError> {
     let (w, h) = frames.size();
-    if let Some((x, y)) = cfg.target {
-        if !(x.is_finite() && y.is_finite() && x >= 0.0 && y >= 0.0 && x <= (w - 1) as f64 && y <= (h - 1) as f64) {
-            return Err(CliError::arg(format!("--target {x},{y} is outside the {w}x{h} frames (X 0..{}, Y 0..{})", w - 1, h - 1)));
-        }
-    }
     if let (Some(value), Some((x, y))) = (flat_target(frames, cfg)?, cfg.target) {
         let n = cfg.params.template;
         return Err(CliError::new(format!(
             "the {n}x{n} template around the target ({x}, {y}) is flat on the first frame tracked (every pixel {value}): there is nothing there to track. A clip that opens on black or blank frames: --start-frame N starts on the frame the target is on"
         )));
     }
-    if let Some(phase) = cfg.write_phase {
-        let clocks = Clocks::camera_timing((w, h)).frame_clocks() as u64;
-        if phase >= clocks {
-            return Err(CliError::arg(format!("--write-phase {phase}: a {w}x{h} frame has {clocks} clocks (0..{})", clocks - 1)));
-        }
-    }
     let n = frames.len();
     let mut stream = None;
     let trace = match vcd {
         Some((out, range)) => {
             let range = range.unwrap_or(0..n);
-            if range.end > n {
-                return Err(CliError::arg(format!("--vcd-frames {}..{}: the run has frames 0..{n} (the end is excluded; counted from --start-frame)", range.start, range.end)));
-            }
             // Measured on 2026-12-01: 455 MB for 4 frames of 256x256 with COOP's 4 units, so
             // about 110 MB a frame, in proportion to the pixels and the units.
             let mb = 110.0 * (w * h) as f64 / 65_536.0 * cfg.strategy.units() as f64 / 4.0;

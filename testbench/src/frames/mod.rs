@@ -1,10 +1,12 @@
-//! The camera's side of the data flow: where frames come from (a folder of PNG files, the
-//! synthetic scene rendered on demand, or frames rendered ahead), and their ground truth.
+//! The camera's side of the data flow: where frames come from (a user's folder of PNG files
+//! or video, [`input`]; the synthetic scene rendered on demand, or frames rendered ahead),
+//! and their ground truth.
 //!
 //! Thesis 2.4 and 4.4: the experiments' scenes, here synthetic with an exact ground truth.
 pub mod folder;
 pub mod gray;
 pub mod groundtruth;
+pub mod input;
 pub mod prerendered;
 pub mod scene;
 pub mod video;
@@ -57,16 +59,18 @@ impl std::fmt::Display for FrameError {
 
 impl std::error::Error for FrameError {}
 
-/// `inner`'s frames from `first` on, numbered from 0 (a run that starts later in a clip).
+/// `inner`'s frames `first..end`, numbered from 0 (a run that starts later in a clip, or
+/// stops before its end).
 pub struct Skip<'a> {
     inner: &'a mut dyn FrameSource,
     first: usize,
+    end: usize,
 }
 
 impl<'a> Skip<'a> {
-    /// `inner` from frame `first`; `None` when it has no such frame.
-    pub fn new(inner: &'a mut dyn FrameSource, first: usize) -> Option<Skip<'a>> {
-        (first < inner.len()).then_some(Skip { inner, first })
+    /// `inner`'s frames `range`; `None` when the range is empty or runs past the last frame.
+    pub fn new(inner: &'a mut dyn FrameSource, range: std::ops::Range<usize>) -> Option<Skip<'a>> {
+        (range.start < range.end && range.end <= inner.len()).then_some(Skip { inner, first: range.start, end: range.end })
     }
 }
 
@@ -75,9 +79,12 @@ impl FrameSource for Skip<'_> {
         self.inner.size()
     }
     fn len(&self) -> usize {
-        self.inner.len() - self.first
+        self.end - self.first
     }
     fn frame(&mut self, k: usize) -> Result<&[u8], FrameError> {
+        if k >= self.len() {
+            return Err(FrameError::Missing(k));
+        }
         self.inner.frame(k + self.first)
     }
 }

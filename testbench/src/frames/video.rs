@@ -66,36 +66,52 @@ fn last_line(stderr: &[u8]) -> String {
     text.lines().rev().find(|l| !l.trim().is_empty()).unwrap_or("no message").trim().to_string()
 }
 
-/// The first video stream's size and declared rate, from `ffprobe`.
-fn probe(path: &Path) -> Result<((usize, usize), Option<f64>), VideoError> {
-    let out = Command::new("ffprobe")
-        .args(["-v", "error", "-select_streams", "v:0", "-show_entries", "stream=width,height,avg_frame_rate", "-of", "csv=p=0"])
-        .arg(path)
-        .stdin(Stdio::null())
-        .output()
-        .map_err(|e| spawn_error("ffprobe", e))?;
+/// What `ffprobe` says of a file: the first video stream's size and declared rate, and the
+/// container's format name (the name its demuxer logs under).
+struct Probe {
+    size: (usize, usize),
+    fps: Option<f64>,
+    container: String,
+}
+
+/// Runs `ffprobe` on `path` for `entries`, giving one value a line (its errors are kept, and
+/// never reach the user's terminal).
+fn ffprobe(path: &Path, stream: bool, entries: &str) -> Result<Vec<String>, VideoError> {
+    let mut cmd = Command::new("ffprobe");
+    cmd.args(["-v", "error"]);
+    if stream {
+        cmd.args(["-select_streams", "v:0"]);
+    }
+    let out = cmd.args(["-show_entries", entries, "-of", "default=nw=1:nk=1"]).arg(path).stdin(Stdio::null()).output().map_err(|e| spawn_error("ffprobe", e))?;
     if !out.status.success() {
         return Err(VideoError::Failed { path: path.into(), message: last_line(&out.stderr) });
     }
-    let text = String::from_utf8_lossy(&out.stdout);
-    let fields: Vec<&str> = text.trim().split(',').collect();
+    Ok(String::from_utf8_lossy(&out.stdout).lines().map(|l| l.trim().to_string()).collect())
+}
+
+/// The file's [`Probe`].
+fn probe(path: &Path) -> Result<Probe, VideoError> {
     let unusable = |why: &str| VideoError::Unusable { path: path.into(), why: why.into() };
-    let [w, h, rate] = fields[..] else { return Err(unusable("no video stream")) };
-    let (w, h) = (w.parse::<usize>(), h.parse::<usize>());
-    let (Ok(w), Ok(h)) = (w, h) else { return Err(unusable("no video stream")) };
+    let fields = ffprobe(path, true, "stream=width,height,avg_frame_rate")?;
+    let [w, h, rate] = &fields[..] else { return Err(unusable("no video stream")) };
+    let (Ok(w), Ok(h)) = (w.parse::<usize>(), h.parse::<usize>()) else { return Err(unusable("no video stream")) };
     // "30000/1001", "25/1", or "0/0" for none.
     let fps = rate.split_once('/').and_then(|(n, d)| Some(n.parse::<f64>().ok()? / d.parse::<f64>().ok()?));
-    Ok(((w, h), fps.filter(|r| r.is_finite() && *r > 0.0)))
+    let container = ffprobe(path, false, "format=format_name")?.into_iter().next().unwrap_or_default();
+    Ok(Probe { size: (w, h), fps: fps.filter(|r| r.is_finite() && *r > 0.0), container })
 }
 
 /// Decodes with FFmpeg's `ffmpeg` program: the options shared by the scan and the decode,
 /// so both see the same frames. One decoding thread, so an error is logged just before the
 /// frame it damages; every frame the decoder gives, with its own timestamp
 /// (`-fps_mode passthrough`: no frame duplicated or dropped to make a constant rate;
-/// `-copyts`: timestamps as the file has them, as ffprobe reports them).
-fn decoder(path: &Path) -> Command {
+/// `-copyts`: timestamps as the file has them, as ffprobe reports them). `input` are
+/// decoder options (before `-i`).
+fn decoder(path: &Path, input: &[&str]) -> Command {
     let mut cmd = Command::new("ffmpeg");
-    cmd.args(["-hide_banner", "-nostdin", "-nostats", "-threads", "1", "-copyts", "-i"])
+    cmd.args(["-hide_banner", "-nostdin", "-nostats", "-threads", "1", "-copyts"])
+        .args(input)
+        .arg("-i")
         .arg(path)
         .args(["-map", "0:v:0", "-fps_mode", "passthrough"])
         .stdin(Stdio::null());
@@ -107,6 +123,13 @@ const KEPT_PROBLEMS: usize = 3;
 
 /// What decoding a clip once found (its pixels are not kept): one timestamp and one damage
 /// flag per frame, in the order FFmpeg (and OpenCV) number the frames.
+///
+/// Damage is judged by the pixels, not by FFmpeg's log: a frame is damaged where the file's
+/// data is missing (the container's reader reports a corrupt or missing packet, a packet
+/// gives no frame, or FFmpeg stops before the end), from there up to the next key frame; or where the decoder had to
+/// conceal an error, which shows as a frame whose pixels differ between a decode with error
+/// concealment (FFmpeg's default) and one without (`-ec 0`). A decoder error that changes no
+/// pixel (a stray unit the decoder skips, as in opencv-doc's `box.mp4`) damages nothing.
 #[derive(Clone, Debug, Default)]
 pub struct Scan {
     /// Width and height in pixels.
@@ -116,13 +139,12 @@ pub struct Scan {
     /// Each frame's presentation time in seconds, from the stream's timestamps (NaN when the
     /// frame has none).
     pub times: Vec<f64>,
-    /// Each frame: decoded after a decoding error, or predicted from such a frame (until the
-    /// next key frame).
+    /// Each frame: damaged (see [`Scan`]).
     pub damaged: Vec<bool>,
-    /// The first decoding problems: (the frame decoded next, or the frame count for the
-    /// file's end; FFmpeg's message).
+    /// The first problems that damaged the clip: (the frame decoded next, or the frame count
+    /// for the file's end; FFmpeg's message).
     pub problems: Vec<(usize, String)>,
-    /// Decoding problems in all.
+    /// Problems that damaged the clip, in all.
     pub problem_count: usize,
 }
 
@@ -137,7 +159,7 @@ impl Scan {
         self.times.is_empty()
     }
 
-    /// True when FFmpeg reported any decoding problem.
+    /// True when data is missing or a frame was concealed.
     pub fn is_damaged(&self) -> bool {
         self.problem_count > 0
     }
@@ -187,29 +209,35 @@ fn frame_runs(flags: &[bool]) -> String {
 /// One line of FFmpeg's log (`-loglevel level+info`), as far as the scan cares.
 #[derive(Debug, PartialEq)]
 enum LogLine {
-    /// The `showinfo` filter's line for a frame: its presentation time and whether it is a
-    /// key frame.
-    Frame { time: f64, key: bool },
-    /// A decoding problem: an error, or a warning about corrupt data; the message.
-    Problem(String),
+    /// The `showinfo` filter's line for a frame: its presentation time, whether it is a key
+    /// frame, and the checksum of its pixels.
+    Frame { time: f64, key: bool, checksum: Option<u32> },
+    /// A decoding problem (an error, or a warning about corrupt data): `lost` when the file's
+    /// data is missing (said by the container's demuxer, or by FFmpeg itself of a packet)
+    /// rather than by a decoder; the message.
+    Problem { lost: bool, text: String },
     /// Anything else.
     Other,
 }
 
-/// Reads one log line. A line is `[context @ 0x..] [level] text` or `[level] text`.
-fn log_line(line: &str) -> LogLine {
-    let rest = match line.strip_prefix('[') {
-        Some(r) if !r.starts_with("info]") && !r.starts_with("error]") && !r.starts_with("warning]") && !r.starts_with("fatal]") => {
-            r.split_once("] ").map_or(line, |(_, t)| t)
-        }
-        _ => line,
+/// Reads one log line. A line is `[context @ 0x..] [level] text` or `[level] text`;
+/// `container` is the demuxer's context name (ffprobe's format name).
+fn log_line(line: &str, container: &str) -> LogLine {
+    let is_level = |r: &str| ["info]", "error]", "warning]", "fatal]", "panic]"].iter().any(|l| r.starts_with(l));
+    let (context, rest) = match line.strip_prefix('[') {
+        Some(r) if !is_level(r) => match r.split_once("] ") {
+            Some((c, t)) => (Some(c.split(" @ ").next().unwrap_or(c)), t),
+            None => (None, line),
+        },
+        _ => (None, line),
     };
     let Some((level, text)) = rest.strip_prefix('[').and_then(|r| r.split_once("] ")) else { return LogLine::Other };
-    if line.contains("Parsed_showinfo") {
+    if context.is_some_and(|c| c.starts_with("Parsed_showinfo")) {
         let field = |name: &str| text.split_whitespace().find_map(|t| t.strip_prefix(name));
         if text.trim_start().starts_with("n:") {
             let time = field("pts_time:").and_then(|v| v.parse::<f64>().ok()).unwrap_or(f64::NAN);
-            return LogLine::Frame { time, key: field("iskey:") == Some("1") };
+            let checksum = field("checksum:").and_then(|v| u32::from_str_radix(v, 16).ok());
+            return LogLine::Frame { time, key: field("iskey:") == Some("1"), checksum };
         }
         return LogLine::Other;
     }
@@ -217,34 +245,49 @@ fn log_line(line: &str) -> LogLine {
     if text.contains("muxer") {
         return LogLine::Other;
     }
-    match level {
-        "error" | "fatal" | "panic" => LogLine::Problem(text.trim().to_string()),
-        "warning" if text.contains("corrupt") => LogLine::Problem(text.trim().to_string()),
-        _ => LogLine::Other,
+    let problem = match level {
+        "error" | "fatal" | "panic" => true,
+        "warning" => text.contains("corrupt"),
+        _ => false,
+    };
+    if !problem {
+        return LogLine::Other;
     }
+    // FFmpeg's own lines are about packets (one corrupt, or one that gave no frame), except
+    // its note of a decoded frame the decoder marked corrupt, which the pixels judge.
+    let lost = match context {
+        Some(c) => c == container,
+        None => !text.contains("corrupt decoded frame"),
+    };
+    LogLine::Problem { lost, text: text.trim().to_string() }
 }
 
-/// Decodes the first video stream of `path` once, keeping no pixels: its frames' timestamps,
-/// and the decoding problems FFmpeg logs with the frames they damage. Refuses a frame side
-/// outside `sides`. `stop` is asked between log lines (Ctrl-C).
-pub fn scan(path: &Path, sides: std::ops::RangeInclusive<usize>, stop: &dyn Fn() -> bool) -> Result<Scan, VideoError> {
-    let (size, fps) = probe(path)?;
-    if !sides.contains(&size.0) || !sides.contains(&size.1) {
-        return Err(VideoError::Unusable {
-            path: path.into(),
-            why: format!("frames must be {0}x{0} to {1}x{1}, this video is {2}x{3}", sides.start(), sides.end(), size.0, size.1),
-        });
-    }
-    let mut child = decoder(path)
+/// One decode of a clip, its pixels reduced to a checksum a frame.
+#[derive(Default)]
+struct Pass {
+    times: Vec<f64>,
+    keys: Vec<bool>,
+    checksums: Vec<Option<u32>>,
+    /// Each frame: decoded after a problem with the file's data, or after a decoder's error.
+    after_loss: Vec<bool>,
+    after_error: Vec<bool>,
+    /// (frame decoded next, lost, message), in order.
+    problems: Vec<(usize, bool, String)>,
+    /// FFmpeg's exit status was success.
+    finished: bool,
+}
+
+/// Decodes `path` once with decoder options `input`, reading FFmpeg's log (never shown).
+fn decode_pass(path: &Path, input: &[&str], container: &str, stop: &dyn Fn() -> bool) -> Result<Pass, VideoError> {
+    let mut child = decoder(path, input)
         .args(["-loglevel", "level+info", "-vf", "showinfo", "-f", "null", "-"])
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()
         .map_err(|e| spawn_error("ffmpeg", e))?;
     let stderr = child.stderr.take().ok_or_else(|| VideoError::Io(std::io::Error::other("no pipe")))?;
-    let mut scan = Scan { size, fps, ..Scan::default() };
-    let mut pending = false;
-    let mut last_error = None;
+    let mut pass = Pass::default();
+    let (mut loss, mut error) = (false, false);
     for line in BufReader::new(stderr).split(b'\n') {
         if stop() {
             let _ = child.kill();
@@ -252,34 +295,83 @@ pub fn scan(path: &Path, sides: std::ops::RangeInclusive<usize>, stop: &dyn Fn()
             return Err(VideoError::Interrupted);
         }
         let line = line.map_err(VideoError::Io)?;
-        match log_line(&String::from_utf8_lossy(&line)) {
-            LogLine::Frame { time, key } => {
-                let previous = scan.damaged.last().copied().unwrap_or(false);
-                scan.times.push(time);
-                scan.damaged.push(pending || (previous && !key));
-                pending = false;
+        match log_line(&String::from_utf8_lossy(&line), container) {
+            LogLine::Frame { time, key, checksum } => {
+                pass.times.push(time);
+                pass.keys.push(key);
+                pass.checksums.push(checksum);
+                pass.after_loss.push(std::mem::take(&mut loss));
+                pass.after_error.push(std::mem::take(&mut error));
             }
-            LogLine::Problem(m) => {
-                pending = true;
-                scan.problem_count += 1;
-                if scan.problems.len() < KEPT_PROBLEMS {
-                    scan.problems.push((scan.times.len(), m.clone()));
+            LogLine::Problem { lost, text } => {
+                if lost {
+                    loss = true;
+                } else {
+                    error = true;
                 }
-                last_error = Some(m);
+                pass.problems.push((pass.times.len(), lost, text));
             }
             LogLine::Other => {}
         }
     }
-    let status = child.wait().map_err(VideoError::Io)?;
-    if scan.is_empty() {
-        return Err(VideoError::Failed { path: path.into(), message: last_error.unwrap_or_else(|| "no frame decoded".into()) });
+    pass.finished = child.wait().map_err(VideoError::Io)?.success();
+    Ok(pass)
+}
+
+/// Frames flagged by `after`, and the frames predicted from them up to the next key frame.
+fn up_to_key(after: &[bool], keys: &[bool]) -> Vec<bool> {
+    let mut flags = Vec::with_capacity(after.len());
+    for (k, (&a, &key)) in after.iter().zip(keys).enumerate() {
+        let previous = k > 0 && flags[k - 1];
+        flags.push(a || (previous && !key));
     }
-    if !status.success() && !scan.is_damaged() {
+    flags
+}
+
+/// Decodes the first video stream of `path`, keeping no pixels: its frames' timestamps, and
+/// which frames are damaged (see [`Scan`]; a second decode, without error concealment, is
+/// made only when a decoder logged an error). Refuses a frame side outside `sides`. `stop`
+/// is asked between log lines (Ctrl-C).
+pub fn scan(path: &Path, sides: std::ops::RangeInclusive<usize>, stop: &dyn Fn() -> bool) -> Result<Scan, VideoError> {
+    let Probe { size, fps, container } = probe(path)?;
+    if !sides.contains(&size.0) || !sides.contains(&size.1) {
+        return Err(VideoError::Unusable {
+            path: path.into(),
+            why: format!("frames must be {0}x{0} to {1}x{1}, this video is {2}x{3}", sides.start(), sides.end(), size.0, size.1),
+        });
+    }
+    let pass = decode_pass(path, &[], &container, stop)?;
+    if pass.times.is_empty() {
+        let message = pass.problems.last().map_or_else(|| "no frame decoded".into(), |(_, _, m)| m.clone());
+        return Err(VideoError::Failed { path: path.into(), message });
+    }
+    let n = pass.times.len();
+    let decoder_errors = pass.problems.iter().any(|(_, lost, _)| !lost);
+    // The frames concealment changed; where the two decodes disagree on the frames
+    // themselves, the log's word is taken.
+    let concealed = if decoder_errors {
+        let plain = decode_pass(path, &["-ec", "0"], &container, stop)?;
+        if plain.checksums.len() == n && pass.checksums.iter().all(Option::is_some) {
+            pass.checksums.iter().zip(&plain.checksums).map(|(a, b)| a != b).collect()
+        } else {
+            up_to_key(&pass.after_error, &pass.keys)
+        }
+    } else {
+        vec![false; n]
+    };
+    let lost = up_to_key(&pass.after_loss, &pass.keys);
+    let damaged: Vec<bool> = lost.iter().zip(&concealed).map(|(a, b)| *a || *b).collect();
+    // The problems that count: the file's data missing, and decoder errors where a frame
+    // was concealed.
+    let any_concealed = concealed.contains(&true);
+    let mut counted: Vec<(usize, String)> = pass.problems.into_iter().filter(|(_, lost, _)| *lost || any_concealed).map(|(k, _, m)| (k, m)).collect();
+    if !pass.finished && counted.is_empty() {
         // FFmpeg failed without saying why in a line we read: the file did not decode to its end.
-        scan.problem_count += 1;
-        scan.problems.push((scan.len(), format!("ffmpeg stopped ({status})")));
+        counted.push((n, "ffmpeg stopped before the end of the file".into()));
     }
-    Ok(scan)
+    let problem_count = counted.len();
+    counted.truncate(KEPT_PROBLEMS);
+    Ok(Scan { size, fps, times: pass.times, damaged, problems: counted, problem_count })
 }
 
 /// A video decoded as it is tracked: the frames of a [`Scan`] read from FFmpeg in order,
@@ -305,7 +397,7 @@ impl VideoFrames {
 
     /// Starts decoding `path`, whose `scan` says how many frames it gives and how large.
     pub fn open(path: &Path, scan: &Scan) -> Result<VideoFrames, VideoError> {
-        let mut child = decoder(path)
+        let mut child = decoder(path, &[])
             .args(["-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "gray", "-"])
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
@@ -373,9 +465,10 @@ fn drain(mut pipe: impl Read + Send + 'static) -> std::thread::JoinHandle<String
     })
 }
 
-/// An H.264 MP4 (yuv420p, so any player shows it; odd sides padded by one pixel;
-/// fragmented, so it streams to any output without seeking) encoded by FFmpeg from RGB
-/// frames pushed one at a time, its bytes copied into `W` as they come.
+/// An H.264 MP4 (yuv420p, so any player shows it; fragmented, so it streams to any output
+/// without seeking) encoded by FFmpeg from yuv420p frames pushed one at a time, its bytes
+/// copied into `W` as they come. x264's fastest preset on two threads: an overlay costs
+/// about what decoding the clip again does, and at 1080p its encoder stays near 120 MB.
 pub struct Mp4Encoder<W> {
     child: Child,
     stdin: Option<ChildStdin>,
@@ -384,12 +477,12 @@ pub struct Mp4Encoder<W> {
 }
 
 impl<W: Write + Send + 'static> Mp4Encoder<W> {
-    /// Starts encoding `size` frames at `fps` into `out`.
+    /// Starts encoding frames of `size` (both sides even) at `fps` into `out`.
     pub fn start(size: (usize, usize), fps: f64, mut out: W) -> Result<Self, VideoError> {
         let mut child = Command::new("ffmpeg")
-            .args(["-v", "error", "-nostdin", "-f", "rawvideo", "-pix_fmt", "rgb24"])
+            .args(["-v", "error", "-nostdin", "-f", "rawvideo", "-pix_fmt", "yuv420p"])
             .args(["-s", &format!("{}x{}", size.0, size.1), "-r", &format!("{fps}"), "-i", "-"])
-            .args(["-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-pix_fmt", "yuv420p"])
+            .args(["-c:v", "libx264", "-preset", "ultrafast", "-threads", "2"])
             .args(["-f", "mp4", "-movflags", "frag_keyframe+empty_moov", "-"])
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
@@ -405,10 +498,10 @@ impl<W: Write + Send + 'static> Mp4Encoder<W> {
         Ok(Mp4Encoder { child, stdin: Some(stdin), copier, log })
     }
 
-    /// Encodes one frame (`width * height * 3` bytes).
-    pub fn push(&mut self, rgb: &[u8]) -> Result<(), VideoError> {
+    /// Encodes one frame (yuv420p: `width * height * 3 / 2` bytes).
+    pub fn push(&mut self, yuv: &[u8]) -> Result<(), VideoError> {
         let stdin = self.stdin.as_mut().ok_or_else(|| VideoError::Encode("the encoder is closed".into()))?;
-        if stdin.write_all(rgb).is_err() {
+        if stdin.write_all(yuv).is_err() {
             // FFmpeg stopped: its own reason is in its log.
             self.stdin = None;
             let _ = self.child.wait();
@@ -433,23 +526,40 @@ impl<W: Write + Send + 'static> Mp4Encoder<W> {
 
 #[cfg(test)]
 mod tests {
-    use super::{frame_runs, log_line, LogLine};
+    use super::{frame_runs, log_line, up_to_key, LogLine};
 
     #[test]
     fn ffmpeg_log_lines_are_read_as_frames_and_problems() {
         // Reference: lines as FFmpeg 5.1 prints them with `-loglevel level+info -vf showinfo`.
+        let mp4 = "mov,mp4,m4a,3gp,3g2,mj2";
+        let line = |l: &str| log_line(l, mp4);
         let frame = "[Parsed_showinfo_0 @ 0x55a5f5a82cc0] [info] n:  12 pts:   6144 pts_time:0.48    pos:     5678 fmt:yuv420p sar:1/1 s:160x120 i:P iskey:0 type:P checksum:7EA557FD";
-        assert_eq!(log_line(frame), LogLine::Frame { time: 0.48, key: false });
+        assert_eq!(line(frame), LogLine::Frame { time: 0.48, key: false, checksum: Some(0x7EA5_57FD) });
         let key = "[Parsed_showinfo_0 @ 0x1] [info] n:   0 pts:      0 pts_time:0       pos:       48 iskey:1 type:I";
-        assert_eq!(log_line(key), LogLine::Frame { time: 0.0, key: true });
+        assert_eq!(line(key), LogLine::Frame { time: 0.0, key: true, checksum: None });
+        // A decoder's error: the pixels decide.
         let error = "[h264 @ 0x55e41ed2d680] [error] Invalid NAL unit size (121 > 119).";
-        assert_eq!(log_line(error), LogLine::Problem("Invalid NAL unit size (121 > 119).".into()));
-        assert_eq!(log_line("[warning] half.mp4: corrupt input packet in stream 0"), LogLine::Problem("half.mp4: corrupt input packet in stream 0".into()));
+        assert_eq!(line(error), LogLine::Problem { lost: false, text: "Invalid NAL unit size (121 > 119).".into() });
+        // The file's data missing: FFmpeg's reader, and the container's demuxer.
+        assert_eq!(line("[warning] half.mp4: corrupt input packet in stream 0"), LogLine::Problem { lost: true, text: "half.mp4: corrupt input packet in stream 0".into() });
+        let demuxer = "[mov,mp4,m4a,3gp,3g2,mj2 @ 0x55c830224980] [warning] Packet corrupt (stream = 0, dts = 45568).";
+        assert_eq!(line(demuxer), LogLine::Problem { lost: true, text: "Packet corrupt (stream = 0, dts = 45568).".into() });
+        assert_eq!(line("[error] Error while decoding stream #0:0: Invalid data found when processing input"), LogLine::Problem { lost: true, text: "Error while decoding stream #0:0: Invalid data found when processing input".into() });
+        assert_eq!(line("[warning] g.mp4: corrupt decoded frame in stream 0"), LogLine::Problem { lost: false, text: "g.mp4: corrupt decoded frame in stream 0".into() });
         // Not problems with the file: other warnings, the scan's own muxer, the banner.
-        assert_eq!(log_line("[swscaler @ 0x1] [warning] deprecated pixel format used"), LogLine::Other);
-        assert_eq!(log_line("[null @ 0x1] [error] Application provided invalid, non monotonically increasing dts to muxer in stream 0: 28 >= 28"), LogLine::Other);
-        assert_eq!(log_line("[Parsed_showinfo_0 @ 0x1] [info] config in time_base: 1/12800, frame_rate: 25/1"), LogLine::Other);
-        assert_eq!(log_line("[info] Input #0, mov,mp4,m4a,3gp,3g2,mj2, from 'c.mp4':"), LogLine::Other);
+        assert_eq!(line("[swscaler @ 0x1] [warning] deprecated pixel format used"), LogLine::Other);
+        assert_eq!(line("[null @ 0x1] [error] Application provided invalid, non monotonically increasing dts to muxer in stream 0: 28 >= 28"), LogLine::Other);
+        assert_eq!(line("[Parsed_showinfo_0 @ 0x1] [info] config in time_base: 1/12800, frame_rate: 25/1"), LogLine::Other);
+        assert_eq!(line("[info] Input #0, mov,mp4,m4a,3gp,3g2,mj2, from 'c.mp4':"), LogLine::Other);
+    }
+
+    #[test]
+    fn damage_runs_to_the_next_key_frame() {
+        // Reference: worked by hand: a problem before frame 1 damages 1 and 2 (predicted),
+        // not 3 (a key frame); one before frame 4 damages 4 only.
+        let after = [false, true, false, false, true, false];
+        let keys = [true, false, false, true, false, true];
+        assert_eq!(up_to_key(&after, &keys), [false, true, true, false, true, false]);
     }
 
     #[test]
