@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 #[derive(clap::Args)]
 pub struct ExperimentArgs {
     /// table-2.3, fig-2.9, fig-2.10, fig-3.5, fig-3.7, fig-3.10, table-4.1, real-images,
-    /// appearance, real-footage, or all
+    /// appearance, real-footage, long-term, or all
     pub name: String,
     /// Output folder
     #[arg(long)]

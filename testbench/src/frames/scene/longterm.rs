@@ -172,21 +172,31 @@ pub fn sets() -> Vec<LongTermSet> {
     let (w, h) = (WIDTH as f64, HEIGHT as f64);
     let swinging = || Actor::object(Look::Same, Layer::Behind, &swing(70.0, 119.5));
     let set = |name, about, target, others, seed| LongTermSet { name, about, target, others, seed };
+    // The target leaves by the right edge; three look-alikes come in, the last one `third`.
+    let leaving = |name, about, third, seed| {
+        LongTermSet {
+            name,
+            about,
+            target: Actor::object(Look::Same, Layer::Behind, &[(0.0, 180.5, 110.5), (20.0, 190.0, 112.0), (150.0, w + SIDE, 130.0)]),
+            others: vec![
+                Actor::object(Look::Turned, Layer::Front, &[(160.0, -SIDE, 100.0), (220.0, 150.0, 110.0), (300.0, 200.0, 150.0)]),
+                Actor::object(Look::Mirrored, Layer::Front, &[(180.0, w + SIDE, 150.0), (260.0, 130.0, 120.0), (300.0, 100.0, 110.0)]),
+                Actor::object(third, Layer::Front, &[(200.0, 160.0, h + SIDE), (280.0, 120.0, 115.0)]),
+            ],
+            seed,
+        }
+    };
     vec![
         set("lookalike-front", "a mirrored look-alike crosses in front of the target, twice", swinging(), vec![crossing(Look::Mirrored, Layer::Front)], 1),
         set("lookalike-behind", "a mirrored look-alike passes behind the target, twice", swinging(), vec![crossing(Look::Mirrored, Layer::Behind)], 2),
         set("turned-front", "a look-alike turned half round (its grain runs as the target's) crosses in front, twice", swinging(), vec![crossing(Look::Turned, Layer::Front)], 3),
         set("identical-behind", "an identical copy passes behind the target, twice", swinging(), vec![crossing(Look::Same, Layer::Behind)], 4),
-        set(
-            "leaves",
-            "the target leaves the view for good near frame 130; look-alikes come in from frame 160",
-            Actor::object(Look::Same, Layer::Behind, &[(0.0, 180.5, 110.5), (20.0, 190.0, 112.0), (150.0, w + SIDE, 130.0)]),
-            vec![
-                Actor::object(Look::Turned, Layer::Front, &[(160.0, -SIDE, 100.0), (220.0, 150.0, 110.0), (300.0, 200.0, 150.0)]),
-                Actor::object(Look::Mirrored, Layer::Front, &[(180.0, w + SIDE, 150.0), (260.0, 130.0, 120.0), (300.0, 100.0, 110.0)]),
-                Actor::object(Look::Same, Layer::Front, &[(200.0, 160.0, h + SIDE), (280.0, 120.0, 115.0)]),
-            ],
-            5,
+        leaving("leaves", "the target leaves the view for good near frame 130; look-alikes come in from frame 160", Look::Flipped, 5),
+        leaving(
+            "leaves-identical",
+            "as leaves, but the third newcomer is an identical copy: nothing in its look tells it from the target",
+            Look::Same,
+            10,
         ),
         set(
             "crowd",
