@@ -96,13 +96,13 @@ impl<const P: usize> Adaptive<P> {
 
     /// The point the current template measured `at` in `win`, refined by aligning the first
     /// template there under a similarity warp ([`crate::kernels::warp`]), and the first
-    /// template's pose (frame coordinates); `None` when it does not align with a score of
+    /// template's pose (frame coordinates) and its score; `None` when it does not align with a score of
     /// at least [`ALIGN`] (the object no longer looks like a turned and scaled first view).
     ///
     /// The first template carries no accumulated error, and the warp follows a turn or a
     /// scale that biases a translated template's match: where it aligns, its point is the
     /// drift-free one.
-    pub fn align(&mut self, win: &WindowView<'_>, at: Point) -> Option<(Point, Pose)> {
+    pub fn align(&mut self, win: &WindowView<'_>, at: Point) -> Option<(Point, Pose, f32)> {
         let n = self.first.side() as f32;
         let c = (n - 1.0) / 2.0;
         let (ox, oy) = (win.origin().0 as f32, win.origin().1 as f32);
@@ -114,7 +114,7 @@ impl<const P: usize> Adaptive<P> {
         self.shape = (found.pose.a, found.pose.b);
         let (x, y) = found.pose.map(du, dv);
         let pose = Pose { x: found.pose.x + ox, y: found.pose.y + oy, ..found.pose };
-        Some((Point { x: x + ox, y: y + oy }, pose))
+        Some((Point { x: x + ox, y: y + oy }, pose, found.score))
     }
 
     /// The current template `tpl` matched at `point` (the first template's aligned point, or

@@ -5,7 +5,7 @@ use super::adapt::Adaptive;
 use super::coop::guard::{dist, Guard, GuardParams, Measured};
 use super::coop::Policy;
 use super::messages::{Dest, Msg};
-use super::params::{Params, COAST_MARGIN, CONFIRM_NCC, GROW_MARGIN, MAX_MARGIN, MISS_DECAY, REDETECT_MIN, UNCONFIRMED_RUN};
+use super::params::{Params, COAST_MARGIN, CONFIRM_ALIGN, CONFIRM_NCC, GROW_MARGIN, MAX_MARGIN, MISS_DECAY, REDETECT_MIN, UNCONFIRMED_RUN};
 use super::step::{placements, Identity, Mode, Step, Work};
 use super::template::Template;
 use crate::kernels::corner::{CornerDetector, CornerParams, MAX_DIM};
@@ -143,6 +143,9 @@ pub struct Foveal<const N: usize = MAX_DIM, const P: usize = INTERIOR> {
     predicted: Option<Point>,
     /// The object's shape as the last window's alignment measured it (adapting tracks).
     shape: Option<Shape>,
+    /// Adapting tracks: the first template aligned in the last window with a score of at
+    /// least [`CONFIRM_ALIGN`].
+    first_seen: bool,
     /// Adapting tracks: the window asked for is the first of a track the Peripheral handed
     /// over ([`Foveal::handed_over`]).
     handed: bool,
@@ -185,6 +188,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
             miss: 0.0,
             predicted: None,
             shape: None,
+            first_seen: false,
             handed: false,
             unconfirmed: 0,
         }
@@ -243,7 +247,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     /// Peripheral's approximate location.
     fn start(&mut self, p: Point, exact: bool, step: &mut Step) {
         (self.tracking, self.predicted) = (Some(p), None);
-        (self.aimed, self.miss, self.unconfirmed) = (None, 0.0, 0);
+        (self.aimed, self.miss, self.unconfirmed, self.first_seen) = (None, 0.0, 0, false);
         self.handed = !exact && self.adapt.is_some();
         self.coop.begin(p, exact);
         // An adapting track resumed from the Peripheral's approximate location (25 %: +-2 px)
@@ -344,9 +348,10 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
                 // similarity warp from the match where it aligns; where it does not, the
                 // match refined by Lucas-Kanade, as a fixed template's.
                 let aligned = self.adapt.as_mut().zip(found).and_then(|(a, f)| a.align(win, f.point));
-                self.shape = aligned.map(|(_, pose)| Shape { scale: pose.scale(), angle_deg: pose.angle().to_degrees() });
+                self.shape = aligned.map(|(_, pose, _)| Shape { scale: pose.scale(), angle_deg: pose.angle().to_degrees() });
+                self.first_seen = aligned.is_some_and(|(_, _, score)| score >= CONFIRM_ALIGN);
                 let found = match (found, aligned, self.template.as_ref()) {
-                    (Some(f), Some((point, _)), _) => Some(NccFound { point, ..f }),
+                    (Some(f), Some((point, _, _)), _) => Some(NccFound { point, ..f }),
                     (Some(f), None, Some(tpl)) if self.adapt.is_some() => Some(f.refine(win, tpl, self.support.as_ref(), &mut self.lk)),
                     (f, _, _) => f,
                 };
@@ -470,15 +475,14 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
 
     /// Whether the point followed, with NCC's `score` where NCC vouches for it, is the
     /// target's (issue 38): an adapting track's where the first template aligned on it in
-    /// this window ([`Adaptive::align`]: the object's first view, turned and scaled, is there;
-    /// on the long-term sets every such row is within 5 px of the target and almost no other
-    /// row is); a fixed template's where NCC scores at least [`CONFIRM_NCC`]. The corner
+    /// this window with a score of at least [`CONFIRM_ALIGN`] ([`Adaptive::align`]: the
+    /// object's first view, turned and scaled, is there); a fixed template's where NCC scores at least [`CONFIRM_NCC`]. The corner
     /// detector alone has no model of the target: the thesis's CD tracker is vouched for as the
     /// thesis does, a COOP report of the corner alone is not.
     fn identity(&self, score: Option<f32>) -> Identity {
         let confirmed = match (self.kind, &self.adapt) {
             (FovealKind::Cd, _) => true,
-            (_, Some(_)) => score.is_some() && self.shape.is_some(),
+            (_, Some(_)) => score.is_some() && self.first_seen,
             (_, None) => score.is_some_and(|s| s >= CONFIRM_NCC),
         };
         if confirmed {

@@ -89,6 +89,10 @@ pub const REDETECT_MIN: f32 = 0.7;
 /// guard trusts NCC from the same score ([`super::coop::guard::GuardParams::default`]).
 pub const CONFIRM_NCC: f32 = 0.99;
 
+/// The aligned first template's score from which it confirms an adapting track's point as the
+/// target's (issue 38).
+pub const CONFIRM_ALIGN: f32 = 0.8;
+
 /// Windows in a row an adapting track may follow a point its first template does not confirm
 /// before it is taken to have gone astray and lost (issue 38): a look-alike that crossed in
 /// front, an occluder the template learnt. Measured on the long-term sets

@@ -1,9 +1,10 @@
 //! Long-term scores (issue 38): a tracker judged by the rows it vouches for, as VOT-LT
 //! (Lukezic et al., "Now you see me", 2018) and OxUvA (Valmadre et al., 2018) judge one.
 //!
-//! A row is *vouched* when it has `ok` 1; it is *right* when the target is present (visible)
-//! in its frame and the row's point lies within [`RIGHT_PX`] of the target's. With the rows
-//! vouched at confidence at least `tau`:
+//! A row is *vouched* when it has `ok` 1; it is *right* when its point lies within
+//! [`RIGHT_PX`] of the target's, or inside the target's labelled box (a hand label's box may
+//! also stand where the target is hidden; a synthetic set's truth is a point, given only
+//! while the target is visible). With the rows vouched at confidence at least `tau`:
 //! - precision `Pr(tau)` = right rows / vouched rows (1 when none is vouched: nothing promised,
 //!   nothing broken; VOT-LT's convention);
 //! - recall `Re(tau)` = right rows / frames where the target is visible;
@@ -31,8 +32,39 @@ pub struct Row {
     pub point: Option<(f64, f64)>,
 }
 
-/// The target in one frame: its point, when it can be seen.
-pub type Present = Option<(f64, f64)>;
+/// The target in one frame, as the ground truth has it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Truth {
+    /// Whether it can be seen: recall counts these frames, TNR the others.
+    pub visible: bool,
+    /// Where a row is right: the target's centre and the half-sides of its box (0 for a
+    /// point); `None` where no row can be right (gone, or hidden with no box).
+    pub on: Option<((f64, f64), (f64, f64))>,
+}
+
+impl Truth {
+    /// A point target: right within [`RIGHT_PX`] of `point` while it is visible.
+    pub fn point(point: Option<(f64, f64)>) -> Truth {
+        Truth { visible: point.is_some(), on: point.map(|p| (p, (0.0, 0.0))) }
+    }
+
+    /// A labelled box `x, y, w, h` (pixel centres at integers: it covers columns x..x+w-1).
+    pub fn labelled(visible: bool, bbox: Option<(f64, f64, f64, f64)>) -> Truth {
+        let on = bbox.map(|(x, y, w, h)| ((x + (w - 1.0) / 2.0, y + (h - 1.0) / 2.0), ((w - 1.0) / 2.0, (h - 1.0) / 2.0)));
+        Truth { visible, on }
+    }
+
+    /// Whether `row` is vouched and right.
+    pub fn is_right(&self, row: &Row) -> bool {
+        match (row.ok, row.point, self.on) {
+            (true, Some(p), Some((c, half))) => {
+                let (dx, dy) = (p.0 - c.0, p.1 - c.1);
+                (dx.abs() <= half.0 && dy.abs() <= half.1) || dx.hypot(dy) <= RIGHT_PX
+            }
+            _ => false,
+        }
+    }
+}
 
 /// A tracker's long-term scores on one sequence.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -46,6 +78,9 @@ pub struct LongTermScore {
     /// Rows vouched and wrong: off the target by more than [`RIGHT_PX`], or while it is hidden
     /// or gone.
     pub wrong: usize,
+    /// The longest run of consecutive frames vouched and wrong: how long a robot following
+    /// the rows would follow something else.
+    pub wrong_run: usize,
     /// Precision of every vouched row.
     pub precision: f64,
     /// OxUvA's TPR: the recall of every vouched row.
@@ -61,33 +96,41 @@ pub struct LongTermScore {
 }
 
 /// Scores `rows` against `truth` (one entry a frame; the shorter decides the frames).
-pub fn score(rows: &[Row], truth: &[Present]) -> LongTermScore {
+pub fn score(rows: &[Row], truth: &[Truth]) -> LongTermScore {
     let n = rows.len().min(truth.len());
     let (rows, truth) = (&rows[..n], &truth[..n]);
-    let right = |r: &Row, t: &Present| match (r.ok, r.point, t) {
-        (true, Some(p), Some(q)) => (p.0 - q.0).hypot(p.1 - q.1) <= RIGHT_PX,
-        _ => false,
-    };
-    let visible = truth.iter().filter(|t| t.is_some()).count();
-    let vouched: Vec<(f64, bool)> = rows.iter().zip(truth).filter(|(r, _)| r.ok).map(|(r, t)| (r.confidence, right(r, t))).collect();
+    let right = |r: &Row, t: &Truth| t.is_right(r);
+    let visible = truth.iter().filter(|t| t.visible).count();
+    let vouched: Vec<(f64, bool, bool)> = rows.iter().zip(truth).filter(|(r, _)| r.ok).map(|(r, t)| (r.confidence, right(r, t), t.visible)).collect();
     let wrong = vouched.iter().filter(|v| !v.1).count();
+    let wrong_run = rows
+        .iter()
+        .zip(truth)
+        .scan(0usize, |run, (r, t)| {
+            *run = if r.ok && !t.is_right(r) { *run + 1 } else { 0 };
+            Some(*run)
+        })
+        .max()
+        .unwrap_or(0);
     let pr_re = |tau: f64| {
         let (mut kept, mut good) = (0usize, 0usize);
-        for &(c, ok) in &vouched {
+        let mut recalled = 0usize;
+        for &(c, ok, seen) in &vouched {
             if c >= tau {
                 kept += 1;
                 good += usize::from(ok);
+                recalled += usize::from(ok && seen);
             }
         }
         let pr = if kept == 0 { 1.0 } else { good as f64 / kept as f64 };
-        (pr, good as f64 / visible.max(1) as f64)
+        (pr, recalled as f64 / visible.max(1) as f64)
     };
     let f_of = |(pr, re): (f64, f64)| if pr + re > 0.0 { 2.0 * pr * re / (pr + re) } else { 0.0 };
     let mut taus: Vec<f64> = vouched.iter().map(|v| v.0).collect();
     taus.push(f64::NEG_INFINITY);
     let (f, tau) = taus.iter().map(|&t| (f_of(pr_re(t)), t)).fold((0.0, f64::NEG_INFINITY), |b, c| if c.0 > b.0 { c } else { b });
     let (precision, recall) = pr_re(f64::NEG_INFINITY);
-    let absent: Vec<bool> = rows.iter().zip(truth).filter(|(_, t)| t.is_none()).map(|(r, _)| !r.ok).collect();
+    let absent: Vec<bool> = rows.iter().zip(truth).filter(|(_, t)| !t.visible).map(|(r, _)| !r.ok).collect();
     let tnr = (!absent.is_empty()).then(|| absent.iter().filter(|s| **s).count() as f64 / absent.len() as f64);
     let judged: Vec<(f64, bool)> = rows.iter().zip(truth).map(|(r, t)| (if r.ok { r.confidence } else { -1.0 }, !right(r, t))).collect();
     LongTermScore {
@@ -95,6 +138,7 @@ pub fn score(rows: &[Row], truth: &[Present]) -> LongTermScore {
         visible,
         vouched: vouched.len(),
         wrong,
+        wrong_run,
         precision,
         recall,
         tnr,
@@ -106,13 +150,12 @@ pub fn score(rows: &[Row], truth: &[Present]) -> LongTermScore {
 
 /// A reliability diagram's bins: for each tenth of the confidence range, the vouched rows in it
 /// and the share of them that is right.
-pub fn reliability(rows: &[Row], truth: &[Present]) -> [(usize, usize); 10] {
+pub fn reliability(rows: &[Row], truth: &[Truth]) -> [(usize, usize); 10] {
     let mut bins = [(0usize, 0usize); 10];
     for (r, t) in rows.iter().zip(truth).filter(|(r, _)| r.ok) {
         let b = ((r.confidence.clamp(0.0, 1.0) * 10.0) as usize).min(9);
         bins[b].0 += 1;
-        let right = r.point.zip(*t).is_some_and(|(p, q)| (p.0 - q.0).hypot(p.1 - q.1) <= RIGHT_PX);
-        bins[b].1 += usize::from(right);
+        bins[b].1 += usize::from(t.is_right(r));
     }
     bins
 }
@@ -130,10 +173,13 @@ mod tests {
         // Five frames: target at x 0 in frames 0-2, absent in 3-4.
         // Rows: right (0.9), wrong by 6 px (0.8), not vouched, vouched while absent (0.3),
         // silent while absent.
-        let truth = [Some((0.0, 0.0)), Some((0.0, 0.0)), Some((0.0, 0.0)), None, None];
+        let at = Truth::point(Some((0.0, 0.0)));
+        let truth = [at, at, at, Truth::point(None), Truth::point(None)];
         let rows = [row(true, 0.9, 1.0), row(true, 0.8, 6.0), row(false, 0.0, 0.0), row(true, 0.3, 0.0), row(false, 0.0, 0.0)];
         let s = score(&rows, &truth);
         assert_eq!((s.frames, s.visible, s.vouched, s.wrong), (5, 3, 3, 2));
+        // Wrong rows 1 and 3 are apart (row 2 is silent): the longest wrong run is one frame.
+        assert_eq!(s.wrong_run, 1);
         // Every vouched row: precision 1/3, recall 1/3; TNR 1/2.
         assert!((s.precision - 1.0 / 3.0).abs() < 1e-12 && (s.recall - 1.0 / 3.0).abs() < 1e-12);
         assert_eq!(s.tnr, Some(0.5));
@@ -145,15 +191,35 @@ mod tests {
 
     #[test]
     fn silence_is_precise_but_recalls_nothing() {
-        let truth = [Some((0.0, 0.0)), None];
+        let truth = [Truth::point(Some((0.0, 0.0))), Truth::point(None)];
         let s = score(&[row(false, 0.0, 0.0), row(false, 0.0, 0.0)], &truth);
         assert_eq!((s.precision, s.recall, s.f, s.tnr), (1.0, 0.0, 0.0, Some(1.0)));
     }
 
     #[test]
     fn reliability_bins_by_tenths() {
-        let truth = [Some((0.0, 0.0)); 3];
+        let truth = [Truth::point(Some((0.0, 0.0))); 3];
         let bins = reliability(&[row(true, 0.95, 0.0), row(true, 0.91, 9.0), row(true, 0.05, 0.0)], &truth);
         assert_eq!((bins[9], bins[0], bins[5]), ((2, 1), (1, 1), (0, 0)));
+    }
+
+    #[test]
+    fn a_labelled_box_takes_rows_inside_it_and_near_its_centre() {
+        // Box 10,20,11x31: centre (15, 35), half-sides 5 and 15 (columns 10-20, rows 20-50).
+        let hidden = Truth::labelled(false, Some((10.0, 20.0, 11.0, 31.0)));
+        let at = |x, y| Row { ok: true, confidence: 1.0, point: Some((x, y)) };
+        assert!(hidden.is_right(&at(20.0, 50.0)) && hidden.is_right(&at(10.0, 20.0)));
+        assert!(!hidden.is_right(&at(20.5, 35.0)) && !hidden.is_right(&at(15.0, 50.5)));
+        // Outside the box's side but within 5 px of the centre: a narrow box still takes it.
+        let narrow = Truth::labelled(true, Some((15.0, 20.0, 1.0, 31.0)));
+        assert!(narrow.is_right(&at(19.0, 35.0)) && !narrow.is_right(&at(20.5, 35.0)));
+        // A hidden frame's right row counts for precision, not for recall, and breaks TNR.
+        let s = score(&[at(15.0, 35.0)], &[hidden]);
+        assert_eq!((s.precision, s.recall, s.tnr, s.wrong), (1.0, 0.0, Some(0.0), 0));
+        // Two wrong rows in a row, then a right one: a run of 2.
+        let s = score(&[at(40.0, 35.0), at(40.0, 35.0), at(15.0, 35.0)], &[hidden; 3]);
+        assert_eq!((s.wrong, s.wrong_run), (2, 2));
+        // Gone: no box, no right row.
+        assert!(!Truth::labelled(false, None).is_right(&at(15.0, 35.0)));
     }
 }

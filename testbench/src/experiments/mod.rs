@@ -103,7 +103,7 @@ impl Experiment {
             Experiment::RealImages => return real_images::evaluate(ctx.dir, ctx.progress),
             Experiment::Appearance => return appearance::evaluate(ctx.dir, ctx.progress),
             Experiment::RealFootage => return real_footage::evaluate(ctx.dir, &ctx.clips, ctx.progress),
-            Experiment::LongTerm => return long_term::evaluate(ctx.dir, ctx.progress),
+            Experiment::LongTerm => return long_term::evaluate(ctx.dir, &ctx.clips, ctx.progress),
         };
         ctx.thesis_section(self.name(), body)
     }

@@ -170,11 +170,11 @@ impl Clip {
         Ok(Clip { frames, size: scan.size, fps: scan.fps.unwrap_or(30.0) })
     }
 
-    /// `track`'s default run on `frames` (indices into the clip) from `start`, with a
-    /// template of `side`, as its log.
-    fn simulate(&self, frames: impl Iterator<Item = usize>, start: (f64, f64), side: u16) -> Result<RunLog, ExperimentError> {
+    /// `track`'s run on `frames` (indices into the clip) from `start`, with a template of
+    /// `side`, adapting (the default) or fixed (`--fixed-template`), as its log.
+    pub fn simulate(&self, frames: impl Iterator<Item = usize>, start: (f64, f64), side: u16, adapt: bool) -> Result<RunLog, ExperimentError> {
         let mut source = Frames { frames: frames.filter_map(|k| self.frames.get(k).map(Vec::as_slice)).collect(), size: self.size };
-        let params = Params { template: side, foveal: side + 2 * 2, ..Params::default() }.adaptive();
+        let params = Params { template: side, foveal: side + 2 * 2, adapt, ..Params::default() };
         let mut cfg = SystemConfig { params, target: Some(start), ..SystemConfig::thesis(Strategy::Coop, CostModel::NATIVE, None) };
         cfg.pixel_clock_hz = Clocks::camera_timing(self.size).frame_clocks() as f64 * self.fps;
         system::simulate(&cfg, &mut source, &mut |_| {}).map_err(ExperimentError::Run)
@@ -183,7 +183,7 @@ impl Clip {
     /// `track`'s forward run on `o`, as its log.
     pub fn forward_log(&self, o: &Object) -> Result<RunLog, ExperimentError> {
         let (first, last) = o.frames;
-        self.simulate(first..=last, o.centre(), o.side())
+        self.simulate(first..=last, o.centre(), o.side(), true)
     }
 
     /// `track`'s forward and backward runs on `o`.
@@ -198,7 +198,7 @@ impl Clip {
         let forward = trusted(forward);
         let backward = match forward.last().copied().flatten() {
             Some(end) => {
-                let mut back = trusted(&self.simulate((first..=last).rev(), end, o.side())?);
+                let mut back = trusted(&self.simulate((first..=last).rev(), end, o.side(), true)?);
                 back.reverse();
                 back
             }
