@@ -59,7 +59,7 @@ impl Object {
     }
 
     /// The template side `track --target-box` takes: the box's shorter side, up to 32.
-    fn side(&self) -> u16 {
+    pub fn side(&self) -> u16 {
         self.bbox.2.min(self.bbox.3).min(32) as u16
     }
 }

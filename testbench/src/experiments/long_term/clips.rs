@@ -4,7 +4,7 @@
 //! box and scored as `scripts/opencv_longterm.py` scores OpenCV's trackers on them.
 use super::{rows, TRACKERS};
 use crate::analysis::longterm::{self, LongTermScore, Truth};
-use crate::experiments::real_footage::Clip;
+use crate::experiments::real_footage::{Clip, Object};
 use crate::experiments::ExperimentError;
 use coopwin_firmware::processors::Params;
 use std::path::{Path, PathBuf};
@@ -15,32 +15,14 @@ pub const CLIPS: [&str; 4] = ["vtest", "Megamind", "Megamind_bugy", "tree"];
 /// OpenCV's trackers in `fixtures/longterm/opencv/`: (label, file name part).
 pub const OPENCV: [(&str, &str); 4] = [("CSRT", "csrt"), ("KCF", "kcf"), ("MOSSE", "mosse"), ("TLD", "tld")];
 
-/// An object labelled by hand: its start box and its truth on every frame from `first`.
+/// An object labelled by hand: the object (clip, name, frames, start box) and its truth on
+/// every frame from its first.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Labelled {
-    /// The clip's file stem (`vtest` is `vtest.avi`).
-    pub clip: &'static str,
-    /// The object's name.
-    pub name: String,
-    /// First and last labelled frame.
-    pub frames: (usize, usize),
-    /// Its box on the first frame: x, y, width, height.
-    pub bbox: (u32, u32, u32, u32),
-    /// The truth of frames `first..=last`.
+    /// The clip, the object's name, its first and last labelled frame and its start box.
+    pub object: Object,
+    /// The truth of its frames, first to last.
     pub truth: Vec<Truth>,
-}
-
-impl Labelled {
-    /// The box's centre, the tracked point.
-    pub fn centre(&self) -> (f64, f64) {
-        let (x, y, w, h) = self.bbox;
-        (f64::from(x) + (f64::from(w) - 1.0) / 2.0, f64::from(y) + (f64::from(h) - 1.0) / 2.0)
-    }
-
-    /// The template side `track --target-box` takes: the box's shorter side, up to 32.
-    pub fn side(&self) -> u16 {
-        self.bbox.2.min(self.bbox.3).min(32) as u16
-    }
 }
 
 /// `fixtures/longterm/`.
@@ -117,7 +99,8 @@ pub fn labelled(clip: &'static str) -> Result<Vec<Labelled>, ExperimentError> {
         if keys.first().map(|k| k.0) != Some(first) || keys.last().map(|k| k.0) != Some(last) {
             return Err(bad());
         }
-        objects.push(Labelled { clip, name: f[0].clone(), frames: (first, last), bbox: (num(3)?, num(4)?, num(5)?, num(6)?), truth: interpolate(&keys) });
+        let object = Object { clip: clip.into(), name: f[0].clone(), frames: (first, last), bbox: (num(3)?, num(4)?, num(5)?, num(6)?) };
+        objects.push(Labelled { object, truth: interpolate(&keys) });
     }
     Ok(objects)
 }
@@ -140,14 +123,15 @@ pub fn opencv_scores(clip: &str) -> Result<Vec<(String, String, Option<f64>, f64
 
 /// Each tracker of [`TRACKERS`] on `o` in `clip`, scored from the frame after the start box
 /// (the start frame is given, not tracked), as `scripts/opencv_longterm.py` scores.
-pub fn score_object(clip: &Clip, o: &Labelled) -> Result<Vec<LongTermScore>, ExperimentError> {
+pub fn score_object(clip: &Clip, labelled: &Labelled) -> Result<Vec<LongTermScore>, ExperimentError> {
+    let o = &labelled.object;
     let (first, last) = o.frames;
     TRACKERS
         .iter()
         .map(|&(_, adapt)| {
             let log = clip.simulate(first..=last, o.centre(), o.side(), adapt)?;
             let rows = rows(&log, Params::default().correlation(adapt).1);
-            Ok(longterm::score(rows.get(1..).unwrap_or(&[]), o.truth.get(1..).unwrap_or(&[])))
+            Ok(longterm::score(rows.get(1..).unwrap_or(&[]), labelled.truth.get(1..).unwrap_or(&[])))
         })
         .collect()
 }
@@ -173,7 +157,7 @@ mod tests {
     #[test]
     fn every_labelled_object_reads_and_covers_its_frames() {
         // The fixtures' README counts the frames of each object (its table "frames" column).
-        let counts: Vec<(String, usize)> = CLIPS.iter().flat_map(|c| labelled(c).expect("fixtures read")).map(|o| (o.name, o.truth.len())).collect();
+        let counts: Vec<(String, usize)> = CLIPS.iter().flat_map(|c| labelled(c).expect("fixtures read")).map(|o| (o.object.name, o.truth.len())).collect();
         assert_eq!(counts.len(), 15);
         assert!(counts.contains(&("coat".into(), 301)) && counts.contains(&("red".into(), 646)) && counts.contains(&("hinge".into(), 70)));
         for clip in CLIPS {

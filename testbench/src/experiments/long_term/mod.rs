@@ -68,22 +68,21 @@ fn real_clips(dir: &Path, clip_dir: &Path, progress: &mut dyn FnMut(&str)) -> Re
         let opencv = clips::opencv_scores(clip_name)?;
         let clip = Clip::decode(&clip_dir.join(format!("{clip_name}.avi")))?;
         for o in &objects {
-            progress(&format!("{clip_name} {}", o.name));
+            let name = &o.object.name;
+            progress(&format!("{clip_name} {name}"));
             let theirs: Vec<String> = clips::OPENCV
                 .iter()
-                .map(|(_, file)| opencv.iter().find(|r| r.0 == *file && r.1 == o.name).map_or("-".into(), |r| format!("{:.3}", r.3)))
+                .map(|(_, file)| opencv.iter().find(|r| r.0 == *file && r.1 == *name).map_or("-".into(), |r| format!("{:.3}", r.3)))
                 .collect();
             for ((label, _), s) in TRACKERS.iter().zip(clips::score_object(&clip, o)?) {
                 let opt = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:.4}"));
                 let _ = writeln!(
                     csv,
-                    "{clip_name},{},{label},{},{},{},{},{},{:.4},{:.4},{},{:.4}",
-                    o.name, s.frames, s.visible, s.vouched, s.wrong, s.wrong_run, s.precision, s.recall, opt(s.tnr), s.f
+                    "{clip_name},{name},{label},{},{},{},{},{},{:.4},{:.4},{},{:.4}", s.frames, s.visible, s.vouched, s.wrong, s.wrong_run, s.precision, s.recall, opt(s.tnr), s.f
                 );
                 let _ = writeln!(
                     md,
-                    "| {clip_name} | {} | {label} | {:.3} | {:.3} | {} | {:.3} | {} / {} | {} | {} |",
-                    o.name,
+                    "| {clip_name} | {name} | {label} | {:.3} | {:.3} | {} | {:.3} | {} / {} | {} | {} |",
                     s.precision,
                     s.recall,
                     s.tnr.map_or("-".into(), |v| format!("{v:.2}")),
