@@ -22,19 +22,20 @@ const MEASURED: [(&str, usize); 8] = [
     ("Megamind_bugy-eye", 26),
     ("Megamind_bugy-candle", 94),
     ("Megamind_bugy-bridge", 56),
-    ("tree-gap", 52),
+    ("tree-gap", 10),
     ("tree-frame", 68),
 ];
 
 /// Largest mean distance, px, of an object's reports from CSRT's.
 const STRAY_PX: f64 = 10.0;
 
-/// Objects COOP holds as CSRT does (rigid, or nearly, the leaves' gap through the shaking
-/// camera, and the earring through the head's whip), and whether CSRT's point stays on the
-/// object's: on the earring it sits about 6 px off the stud from frame 20 (crops with both
-/// points, docs/results.md), so there the forward-backward error is held to CSRT's instead.
-const HELD: [(&str, bool); 5] =
-    [("Megamind-earring", false), ("Megamind_bugy-candle", true), ("Megamind_bugy-bridge", true), ("tree-gap", true), ("tree-frame", true)];
+/// Objects COOP holds as CSRT does (rigid, or nearly, and the earring through the head's
+/// whip), and whether CSRT's point stays on the object's: on the earring it sits about 6 px
+/// off the stud from frame 20 (crops with both points, docs/results.md), so there the
+/// forward-backward error is held to CSRT's instead. The gap between the leaves was held (52
+/// of 54 frames) until issue 38: its first view aligns at 0.5-0.8 and never confirms, so the
+/// track is taken to be astray after 8 windows and the Peripheral cannot re-detect it.
+const HELD: [(&str, bool); 4] = [("Megamind-earring", false), ("Megamind_bugy-candle", true), ("Megamind_bugy-bridge", true), ("tree-frame", true)];
 
 /// The SHA-256 of a clip, by `sha256sum`.
 fn sha256(path: &Path) -> String {

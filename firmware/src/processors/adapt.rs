@@ -88,6 +88,11 @@ impl<const P: usize> Adaptive<P> {
         &self.first
     }
 
+    /// Whether the current template is the first.
+    pub fn on_first(&self) -> bool {
+        self.on_first
+    }
+
     /// The first template, to track with again (a re-detected object): nothing proposed.
     pub fn back_to_first(&mut self) -> Template {
         (self.pending, self.on_first) = (None, true);

@@ -93,6 +93,11 @@ pub const CONFIRM_NCC: f32 = 0.99;
 /// target's (issue 38).
 pub const CONFIRM_ALIGN: f32 = 0.8;
 
+/// The current template's score from which an adapting track stays vouched for while its
+/// first template aligns under [`CONFIRM_ALIGN`] (issue 38): the drift correction's own
+/// acceptance of the first template ([`super::adapt::CONFIRM`]).
+pub const HOLD_NCC: f32 = super::adapt::CONFIRM;
+
 /// Windows in a row an adapting track may follow a point its first template does not confirm
 /// before it is taken to have gone astray and lost (issue 38): a look-alike that crossed in
 /// front, an occluder the template learnt. Measured on the long-term sets

@@ -5,8 +5,10 @@
 //! (`scripts/opencv_footage.py`, `fixtures/opencv/footage/`). Real footage has no ground
 //! truth, so each tracker is scored as that script scores OpenCV's:
 //!
-//! - positions: the frames with a trusted position (`ok` 1 in `track`'s CSV), of all the
-//!   object's frames and of those where CSRT reports the object;
+//! - positions: the frames with a measured position (`track`'s state `tracking`, or
+//!   `unconfirmed`: measured, but not vouched for as the target's, issue 38), of all the
+//!   object's frames and of those where CSRT reports the object (how far `ok` 1 rows are
+//!   right is `coopwin experiment long-term`'s, against hand labels of the same objects);
 //! - forward-backward error: tracked from the object's box forward to its last frame, then
 //!   backward from the position there: the distance between the start and where the backward
 //!   run ends on the first frame, and the mean distance between the two runs frame by frame;
@@ -195,10 +197,10 @@ impl Clip {
     /// backward run is made from where it ends.
     pub fn runs_from(&self, o: &Object, forward: &RunLog) -> Result<Runs, ExperimentError> {
         let (first, last) = o.frames;
-        let forward = trusted(forward);
+        let forward = measured(forward);
         let backward = match forward.last().copied().flatten() {
             Some(end) => {
-                let mut back = trusted(&self.simulate((first..=last).rev(), end, o.side(), true)?);
+                let mut back = measured(&self.simulate((first..=last).rev(), end, o.side(), true)?);
                 back.reverse();
                 back
             }
@@ -208,8 +210,8 @@ impl Clip {
     }
 }
 
-/// A run's trusted position of each frame (`ok` 1 in `track`'s CSV).
-fn trusted(log: &RunLog) -> Track {
+/// A run's measured position of each frame, at most [`MAX_AGE`] frames old.
+fn measured(log: &RunLog) -> Track {
     log.frames.iter().map(|r| r.point.filter(|_| r.measured_frame.is_some_and(|m| m <= r.frame && r.frame - m <= MAX_AGE))).collect()
 }
 

@@ -51,6 +51,11 @@ pub enum TrackState {
 }
 
 impl TrackState {
+    /// Whether the row's position was measured in a recent window (vouched for or not).
+    pub fn measured(self) -> bool {
+        matches!(self, TrackState::Tracking | TrackState::Unconfirmed)
+    }
+
     /// The name in the CSV.
     pub fn name(self) -> &'static str {
         match self {

@@ -7,10 +7,11 @@ use coopwin_testbench::frames::{FrameError, FrameSource};
 use coopwin_testbench::system::{RunLog, TrackState};
 
 /// Issue 21, item 2: every frame's row has a position, a measured one exactly when its state
-/// is `tracking` (else the predicted one, or where the target was last seen).
+/// is `tracking` or `unconfirmed` (issue 38; else the predicted one, or where the target was
+/// last seen).
 pub fn assert_rows_are_honest(name: &str, log: &RunLog) {
     for r in &log.frames {
-        assert_eq!(r.point.is_some(), r.state == TrackState::Tracking, "{name}, frame {}: {:?} with point {:?}", r.frame, r.state, r.point);
+        assert_eq!(r.point.is_some(), r.state.measured(), "{name}, frame {}: {:?} with point {:?}", r.frame, r.state, r.point);
         assert!(r.point.or(r.estimate).is_some(), "{name}, frame {}: {:?} row without a position", r.frame, r.state);
     }
 }
