@@ -4,7 +4,7 @@
 #![allow(dead_code)]
 use coopwin_testbench::frames::scene::SceneFrames;
 use coopwin_testbench::frames::{FrameError, FrameSource};
-use coopwin_testbench::system::{RunLog, TrackState};
+use coopwin_testbench::system::RunLog;
 
 /// Issue 21, item 2: every frame's row has a position, a measured one exactly when its state
 /// is `tracking` or `unconfirmed` (issue 38; else the predicted one, or where the target was

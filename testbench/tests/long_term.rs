@@ -1,0 +1,87 @@
+//! The long-term evaluation (issue 38) against its independent references: the renderer's
+//! exact truth of where the target is and whether it can be seen (`frames/scene/longterm.rs`),
+//! and the hand labels of `fixtures/longterm/` (visible, hidden or gone, every 5th frame).
+//!
+//! `ok` 1 is a promise: the bounds are the figures measured by `coopwin experiment long-term`
+//! (docs/results/long-term.csv, long-term-clips.csv). No more wrong `ok` 1 rows than measured,
+//! full silence where the target is hidden or gone, and recall at least 90 % of the measured.
+mod common;
+
+use coopwin_testbench::analysis::longterm;
+use coopwin_testbench::experiments::long_term::clips::{labelled, score_object, CLIPS};
+use coopwin_testbench::experiments::long_term::{present, rows, run};
+use coopwin_testbench::experiments::real_footage::{Clip, DEFAULT_CLIPS};
+use coopwin_testbench::frames::scene::longterm::sets;
+use std::path::Path;
+
+/// (set, measured recall) of the default tracker; every set measured with no wrong `ok` 1 row
+/// and, where the target is ever hidden or gone, a TNR of 1.
+const SYNTHETIC: [(&str, f64); 10] = [
+    ("lookalike-front", 0.7679),
+    ("lookalike-behind", 1.0),
+    ("turned-front", 0.2357),
+    ("identical-behind", 1.0),
+    ("leaves", 0.9130),
+    ("leaves-identical", 0.9130),
+    ("crowd", 0.3424),
+    ("panel", 0.3028),
+    ("partial", 0.9333),
+    ("clutter", 1.0),
+];
+
+/// (clip, object, measured wrong `ok` 1 rows, measured recall) of the default tracker. The
+/// vtest coat and stripes are patches of a walking person's clothes that the tracker leaves
+/// for another's (issue 38, item 4).
+const CLIPS_MEASURED: [(&str, &str, usize, f64); 15] = [
+    ("vtest", "coat", 85, 0.0821),
+    ("vtest", "jeans", 0, 0.0517),
+    ("vtest", "red", 0, 0.0549),
+    ("vtest", "blond", 0, 0.0505),
+    ("vtest", "hoodie", 0, 0.0),
+    ("vtest", "redcoat", 0, 0.0312),
+    ("vtest", "stripes", 10, 0.0),
+    ("Megamind", "eye", 0, 0.0563),
+    ("Megamind", "earring", 0, 0.7016),
+    ("Megamind", "hinge", 0, 0.4493),
+    ("Megamind_bugy", "eye", 0, 0.0496),
+    ("Megamind_bugy", "candle", 2, 0.6383),
+    ("Megamind_bugy", "bridge", 1, 0.4400),
+    ("tree", "gap", 0, 0.0167),
+    ("tree", "frame", 0, 1.0),
+];
+
+#[test]
+fn the_default_never_vouches_for_a_look_alike_an_occluder_or_an_empty_place() {
+    for set in sets() {
+        let (_, recall) = SYNTHETIC.iter().copied().find(|m| m.0 == set.name).expect("a measured figure");
+        let mut frames = set.render_all();
+        let truth = present(&frames);
+        let (log, acceptance) = run(&set, &mut frames, true).expect("runs");
+        common::assert_rows_are_honest(set.name, &log);
+        let s = longterm::score(&rows(&log, acceptance), &truth);
+        eprintln!("{}: {s:?}", set.name);
+        assert_eq!(s.wrong, 0, "{}: {} of {} ok rows wrong", set.name, s.wrong, s.vouched);
+        assert!(s.tnr.is_none_or(|t| t == 1.0), "{}: TNR {:?}", set.name, s.tnr);
+        assert!(s.recall >= 0.9 * recall, "{}: recall {:.4}, measured {recall}", set.name, s.recall);
+    }
+}
+
+#[test]
+fn on_the_hand_labelled_clips_no_more_wrong_ok_rows_than_measured() {
+    let dir = Path::new(DEFAULT_CLIPS);
+    if !dir.join("vtest.avi").exists() {
+        common::missing_tool("opencv-doc's clips", "apt-get install -y opencv-doc");
+        return;
+    }
+    for clip_name in CLIPS {
+        let clip = Clip::decode(&dir.join(format!("{clip_name}.avi"))).expect("decodes");
+        for o in labelled(clip_name).expect("fixtures read") {
+            let name = o.object.name.clone();
+            let (.., wrong, recall) = CLIPS_MEASURED.iter().copied().find(|m| m.0 == clip_name && m.1 == name).expect("a measured figure");
+            let s = score_object(&clip, &o).expect("runs").remove(0);
+            eprintln!("{clip_name} {name}: {s:?}");
+            assert!(s.wrong <= wrong, "{clip_name} {name}: {} wrong ok rows of {}, measured {wrong}", s.wrong, s.vouched);
+            assert!(s.recall >= 0.9 * recall, "{clip_name} {name}: recall {:.4}, measured {recall}", s.recall);
+        }
+    }
+}
