@@ -102,6 +102,11 @@ def _options(**options: Any) -> List[str]:
     return argv
 
 
+def _keywords(arguments: Dict[str, Any], *positional: str) -> Dict[str, Any]:
+    """A function's ``locals()`` without its positional arguments: its keyword options."""
+    return {name: v for name, v in arguments.items() if name not in positional}
+
+
 def _box(box: Any) -> Box:
     """An (x, y, w, h) box of whole pixels (OpenCV's convention: columns x..x+w-1)."""
     try:
@@ -154,18 +159,8 @@ class Tracker:
         coop_n: Optional[int] = None,
         watch: Optional[str] = None,
     ) -> None:
-        options = _options(
-            target_box=box,
-            fps=fps,
-            template=template,
-            search=search,
-            strategy=strategy,
-            policy=policy,
-            profile=profile,
-            fixed_template=fixed_template,
-            coop_n=coop_n,
-            watch=watch,
-        )
+        # Every keyword argument is the CLI option of the same name.
+        options = _options(target_box=box, **_keywords(locals(), "self", "frame", "box"))
         self._run = _coopwin.FrameRun(frame, options)
         self._take(self._run.first_row)
 
@@ -276,21 +271,8 @@ def track_video(
     now (``FileNotFoundError``, ``ValueError``); the run goes on in the background, a little
     ahead of the reader, and stops when the iterator is dropped.
     """
-    options = _options(
-        target_box=box,
-        fps=fps,
-        start_frame=start_frame,
-        end_frame=end_frame,
-        allow_damaged=allow_damaged,
-        template=template,
-        search=search,
-        strategy=strategy,
-        policy=policy,
-        profile=profile,
-        fixed_template=fixed_template,
-        coop_n=coop_n,
-        watch=watch,
-    )
+    # Every keyword argument is the CLI option of the same name.
+    options = _options(target_box=box, **_keywords(locals(), "path", "box"))
     rows = _coopwin.VideoRows(os.fspath(path), options)
     return (Row.parse(line) for line in rows)
 
