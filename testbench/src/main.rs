@@ -63,7 +63,8 @@ CSV columns (--out), one row a frame:
   damaged                   1: a video frame after missing data, or one the decoder concealed
   state                     tracking, predicted, searching or lost
   scale, angle_deg          the object's size and turn (degrees, clockwise) against lock-on,
-                            where the adapting template measured them
+                            where the adapting template measured them (the box keeps
+                            the last scale measured on rows without one)
 Progress: on a terminal a line redrawn in place; otherwise (a log, a pipe) a line every 5 s
   (COOPWIN_PROGRESS_SECS sets the seconds). The closing line gives the frames/s wall-clock
   on this machine; the run itself is simulated (camera, window units and processors in

@@ -25,8 +25,9 @@ pub fn requested() -> bool {
     INTERRUPTED.load(Ordering::SeqCst)
 }
 
-/// A frame source that stops handing out frames once Ctrl-C was pressed.
-pub struct Interruptible<'a>(pub &'a mut dyn FrameSource);
+/// A frame source that stops handing out frames once its second field says so: Ctrl-C
+/// ([`requested`]) for the CLI, the caller gone for the Python package.
+pub struct Interruptible<'a>(pub &'a mut dyn FrameSource, pub &'a dyn Fn() -> bool);
 
 impl FrameSource for Interruptible<'_> {
     fn size(&self) -> (usize, usize) {
@@ -36,7 +37,7 @@ impl FrameSource for Interruptible<'_> {
         self.0.len()
     }
     fn frame(&mut self, k: usize) -> Result<&[u8], FrameError> {
-        if requested() {
+        if (self.1)() {
             return Err(FrameError::Interrupted);
         }
         self.0.frame(k)

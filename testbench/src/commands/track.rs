@@ -150,7 +150,7 @@ impl TrackArgs {
     }
 
     /// The box the CSV and the overlay draw around each position.
-    fn csv_box(&self) -> CsvBox {
+    pub fn csv_box(&self) -> CsvBox {
         let n = usize::from(self.template_side());
         let size = self.target_box.map_or((n, n), |(_, _, w, h)| (w as usize, h as usize));
         let p = self.params();
@@ -169,9 +169,10 @@ impl TrackArgs {
         }
     }
 
-    /// The run the options ask for.
-    fn config(&self) -> SystemConfig {
-        SystemConfig {
+    /// The run the options ask for on frames of `size` from a source of `fps` frames per
+    /// second (the pixel clock that gives this rate with the camera's blanking), if known.
+    pub fn config(&self, size: (usize, usize), fps: Option<f64>) -> SystemConfig {
+        let cfg = SystemConfig {
             params: self.params(),
             coop_n: self.coop_n,
             target: self.target_point(),
@@ -182,6 +183,10 @@ impl TrackArgs {
             jitter: self.blank_jitter,
             write_phase: self.write_phase,
             ..SystemConfig::thesis(self.strategy.into(), self.profile.into(), None)
+        };
+        match fps {
+            Some(fps) => SystemConfig { pixel_clock_hz: Clocks::camera_timing(size).frame_clocks() as f64 * fps, ..cfg },
+            None => cfg,
         }
     }
 
@@ -204,7 +209,7 @@ impl TrackArgs {
 
     /// Checks the options that concern the frames against their `(w, h)` size and the
     /// run's `n` frames, naming the option the user gave.
-    fn check_against(&self, (w, h): (usize, usize), n: usize) -> Result<(), CliError> {
+    pub fn check_against(&self, (w, h): (usize, usize), n: usize) -> Result<(), CliError> {
         let inside = |x: f64, y: f64| x <= (w - 1) as f64 && y <= (h - 1) as f64;
         let extent = format!("the {w}x{h} frames (X 0..{}, Y 0..{})", w - 1, h - 1);
         if let Some((x, y, bw, bh)) = self.target_box {
@@ -256,6 +261,53 @@ fn row_info(facts: &RowFacts, period: f64, first: usize) -> FrameInfo<'_> {
     FrameInfo { files: facts.files(), times: facts.times(), damaged: facts.damaged(), period, first }
 }
 
+/// A tracking run of `track`'s options: the input opened and checked against them, and the
+/// run they ask for. The CLI and the Python package's `track_video` both run it.
+pub struct TrackRun {
+    /// The frames.
+    pub input: Input,
+    /// The source's frames tracked.
+    pub range: Range<usize>,
+    /// The run.
+    pub cfg: SystemConfig,
+    /// The source's frame rate (`--fps`, or the video's), if known.
+    pub fps: Option<f64>,
+    /// The box the rows draw around each position.
+    pub shape: CsvBox,
+    facts: RowFacts,
+}
+
+impl TrackRun {
+    /// Opens `args`' input (`stop` is asked while a video is scanned) and checks the options
+    /// against it.
+    pub fn open(args: &TrackArgs, stop: &dyn Fn() -> bool) -> Result<TrackRun, CliError> {
+        let input = Input::open(&args.frames, args.allow_damaged, stop)?;
+        let range = args.frame_range(input.len())?;
+        args.check_against(input.size(), range.len())?;
+        let fps = args.fps.or(input.declared_fps());
+        let cfg = args.config(input.size(), fps);
+        let facts = RowFacts::of(&input);
+        Ok(TrackRun { input, range, cfg, fps, shape: args.csv_box(), facts })
+    }
+
+    /// Tracks the frames, handing each frame's record and its CSV row to `on_row` as the
+    /// frame ends; with `vcd`, `stop` and `progress`, as [`track_frames`].
+    pub fn track(
+        &mut self,
+        vcd: Option<(&OutFile, Option<Range<usize>>)>,
+        stop: &dyn Fn() -> bool,
+        progress: &mut dyn FnMut(usize),
+        on_row: &mut dyn FnMut(&system::FrameRecord, String),
+    ) -> Result<(RunLog, Option<Shared>), CliError> {
+        let TrackRun { input, range, cfg, shape, facts, .. } = self;
+        let mut all = input.frames()?;
+        let mut frames = from_to(&mut all, range.clone())?;
+        // The run's frame period, as the run computes it.
+        let info = row_info(facts, Clocks::for_frames(&frames, cfg.jitter).period() as f64 / cfg.pixel_clock_hz, range.start);
+        track_frames(&mut frames, cfg, vcd, stop, progress, &mut |r| on_row(r, csv::track_row(r, info, *shape)))
+    }
+}
+
 /// Tracks the frames, writes the outputs asked for and prints the report (on standard error
 /// when the CSV goes to standard output). Ctrl-C ends it with exit code 130, nothing written.
 pub fn track_folder(args: TrackArgs) -> Result<(), CliError> {
@@ -299,25 +351,16 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
     // With the CSV on standard output, the report goes to standard error.
     let to_stdout = out.as_ref().is_some_and(OutFile::is_stdout);
     let say = |line: String| if to_stdout { eprintln!("{line}") } else { println!("{line}") };
-    let mut input = Input::open(&args.frames, args.allow_damaged, &interrupt::requested)?;
-    if let Some(damage) = input.damage() {
+    let mut run = TrackRun::open(&args, &interrupt::requested)?;
+    if let Some(damage) = run.input.damage() {
         eprintln!("warning: {}: {damage}", args.frames.display());
     }
-    let range = args.frame_range(input.len())?;
-    args.check_against(input.size(), range.len())?;
-    let mut cfg = args.config();
-    let fps = args.fps.or(input.declared_fps());
-    if let Some(fps) = fps {
-        // The pixel clock that gives this frame rate with the camera's blanking.
-        let clocks = Clocks::camera_timing(input.size()).frame_clocks() as f64;
-        cfg.pixel_clock_hz = clocks * fps;
-    }
+    let range = run.range.clone();
     let started = std::time::Instant::now();
     let truth_path = args.frames.join("groundtruth.csv");
     let truth = if args.frames.is_dir() && truth_path.exists() { Some(groundtruth::read(&truth_path)?) } else { None };
     let truth = truth.map(|t| t.get(range.clone()).unwrap_or_default().to_vec());
-    let shape = args.csv_box();
-    let facts = RowFacts::of(&input);
+    let shape = run.shape;
     // The CSV is written a row as each frame ends (into a temporary file, put in place once
     // every output is written).
     let mut csv_out = match &out {
@@ -328,18 +371,11 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
         }
         None => None,
     };
-    let (log, vcd_stream) = {
-        let mut all = input.frames()?;
-        let mut frames = from_to(&mut all, range.clone())?;
-        // The run's frame period, as the run computes it.
-        let info = row_info(&facts, Clocks::for_frames(&frames, cfg.jitter).period() as f64 / cfg.pixel_clock_hz, range.start);
-        let mut on_record = |r: &system::FrameRecord| {
-            if let Some((_, stream, error @ None)) = &mut csv_out {
-                *error = writeln!(stream, "{}", csv::track_row(r, info, shape)).err();
-            }
-        };
-        track_frames(&mut frames, &cfg, vcd.as_ref().map(|(v, _)| (v, args.vcd_frames.clone())), &mut on_record)?
-    };
+    let (log, vcd_stream) = run.track(vcd.as_ref().map(|(v, _)| (v, args.vcd_frames.clone())), &interrupt::requested, &mut progress_line(range.len(), "tracking"), &mut |_, row| {
+        if let Some((_, stream, error @ None)) = &mut csv_out {
+            *error = writeln!(stream, "{row}").err();
+        }
+    })?;
     let summary = truth.as_ref().map(|t| metrics::summarise(&log, t));
     let tracking_secs = started.elapsed().as_secs_f64();
     // Every output is completed only once all are written: an interrupted or failed run
@@ -360,9 +396,9 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
     if let Some((kind, o)) = &overlay_out {
         let points = truth.as_ref().map(|t| metrics::true_points(&log, t));
         let painter = Painter::new(&log, points.as_deref(), shape.size).numbered_from(range.start);
-        let mut all = input.frames()?;
+        let mut all = run.input.frames()?;
         let mut frames = from_to(&mut all, range.clone())?;
-        let (stream, reduced) = kind.write(o.stream()?, &mut interrupt::Interruptible(&mut frames), painter, fps.unwrap_or(1.0 / log.frame_period))?;
+        let (stream, reduced) = kind.write(o.stream()?, &mut interrupt::Interruptible(&mut frames, &interrupt::requested), painter, run.fps.unwrap_or(1.0 / log.frame_period))?;
         let reduced = reduced.map(|r| format!(" ({r}, to bound the GIF's size; an .mp4 overlay keeps every frame at full size)")).unwrap_or_default();
         done.push((stream, Some(format!("wrote {}{reduced}", o.path.display()))));
     }
@@ -412,7 +448,7 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
     }
     if let Some(s) = summary {
         say(report::verdict(&s));
-        say(report::summary_table(&[(cfg.strategy.name(), s)]));
+        say(report::summary_table(&[(run.cfg.strategy.name(), s)]));
     }
     Ok(())
 }
@@ -475,14 +511,17 @@ pub fn progress_line(total: usize, label: &'static str) -> impl FnMut(usize) {
     }
 }
 
-/// Tracks `frames`, handing each frame's record to `on_record` as the frame ends; with `vcd`,
-/// every window unit is traced into it, for the frames in its range (all without), and its
-/// stream is returned for the caller to finish. A target on a flat template is refused
-/// before the run.
+/// Tracks `frames` until `stop` says to (the run then ends with `FrameError::Interrupted`),
+/// calling `progress(k)` at each frame's start and handing each frame's record to
+/// `on_record` as the frame ends; with `vcd`, every window unit is traced into it,
+/// for the frames in its range (all without), and its stream is returned for the caller to
+/// finish. A target on a flat template is refused before the run.
 pub fn track_frames(
     frames: &mut dyn FrameSource,
     cfg: &SystemConfig,
     vcd: Option<(&OutFile, Option<Range<usize>>)>,
+    stop: &dyn Fn() -> bool,
+    progress: &mut dyn FnMut(usize),
     on_record: &mut dyn FnMut(&system::FrameRecord),
 ) -> Result<(RunLog, Option<Shared>), CliError> {
     let (w, h) = frames.size();
@@ -514,6 +553,6 @@ pub fn track_frames(
         }
         None => None,
     };
-    let log = system::simulate_traced(cfg, &mut interrupt::Interruptible(frames), &mut progress_line(n, "tracking"), on_record, trace)?;
+    let log = system::simulate_traced(cfg, &mut interrupt::Interruptible(frames, stop), progress, on_record, trace)?;
     Ok((log, stream))
 }

@@ -77,9 +77,23 @@ pub fn export(args: VerilogArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// Writes `window_unit.v` (`netlist`'s) and `window_network.v` (with `units` units) for `g`
-/// into `out`, and with `axis` `window_unit_axis.v` (with `units` windows) and `axil_cdc.v`.
+/// Writes [`verilog_files`] into `out` and returns their paths.
 pub fn write_verilog(out: &Path, units: usize, g: &Geometry, netlist: Netlist, axis: bool) -> Result<Vec<PathBuf>, CliError> {
+    let files = verilog_files(units, g, netlist, axis)?;
+    super::output::create_folder(out, "--out")?;
+    let mut written = Vec::new();
+    for (name, text) in files {
+        let path = out.join(name);
+        OutFile::check(&path, "--out")?.write(text.as_bytes())?;
+        written.push(path);
+    }
+    Ok(written)
+}
+
+/// `window_unit.v` (`netlist`'s) and `window_network.v` (with `units` units) for `g`, and
+/// with `axis` `window_unit_axis.v` (with `units` windows) and `axil_cdc.v`: each file's name
+/// and text, in that order (the CLI and the Python package's `coopwin.verilog`).
+pub fn verilog_files(units: usize, g: &Geometry, netlist: Netlist, axis: bool) -> Result<Vec<(&'static str, String)>, CliError> {
     if units == 0 || units > 64 {
         return Err(CliError::arg(format!("--units must be 1..64, got {units}")));
     }
@@ -88,12 +102,5 @@ pub fn write_verilog(out: &Path, units: usize, g: &Geometry, netlist: Netlist, a
     }
     let files = coopwin_hdl::verilog::exported_netlist(netlist, units, g).map_err(|e| CliError::arg(e.to_string()))?;
     let wrapper = axis.then(|| axis_files(units, g)).into_iter().flatten();
-    super::output::create_folder(out, "--out")?;
-    let mut written = Vec::new();
-    for (name, text) in files.into_iter().chain(wrapper) {
-        let path = out.join(name);
-        OutFile::check(&path, "--out")?.write(text.as_bytes())?;
-        written.push(path);
-    }
-    Ok(written)
+    Ok(files.into_iter().chain(wrapper).collect())
 }

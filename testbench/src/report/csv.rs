@@ -58,7 +58,8 @@ pub fn write_track_csv(out: &mut dyn std::io::Write, frames: &[FrameRecord], inf
 /// (empty when the video gives the frame no timestamp) and `damaged` (1 for a frame the
 /// decoder reported damaged); the `state` (`tracking`, `unconfirmed`, `predicted`, `searching`, `lost`);
 /// and where an adapting track measured it, the object's `scale` against lock-on and its
-/// turn `angle_deg` (clockwise on the screen), the box then scaled with it.
+/// turn `angle_deg` (clockwise on the screen); the box is scaled with the last scale measured
+/// since lock-on (`FrameRecord::box_shape`), also on rows that measure none.
 /// Without a measured position the row gives the estimate (a coasting track's prediction, or
 /// the last position while the target is searched for or lost) with `ok` 0; fields with
 /// neither are empty.
@@ -69,8 +70,8 @@ pub fn track_row(r: &FrameRecord, info: FrameInfo, shape: CsvBox) -> String {
     let frame = r.frame + info.first;
     let file = info.files.and_then(|f| f.get(frame)).map(|n| csv_field(n)).unwrap_or_default();
     let measured = r.point.and(r.shape);
-    // The box's side as the object's measured scale makes it (3 decimals), or as given.
-    let side = |n: usize| match measured {
+    // The box's side as the object's last measured scale makes it (3 decimals), or as given.
+    let side = |n: usize| match r.box_shape {
         Some(s) => (n as f64 * f64::from(s.scale), format!("{:.3}", n as f64 * f64::from(s.scale))),
         None => (n as f64, n.to_string()),
     };

@@ -19,7 +19,9 @@ use coopwin_firmware::kernels::view::WindowView;
 
 /// Runs `cfg` over `source`, its windows from `units`, calling `progress(frame)` at each
 /// frame start and `on_record` with each frame's record as the frame ends (the next frame's
-/// FVAL rising, or the end of the run), so a caller can write it out as the run goes.
+/// FVAL rising, or the end of the run), so a caller can write it out as the run goes. A
+/// source of [`Clocks::OPEN_ENDED`] frames runs until it fails to give a frame: frame `k`'s
+/// record comes before frame `k + 1`'s pixels are asked for.
 pub fn simulate_with(
     cfg: &SystemConfig,
     source: &mut dyn FrameSource,
@@ -70,8 +72,8 @@ pub fn simulate_with(
         let step = run.roster.start(p, target);
         run.wiring.apply(p, step, 0)?;
     }
-    for k in 0..n {
-        run.wiring.queue.push(clocks.frame_start(k), Event::FrameStart(k));
+    if n > 0 {
+        run.wiring.queue.push_frame_start(clocks.frame_start(0), 0);
     }
     loop {
         let until = run.wiring.queue.peek().unwrap_or(u64::MAX);
@@ -81,7 +83,12 @@ pub fn simulate_with(
         }
         let Some((c, event)) = run.wiring.queue.pop() else { break };
         match event {
-            Event::FrameStart(k) => run.on_frame_start(k, c, progress, on_record),
+            Event::FrameStart(k) => {
+                if k + 1 < n {
+                    run.wiring.queue.push_frame_start(clocks.frame_start(k + 1), k + 1);
+                }
+                run.on_frame_start(k, c, progress, on_record)
+            }
             Event::MessageArrives { to, from } => run.on_message(to, from, c)?,
         }
     }

@@ -25,6 +25,9 @@ pub struct FrameRecord {
     pub score: Option<f32>,
     /// The object's turn and scale behind `point`, when an adapting track measured them.
     pub shape: Option<Shape>,
+    /// The object's last turn and scale measured since lock-on, kept through frames that
+    /// measure none: the size of the box drawn around the position.
+    pub box_shape: Option<Shape>,
     /// What the track is doing at the end of the frame period.
     pub state: TrackState,
     /// Without a current `point`: where the target is expected (a coasting track's prediction)
@@ -157,12 +160,14 @@ pub(super) struct Recorder {
     /// The last position reported, kept through a loss, or where the Peripheral last found
     /// the target for the Foveal window.
     last_seen: Option<Point>,
+    /// The last shape reported since lock-on.
+    last_shape: Option<Shape>,
 }
 
 impl Recorder {
     /// An empty log.
     pub(super) fn new(log: RunLog) -> Self {
-        Recorder { log, robot: FramedPositionSink::new(VecDeque::new()), last: None, last_seen: None }
+        Recorder { log, robot: FramedPositionSink::new(VecDeque::new()), last: None, last_seen: None, last_shape: None }
     }
 
     /// What a step finished at `t` seconds tells the outside: its position report, measured
@@ -171,6 +176,11 @@ impl Recorder {
     pub(super) fn publish(&mut self, step: &Step, t: f64, frame: usize) -> Result<(), SimError> {
         let template_cut = step.sends.iter().any(|(_, m)| matches!(m, Msg::Template(_)));
         if let Some(Msg::Motion { xmin, xmax, ymin, ymax }) = step.sends.iter().map(|(_, m)| m).find(|m| matches!(m, Msg::Motion { .. })) {
+            if template_cut {
+                // A lock-on (motion and a template cut there): shapes are measured against
+                // this look from now on.
+                self.last_shape = None;
+            }
             if template_cut && self.log.locked_on.is_none() {
                 let centre = |a: u16, b: u16| f64::from(f32::from(a + b) / 2.0);
                 self.log.locked_on = Some((frame, (centre(*xmin, *xmax), centre(*ymin, *ymax))));
@@ -185,6 +195,7 @@ impl Recorder {
             self.log.reports.push(r);
             self.last = Some(r);
             self.last_seen = Some(point);
+            self.last_shape = r.shape.or(self.last_shape);
         }
         if step.lost.is_some() {
             self.log.losses.push(t);
@@ -226,6 +237,7 @@ impl Recorder {
             source: tracked.map(|r| r.algo),
             score: tracked.and_then(|r| r.score),
             shape: tracked.and_then(|r| r.shape),
+            box_shape: self.last_shape,
             state,
             estimate: estimate.map(xy),
         });

@@ -11,11 +11,13 @@ use coopwin_hdl::sim::camera::{CameraBus, FrameRaster, Jitter, RasterTiming};
 pub struct Clocks {
     /// The camera's nominal raster.
     pub timing: RasterTiming,
-    /// Frames in the run.
+    /// Frames in the run ([`Clocks::OPEN_ENDED`] for frames handed in one at a time, with no
+    /// end known).
     pub frames: usize,
-    /// Each frame's raster.
+    /// Each frame's jittered raster; without jitter none is kept, every frame's being the
+    /// nominal one (so a run with no end known needs no memory per frame).
     rasters: Vec<FrameRaster>,
-    /// Clock on which each frame's FVAL rises, and the end of the last frame.
+    /// Clock on which each of `rasters`' frames' FVAL rises, and the end of the last one.
     starts: Vec<u64>,
 }
 
@@ -31,9 +33,15 @@ impl Clocks {
         RasterTiming { width, height, h_blank: 16, v_blank_lines: 2 }
     }
 
-    /// `frames` frames of `timing`, with `jitter`'s extra blanking if any.
+    /// The frame count of a run whose frames are handed in one at a time (the Python
+    /// package's trackers): it goes on until its source stops.
+    pub const OPEN_ENDED: usize = usize::MAX;
+
+    /// `frames` frames of `timing`, with `jitter`'s extra blanking if any (an open-ended run
+    /// takes none: its rasters are nominal).
     pub fn new(timing: RasterTiming, frames: usize, jitter: Option<Jitter>) -> Self {
-        let rasters: Vec<FrameRaster> = (0..frames).map(|k| FrameRaster::new(timing, jitter, k)).collect();
+        let jittered = if frames == Self::OPEN_ENDED { 0 } else { jitter.map_or(0, |_| frames) };
+        let rasters: Vec<FrameRaster> = (0..jittered).map(|k| FrameRaster::new(timing, jitter, k)).collect();
         let blank = (timing.v_blank_lines * timing.line_clocks()) as u64;
         let starts = std::iter::once(blank)
             .chain(rasters.iter().scan(blank, |c, r| {
@@ -45,7 +53,7 @@ impl Clocks {
     }
     /// Clocks a frame period (the mean, with jitter).
     pub fn period(&self) -> u64 {
-        match self.frames {
+        match self.rasters.len() {
             0 => self.timing.frame_clocks() as u64,
             n => (self.starts[n] - self.starts[0]) / n as u64,
         }
@@ -54,26 +62,40 @@ impl Clocks {
     pub fn blank(&self) -> u64 {
         self.starts[0]
     }
-    /// Clock on which frame k's FVAL rises (for k past the run, as if it went on unjittered).
+    /// The first frame with the nominal raster, and the clock its FVAL rises on.
+    fn nominal_from(&self) -> (usize, u64) {
+        let known = self.rasters.len();
+        (known, self.starts[known])
+    }
+    /// Frame `k`'s raster, if `k` is a frame of the run.
+    fn raster(&self, k: usize) -> Option<std::borrow::Cow<'_, FrameRaster>> {
+        match self.rasters.get(k) {
+            Some(r) => Some(std::borrow::Cow::Borrowed(r)),
+            None => (k < self.frames).then(|| std::borrow::Cow::Owned(FrameRaster::new(self.timing, None, k))),
+        }
+    }
+    /// Clock on which frame k's FVAL rises (past the jittered rasters, as if the run went on
+    /// unjittered).
     pub fn frame_start(&self, k: usize) -> u64 {
+        let (known, end) = self.nominal_from();
         match self.starts.get(k) {
             Some(&c) => c,
-            None => self.starts[self.frames] + (k - self.frames) as u64 * self.timing.frame_clocks() as u64,
+            None => end.saturating_add(((k - known) as u64).saturating_mul(self.timing.frame_clocks() as u64)),
         }
     }
     /// The frame whose period holds clock `c` (0 before frame 0).
     pub fn frame_at(&self, c: u64) -> usize {
-        let end = self.starts[self.frames];
+        let (known, end) = self.nominal_from();
         if c >= end {
-            return self.frames + ((c - end) / self.timing.frame_clocks() as u64) as usize;
+            return known + ((c - end) / self.timing.frame_clocks() as u64) as usize;
         }
         self.starts.partition_point(|&s| s <= c).saturating_sub(1)
     }
     /// The first frame whose FVAL rises on or after clock `c`.
     pub fn first_frame_from(&self, c: u64) -> usize {
-        let end = self.starts[self.frames];
+        let (known, end) = self.nominal_from();
         if c > end {
-            return self.frames + (c - end).div_ceil(self.timing.frame_clocks() as u64) as usize;
+            return known + (c - end).div_ceil(self.timing.frame_clocks() as u64) as usize;
         }
         self.starts.partition_point(|&s| s < c)
     }
@@ -97,7 +119,7 @@ impl Clocks {
             return (self.timing.bus_at((p - b + c) as usize, |_, _| 0u8), None);
         }
         let Some((k, pixels)) = frame else { return (CameraBus::default(), None) };
-        let Some(raster) = self.rasters.get(k) else { return (CameraBus::default(), None) };
+        let Some(raster) = self.raster(k) else { return (CameraBus::default(), None) };
         let w = self.timing.width;
         let r = (c - self.frame_start(k)) as usize;
         (raster.bus_at(r, |x, y| pixels.get(y * w + x).copied().unwrap_or(0)), Some(k))
@@ -108,7 +130,7 @@ impl Clocks {
         let x = usize::from(req.x0) + w as usize - 1;
         let y = usize::from(req.y0) + h as usize - 1;
         // The unit strobes a pixel one clock after it is on the bus.
-        self.rasters.get(k).map_or(0, |r| r.pixel_clock(x, y)) as u64 + 1
+        self.raster(k).map_or(0, |r| r.pixel_clock(x, y)) as u64 + 1
     }
 }
 

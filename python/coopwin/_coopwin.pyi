@@ -1,0 +1,29 @@
+"""Type stubs of coopwin's Rust extension (the CLI's options in, its CSV rows out)."""
+from typing import Iterator, List, Tuple
+
+import numpy as np
+import numpy.typing as npt
+
+#: ``coopwin track``'s CSV header.
+TRACK_HEADER: str
+
+class FrameRun:
+    """A run fed one frame at a time (behind :class:`coopwin.Tracker`)."""
+
+    #: The first frame's CSV row.
+    first_row: str
+
+    def __init__(self, frame: npt.NDArray[np.uint8], options: List[str]) -> None:
+        """A run from ``frame`` with ``coopwin track``'s options (``["--target-box=10,20,30,40"]``)."""
+    def push(self, frame: npt.NDArray[np.uint8]) -> str:
+        """Tracks the next frame and returns its CSV row."""
+
+class VideoRows(Iterator[str]):
+    """``coopwin track --frames path``'s CSV rows, streamed (behind :func:`coopwin.track_video`)."""
+
+    def __init__(self, path: str, options: List[str]) -> None: ...
+    def __iter__(self) -> "VideoRows": ...
+    def __next__(self) -> str: ...
+
+def verilog(options: List[str]) -> List[Tuple[str, str]]:
+    """``coopwin verilog``'s files for its options: (file name, Verilog text) pairs."""
