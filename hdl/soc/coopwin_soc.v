@@ -27,6 +27,8 @@
 //   0x14 R  cycle of the last window's done (its last pixel's clock + 1)
 //   0x18 R  frame counter now
 //   0x1C R  cycles the capture DMA held the pixel RAM's write port (pixels written, total)
+//   0x20 R  cycles the instruction bus was busy (CYC & STB: a cache refill in progress)
+//   0x24 R  cycles the data bus was busy (CYC & STB: a refill, a write-through, an I/O access)
 //
 // Capture DMA: every pixel the unit strobes is written into the pixel RAM at the next address
 // on the same clock; the address restarts when a set is accepted. The camera cannot wait, so
@@ -104,10 +106,15 @@ module coopwin_soc #(
         exit_code = 8'd0;
         if ($value$plusargs("firmware=%s", image)) $readmemh(image, ram);
     end
-    wire i_req = i_cyc & i_stb & ~i_ack;
+    // Instruction bus: a cache line's refill is an incrementing burst (CTI 010, the last beat
+    // 111), one beat a clock: while a beat is acknowledged and more follow, the next word is
+    // read ahead (the CPU moves to the next address as it takes the beat).
+    wire i_more = i_ack & (i_cti == 3'b010);
+    wire i_req = i_cyc & i_stb & (~i_ack | i_more);
+    wire [RAM_AW-1:0] i_word = i_adr[RAM_AW-1:0] + {{(RAM_AW-1){1'b0}}, i_more};
     always @(posedge clk) begin
         i_ack <= i_req;
-        if (i_req) i_dat_r <= ram[i_adr[RAM_AW-1:0]];
+        if (i_req) i_dat_r <= ram[i_word];
     end
 
     // Data bus: one access a time, acknowledged the clock after it is seen.
@@ -136,6 +143,7 @@ module coopwin_soc #(
     reg         error_was = 1'b0;
     reg         done_flag = 1'b0, refused_flag = 1'b0, accepted_flag = 1'b0;
     reg  [31:0] cycle = 32'd0, done_cycle = 32'd0, dma_cycles = 32'd0;
+    reg  [31:0] i_busy = 32'd0, d_busy = 32'd0;
     reg  [31:0] frames = 32'd0, done_frame = 32'd0;
     reg         fval_was = 1'b0;
     reg  [PIX_AW+1:0] pix_addr = 0, pix_count = 0;
@@ -144,6 +152,8 @@ module coopwin_soc #(
 
     always @(posedge clk) begin
         cycle <= cycle + 32'd1;
+        if (i_cyc & i_stb) i_busy <= i_busy + 32'd1;
+        if (d_cyc & d_stb) d_busy <= d_busy + 32'd1;
         fval_was <= fval;
         if (fval & ~fval_was) frames <= frames + 32'd1;
         error_was <= coord_error;
@@ -196,22 +206,25 @@ module coopwin_soc #(
                                  d_sel[2] ? d_dat_w[23:16] : d_dat_w[31:24];
                 end
             end else if (d_win) begin
-                case (d_adr[2:0])
-                    3'd0: d_dat_r <= {15'd0, coord_decimate, coord_data, 7'd0, coord_strobe};
-                    3'd1: d_dat_r <= {26'd0, accepted_flag, refused_flag, done_flag, armed, coord_error, coord_ready};
-                    3'd2: d_dat_r <= {{(30-PIX_AW){1'b0}}, pix_count};
-                    3'd3: d_dat_r <= done_frame;
-                    3'd4: d_dat_r <= cycle;
-                    3'd5: d_dat_r <= done_cycle;
-                    3'd6: d_dat_r <= frames;
-                    default: d_dat_r <= dma_cycles;
+                case (d_adr[3:0])
+                    4'd0: d_dat_r <= {15'd0, coord_decimate, coord_data, 7'd0, coord_strobe};
+                    4'd1: d_dat_r <= {26'd0, accepted_flag, refused_flag, done_flag, armed, coord_error, coord_ready};
+                    4'd2: d_dat_r <= {{(30-PIX_AW){1'b0}}, pix_count};
+                    4'd3: d_dat_r <= done_frame;
+                    4'd4: d_dat_r <= cycle;
+                    4'd5: d_dat_r <= done_cycle;
+                    4'd6: d_dat_r <= frames;
+                    4'd7: d_dat_r <= dma_cycles;
+                    4'd8: d_dat_r <= i_busy;
+                    4'd9: d_dat_r <= d_busy;
+                    default: d_dat_r <= 32'd0;
                 endcase
-                if (d_we && d_adr[2:0] == 3'd0) begin
+                if (d_we && d_adr[3:0] == 4'd0) begin
                     coord_strobe <= d_dat_w[0];
                     coord_data <= d_dat_w[15:8];
                     coord_decimate <= d_dat_w[16];
                 end
-                if (d_we && d_adr[2:0] == 3'd1) begin
+                if (d_we && d_adr[3:0] == 4'd1) begin
                     // Clears win over a new event on the same clock only for the bit written;
                     // the firmware clears before it starts the next set.
                     if (d_dat_w[3]) done_flag <= 1'b0;
@@ -230,11 +243,14 @@ module coopwin_soc #(
             frames <= 32'd0;
             cycle <= 32'd0;
             dma_cycles <= 32'd0;
+            i_busy <= 32'd0;
+            d_busy <= 32'd0;
             pix_addr <= 0;
         end
     end
 
-    // Unused by this SoC: the buses' burst hints (single beats are acknowledged one by one).
-    wire unused = &{1'b0, i_we, i_dat_w, i_sel, i_cti, i_bte, d_cti, d_bte, i_adr[29:RAM_AW]};
+    // Unused by this SoC: the instruction bus only reads; the data bus's beats are taken one
+    // by one (two clocks a beat), whatever its burst hints.
+    wire unused = &{1'b0, i_we, i_dat_w, i_sel, i_bte, d_cti, d_bte, i_adr[29:RAM_AW]};
 endmodule
 `default_nettype wire

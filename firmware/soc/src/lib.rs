@@ -71,9 +71,17 @@ impl Tracker {
                 let mut fov = Processor::sized(FovealKind::Ncc, self.params);
                 fov.set_template(tpl);
                 fov.start_at_into(self.target, &mut self.step);
+                // The lock-on window is the first Foveal window (a Foveal window on the target,
+                // as `start_at` asks): measured at once, as `coopwin track` measures the first
+                // frame.
+                let first = self.step.request == Some(self.lock_on_window());
+                if first {
+                    fov.on_window_into(win, f64::from(t_us) * 1e-6, &mut self.step);
+                }
                 self.fov = Some(fov);
-                let update = PositionUpdate { t_us, x: self.target.x, y: self.target.y, source: Source::Ncc };
-                Ok((Some(update), self.step.request))
+                let at = if first { self.step.report } else { Some((self.target, Source::Ncc)) };
+                let update = at.map(|(p, source)| PositionUpdate { t_us, x: p.x, y: p.y, source });
+                Ok((update, self.step.request))
             }
             Some(fov) => {
                 fov.on_window_into(win, f64::from(t_us) * 1e-6, &mut self.step);

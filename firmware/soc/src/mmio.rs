@@ -79,6 +79,19 @@ pub fn dma_cycles() -> u32 {
     reg(0x1C)
 }
 
+/// Clocks the instruction bus and the data bus were busy since reset.
+pub fn bus_busy() -> (u32, u32) {
+    (reg(0x20), reg(0x24))
+}
+
+/// Instructions retired since reset (the CPU's `minstret`, low word).
+pub fn instret() -> u32 {
+    let n: u32;
+    // SAFETY: reads a counter CSR (VexRiscv's CsrPlugin with every CSR), no side effect.
+    unsafe { core::arch::asm!("csrr {0}, minstret", out(reg) n, options(nomem, nostack)) };
+    n
+}
+
 /// The last window's pixels (the DMA's RAM, read as bytes through the uncached I/O region).
 pub fn pixels(n: usize) -> &'static [u8] {
     // SAFETY: the pixel RAM is PIXEL_BYTES of readable I/O memory; the DMA writes it only

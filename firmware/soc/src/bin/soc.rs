@@ -132,6 +132,7 @@ extern "C" fn soc_main() -> ! {
         let set_taken = mmio::cycle();
         while mmio::status() & status::DONE == 0 {}
         let (done, frame) = (mmio::done_cycle(), mmio::done_frame().saturating_sub(1));
+        let (insn0, bus0) = (mmio::instret(), mmio::bus_busy());
         let (w, h) = req.delivered_size();
         let n = mmio::pixel_count();
         if n != w * h || req.decimation != Decimation::Full {
@@ -147,6 +148,7 @@ extern "C" fn soc_main() -> ! {
             Err(e) => fail(&mut con, "lock-on", e),
         };
         let computed = mmio::cycle();
+        let (insn1, bus1) = (mmio::instret(), mmio::bus_busy());
         if let Some(u) = update {
             if let Err(e) = sink.emit(&u) {
                 fail(&mut con, "position update", e);
@@ -155,11 +157,14 @@ extern "C" fn soc_main() -> ! {
         let sent = mmio::cycle();
         let _ = writeln!(
             con,
-            "window n={windows} frame={frame} x0={} y0={} pixels={n} set_cycles={} done={done} compute_cycles={} latency_cycles={} since_last_done={} dma_total={}",
+            "window n={windows} frame={frame} x0={} y0={} pixels={n} set_cycles={} done={done} compute_cycles={} compute_insns={} ibus_busy={} dbus_busy={} latency_cycles={} since_last_done={} dma_total={}",
             req.x0,
             req.y0,
             set_taken.wrapping_sub(set_written),
             computed.wrapping_sub(done),
+            insn1.wrapping_sub(insn0),
+            bus1.0.wrapping_sub(bus0.0),
+            bus1.1.wrapping_sub(bus0.1),
             sent.wrapping_sub(done),
             last_done.map_or(0, |l| done.wrapping_sub(l)),
             mmio::dma_cycles()
