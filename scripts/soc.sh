@@ -5,13 +5,15 @@
 # (hdl/soc/coopwin_soc.v), in Verilator, the camera fed from a built-in scene's frames. It
 # fails unless the firmware exits cleanly, the hostile coordinate sets are refused, and the
 # UART's position updates equal, byte for byte, those the same tracker sends on the host from
-# windows a model of the unit cuts from the same frames (firmware/soc's `soc-replay`).
+# windows a model of the unit cuts from the same frames (firmware/soc's `soc-replay`), and,
+# where the SoC measures every frame, `coopwin track`'s rows (frame, x, y).
 #
 #   scripts/soc.sh                 21 frames of the default scene (triangle path, 256x256)
 #   scripts/soc.sh --frames N      N frames (N >= 2)
 #
-# Outputs in target/soc/: sim.log (every UART byte with its clock, the firmware's `window`
-# lines), uart.bin, report.txt (the measured cycles).
+# Outputs in target/soc/: realtime/ and everyframe/ (sim.log: every UART byte with its clock
+# and the firmware's lines; firmware.log: those lines; uart.bin), track.csv (the host's rows),
+# report.md (the measured cycles, scripts/soc_report.py).
 # Needs: apt-get install verilator gcc-riscv64-unknown-elf rustc-web cargo-web rust-web-src;
 # pip install pythondata-cpu-vexriscv opencv-contrib-python-headless.
 set -euo pipefail
@@ -74,15 +76,30 @@ echo "soc.sh: Verilator model" >&2
   "$vex" "$root/hdl/verilog/window_unit.v" "$root/hdl/soc/coopwin_soc.v" "$root/hdl/soc/tb/sim_main.cpp" \
   -o Vcoopwin_soc >verilator.log 2>&1) || { tail -20 "$out/verilator.log" >&2; exit 1; }
 
-echo "soc.sh: co-simulation" >&2
-status=0
-(cd "$out" && nice -n 10 obj/Vcoopwin_soc +firmware="$out/fw.hex" --frames "$out/raw" --count "$frames" \
-  --uart "$out/uart.bin" --log "$out/sim.log") || status=$?
-grep -v '^uart ' "$out/sim.log" >&2
-[ "$status" = 0 ] || { echo "soc.sh: the SoC's firmware ended with status $status" >&2; exit 1; }
-grep -q 'hostile over_edge_refused_by_driver=true reversed_refused_by_unit=true' "$out/sim.log" ||
-  { echo "soc.sh: the hostile sets were not refused" >&2; exit 1; }
+# Two runs of the same model and image. "realtime": a 100 MHz clock and the thesis's camera
+# (256x256 at 114 frames/s: a pixel every 12 clocks, 874,632 clocks a frame); the firmware
+# takes longer than a frame, so it measures every 2nd frame or so. "everyframe": the camera
+# slowed (a pixel every 48 clocks, 3,745,928 clocks a frame: 26.7 frames/s at 100 MHz) until
+# the firmware measures every frame; its updates must equal `coopwin track`'s rows.
+simulate() { # name every vblank
+  local dir="$out/$1" status=0
+  mkdir -p "$dir"
+  echo "soc.sh: co-simulation, $1 (a pixel every $2 clocks)" >&2
+  (cd "$dir" && nice -n 10 "$out/obj/Vcoopwin_soc" +firmware="$out/fw.hex" --frames "$out/raw" --count "$frames" \
+    --every "$2" --vblank "$3" --uart "$dir/uart.bin" --log "$dir/sim.log") || status=$?
+  grep -v '^uart ' "$dir/sim.log" >"$dir/firmware.log"
+  [ "$status" = 0 ] || { cat "$dir/firmware.log" >&2; echo "soc.sh: $1: the SoC's firmware ended with status $status" >&2; exit 1; }
+  grep -q 'hostile over_edge_refused_by_driver=true reversed_refused_by_unit=true' "$dir/sim.log" ||
+    { echo "soc.sh: $1: the hostile sets were not refused" >&2; exit 1; }
+}
+simulate realtime 12 80000
+simulate everyframe 48 600000
 
-echo "soc.sh: host reference" >&2
+echo "soc.sh: host references" >&2
 (cd "$root/firmware/soc" && CARGO_TARGET_DIR="$out/host" nice -n 10 cargo build --release --locked -q --features host --bin soc-replay)
-"$out/host/release/soc-replay" --frames "$out/raw" --log "$out/sim.log" --uart "$out/uart.bin" --target "$target"
+"$root/target/release/coopwin" track --frames "$out/scene" --strategy tpdf --target "$target" --fixed-template \
+  --out "$out/track.csv" >"$out/track.txt"
+"$out/host/release/soc-replay" --frames "$out/raw" --log "$out/realtime/sim.log" --uart "$out/realtime/uart.bin" --target "$target"
+"$out/host/release/soc-replay" --frames "$out/raw" --log "$out/everyframe/sim.log" --uart "$out/everyframe/uart.bin" \
+  --target "$target" --track "$out/track.csv"
+python3 "$root/scripts/soc_report.py" "$out" | tee "$out/report.md"

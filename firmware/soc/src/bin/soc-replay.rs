@@ -3,12 +3,16 @@
 //! (the rows and columns of the request, full resolution), on the frames the SoC's unit
 //! delivered each window from (the simulation log's `window ... frame=K` lines), and compares
 //! the position updates it would send with the bytes the SoC's UART sent, byte for byte.
+//! With `--track CSV` (`coopwin track --strategy tpdf --target X,Y --fixed-template`'s rows,
+//! the testbench's whole system on the behavioural units), it also requires an update for
+//! every frame of the CSV, each equal to the row's x, y as the CSV prints them (3 decimals).
 //!
-//!   soc-replay --frames DIR --log sim.log --uart uart.bin --target X,Y
+//!   soc-replay --frames DIR --log sim.log --uart uart.bin --target X,Y [--track CSV]
 use coopwin_firmware::kernels::view::WindowView;
-use coopwin_firmware::ports::position::{FramedPositionSink, PositionSink};
+use coopwin_firmware::ports::frame::FrameDecoder;
+use coopwin_firmware::ports::position::{FramedPositionSink, PositionSink, PositionUpdate};
 use coopwin_firmware::types::Point;
-use coopwin_soc::Tracker;
+use coopwin_soc::{us_frame, Tracker};
 use std::process::ExitCode;
 
 const SIDE: usize = 256;
@@ -65,7 +69,39 @@ fn run() -> Result<String, String> {
         let at = got.iter().zip(&want).position(|(a, b)| a != b).unwrap_or(got.len().min(want.len()));
         return Err(format!("UART differs from the host at byte {at} (SoC {} bytes, host {} bytes)", got.len(), want.len()));
     }
-    Ok(format!("soc-replay: {windows} windows, {} UART bytes equal to the host's", got.len()))
+    let mut said = format!("soc-replay: {windows} windows, {} UART bytes equal to the host's", got.len());
+    if let Some(csv) = args.iter().position(|a| a == "--track").and_then(|i| args.get(i + 1)) {
+        said += &format!("\nsoc-replay: {}", against_track(&got, csv)?);
+    }
+    Ok(said)
+}
+
+/// The UART's updates against `coopwin track`'s rows: one a frame, x and y as printed.
+fn against_track(uart: &[u8], csv: &str) -> Result<String, String> {
+    let text = std::fs::read_to_string(csv).map_err(|e| format!("{csv}: {e}"))?;
+    let mut lines = text.lines();
+    let head: Vec<&str> = lines.next().ok_or(format!("{csv} is empty"))?.split(',').collect();
+    let col = |name: &str| head.iter().position(|h| *h == name).ok_or(format!("{csv} has no {name} column"));
+    let (fc, xc, yc) = (col("frame")?, col("x")?, col("y")?);
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let mut dec = FrameDecoder::new();
+    let updates: Vec<PositionUpdate> = uart
+        .iter()
+        .filter_map(|&b| dec.feed(b))
+        .map(|f| f.map_err(|e| format!("UART frame: {e:?}")).and_then(|p| PositionUpdate::decode(&p).map_err(|e| format!("UART update: {e:?}"))))
+        .collect::<Result<_, _>>()?;
+    if updates.len() != rows.len() {
+        return Err(format!("{} UART updates for the CSV's {} frames: the SoC did not measure every frame", updates.len(), rows.len()));
+    }
+    for (u, row) in updates.iter().zip(&rows) {
+        let cell = |c: usize| row.get(c).copied().unwrap_or("");
+        let frame = us_frame(u.t_us).to_string();
+        let (x, y) = (format!("{:.3}", u.x), format!("{:.3}", u.y));
+        if (frame.as_str(), x.as_str(), y.as_str()) != (cell(fc), cell(xc), cell(yc)) {
+            return Err(format!("frame {frame}: the SoC sent ({x}, {y}), track's row {} says ({}, {})", cell(fc), cell(xc), cell(yc)));
+        }
+    }
+    Ok(format!("{} updates equal to {csv}'s rows (frame, x, y)", updates.len()))
 }
 
 fn main() -> ExitCode {
