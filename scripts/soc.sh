@@ -10,12 +10,14 @@
 #
 #   scripts/soc.sh                 21 frames of the default scene (triangle path, 256x256)
 #   scripts/soc.sh --frames N      N frames (N >= 2)
+#   COOPWIN=path/to/coopwin scripts/soc.sh   use that build of the CLI (scene, track) instead
+#                                  of building target/release/coopwin
 #
 # Outputs in target/soc/: realtime/ and everyframe/ (sim.log: every UART byte with its clock
 # and the firmware's lines; firmware.log: those lines; uart.bin), track.csv (the host's rows),
 # report.md (the measured cycles, scripts/soc_report.py).
 # Needs: apt-get install verilator gcc-riscv64-unknown-elf rustc-web cargo-web rust-web-src;
-# pip install pythondata-cpu-vexriscv opencv-contrib-python-headless.
+# pip install pythondata-cpu-vexriscv (the versions .ci/run pins).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 frames=21
@@ -24,7 +26,7 @@ case "${1:-}" in
   "") ;;
   *) echo "usage: $0 [--frames N]" >&2; exit 2 ;;
 esac
-for tool in verilator riscv64-unknown-elf-objcopy /usr/bin/rustc /usr/bin/cargo cargo python3; do
+for tool in verilator riscv64-unknown-elf-objcopy riscv64-unknown-elf-ld /usr/bin/rustc /usr/bin/cargo cargo python3; do
   command -v "$tool" >/dev/null || { echo "soc.sh: $tool is missing (see the header of $0)" >&2; exit 2; }
 done
 vex="$(python3 -c 'import pythondata_cpu_vexriscv as p; print(p.data_location)' 2>/dev/null)/VexRiscv_IMAC.v" ||
@@ -34,24 +36,14 @@ out="$root/target/soc"
 mkdir -p "$out"
 
 echo "soc.sh: scene ($frames frames)" >&2
-(cd "$root" && nice -n 10 cargo build --release --locked -q --bin coopwin)
-rm -rf "$out/scene"
-"$root/target/release/coopwin" scene --frames "$frames" --out "$out/scene" >/dev/null
-rm -rf "$out/raw" && mkdir -p "$out/raw"
-# The frames as raw 8-bit rows for the testbench's camera; the target: the ground truth's first
-# centre, rounded to whole pixels.
-target="$(python3 - "$out/scene" "$out/raw" "$frames" <<'PY'
-import csv, sys, cv2
-scene, raw, n = sys.argv[1], sys.argv[2], int(sys.argv[3])
-for k in range(n):
-    im = cv2.imread(f"{scene}/frame_{k:05d}.png", cv2.IMREAD_GRAYSCALE)
-    if im is None or im.shape != (256, 256):
-        sys.exit(f"soc.sh: {scene}/frame_{k:05d}.png is not a 256x256 frame")
-    open(f"{raw}/frame{k:04d}.raw", "wb").write(im.tobytes())
-row = next(csv.DictReader(open(f"{scene}/groundtruth.csv")))
-print(f"{round(float(row['centre_x']))},{round(float(row['centre_y']))}")
-PY
-)"
+if [ -z "${COOPWIN:-}" ]; then
+  (cd "$root" && nice -n 10 cargo build --release --locked -q --bin coopwin)
+  COOPWIN="$root/target/release/coopwin"
+fi
+rm -rf "$out/scene" "$out/raw"
+mkdir -p "$out/raw"
+"$COOPWIN" scene --frames "$frames" --out "$out/scene" >/dev/null
+target="$(python3 "$root/scripts/soc_frames.py" "$out/scene" "$out/raw" "$frames")"
 
 echo "soc.sh: firmware (riscv32imac, target $target)" >&2
 fw="$out/fw"
@@ -97,7 +89,7 @@ simulate everyframe 48 600000
 
 echo "soc.sh: host references" >&2
 (cd "$root/firmware/soc" && CARGO_TARGET_DIR="$out/host" nice -n 10 cargo build --release --locked -q --features host --bin soc-replay)
-"$root/target/release/coopwin" track --frames "$out/scene" --strategy tpdf --target "$target" --fixed-template \
+"$COOPWIN" track --frames "$out/scene" --strategy tpdf --target "$target" --fixed-template \
   --out "$out/track.csv" >"$out/track.txt"
 "$out/host/release/soc-replay" --frames "$out/raw" --log "$out/realtime/sim.log" --uart "$out/realtime/uart.bin" --target "$target"
 "$out/host/release/soc-replay" --frames "$out/raw" --log "$out/everyframe/sim.log" --uart "$out/everyframe/uart.bin" \

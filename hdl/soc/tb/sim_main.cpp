@@ -5,15 +5,12 @@
 // pixel every PIXEL_EVERY clocks, HBLANK clocks low between lines.
 //
 //   Vcoopwin_soc +firmware=fw.hex --frames DIR --count N --uart out.bin --log sim.log
-//                [--every 12] [--vblank 80000] [--max-cycles C] [--vcd units.vcd]
+//                [--every 12] [--vblank 80000] [--max-cycles C]
 //
 // The defaults make a frame period of 874,632 clocks: 8.75 ms at a 100 MHz clock, the
 // thesis's 114 frames/s camera (2.6).
 #include "Vcoopwin_soc.h"
 #include "verilated.h"
-#if VM_TRACE
-#include "verilated_vcd_c.h"
-#endif
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -35,10 +32,11 @@ static bool load_frame(const std::string& dir, int k, std::vector<unsigned char>
 
 int main(int argc, char** argv) {
     Verilated::commandArgs(argc, argv);
-    std::string dir, uart_path = "uart.bin", log_path = "sim.log", vcd_path;
+    std::string dir, uart_path = "uart.bin", log_path = "sim.log";
     int count = 20, every = 12;
     long vblank = 80000;
     unsigned long long max_cycles = 2000000000ULL;
+    bool have_image = false;
     for (int i = 1; i < argc; i++) {
         std::string a = argv[i];
         auto next = [&]() { return i + 1 < argc ? std::string(argv[++i]) : std::string(); };
@@ -49,9 +47,10 @@ int main(int argc, char** argv) {
         else if (a == "--every") every = std::atoi(next().c_str());
         else if (a == "--vblank") vblank = std::atol(next().c_str());
         else if (a == "--max-cycles") max_cycles = std::strtoull(next().c_str(), nullptr, 10);
-        else if (a == "--vcd") vcd_path = next();
+        else if (a.rfind("+firmware=", 0) == 0) have_image = true;
+        else { std::fprintf(stderr, "sim: unknown argument %s\n", a.c_str()); return 2; }
     }
-    if (dir.empty() || every < 1 || count < 1) {
+    if (!have_image || dir.empty() || every < 1 || count < 1) {
         std::fprintf(stderr, "usage: %s +firmware=FILE --frames DIR [--count N] [--every K] ...\n", argv[0]);
         return 2;
     }
@@ -66,15 +65,6 @@ int main(int argc, char** argv) {
     if (!uart || !log) { std::fprintf(stderr, "sim: cannot write %s or %s\n", uart_path.c_str(), log_path.c_str()); return 2; }
 
     Vcoopwin_soc* top = new Vcoopwin_soc;
-#if VM_TRACE
-    VerilatedVcdC* vcd = nullptr;
-    if (!vcd_path.empty()) {
-        Verilated::traceEverOn(true);
-        vcd = new VerilatedVcdC;
-        top->trace(vcd, 99);
-        vcd->open(vcd_path.c_str());
-    }
-#endif
     // Camera schedule, in clocks from the start of a frame period.
     const long line = (long)WIDTH * every + HBLANK;
     const long active = LEAD + (long)HEIGHT * line;
@@ -108,9 +98,6 @@ int main(int argc, char** argv) {
         top->fval = fv; top->lval = lv; top->pixel_valid = pv; top->pixel = p;
         top->clk = 1;
         top->eval();
-#if VM_TRACE
-        if (vcd) vcd->dump(2 * cyc);
-#endif
         if (top->uart_valid) {
             std::fputc(top->uart_data, uart);
             std::fprintf(log, "uart %llu %02x\n", cyc, top->uart_data);
@@ -124,17 +111,11 @@ int main(int argc, char** argv) {
         if (top->halted) { status = top->exit_code; break; }
         top->clk = 0;
         top->eval();
-#if VM_TRACE
-        if (vcd) vcd->dump(2 * cyc + 1);
-#endif
         if (f >= count + 2) { std::fprintf(log, "sim: the camera's %d frames are over and the firmware did not exit\n", count); break; }
     }
     std::fprintf(log, "end cycle=%llu status=%d\n", cyc, status);
     std::fclose(uart);
     std::fclose(log);
-#if VM_TRACE
-    if (vcd) vcd->close();
-#endif
     top->final();
     delete top;
     return status;
