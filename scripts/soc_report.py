@@ -4,7 +4,8 @@ and prints a Markdown table a run: the frames measured, cycles a window, instruc
 bus occupancy, the capture DMA's, and the latency from a window's last pixel to its position
 update's last UART byte, measured twice: by the firmware (its cycle counter) and by the
 testbench (the clock it took the UART byte on). Fails if the two disagree by more than the
-firmware's own read of the counter (a few hundred clocks).
+firmware's own read of the counter (a few hundred clocks), or if a window did not wake the
+sleeping core exactly once (its interrupt).
 
     scripts/soc_report.py target/soc
 """
@@ -27,6 +28,8 @@ def run(path):
             windows.append({k: int(v) for k, v in re.findall(r"(\w+)=(\d+)", line)})
         elif line.startswith("end "):
             end = int(re.search(r"cycle=(\d+)", line).group(1))
+    if any(w["wakes"] != 1 for w in windows):
+        sys.exit(f"soc_report: {path}: a window did not wake the core exactly once: {[w['wakes'] for w in windows]}")
     if not windows or len(uart) != UPDATE_BYTES * len(windows):
         sys.exit(f"soc_report: {path}: {len(windows)} windows but {len(uart)} UART bytes")
     # The testbench's own clock of each update's last byte, less the unit's done clock.

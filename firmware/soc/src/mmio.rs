@@ -92,6 +92,23 @@ pub fn instret() -> u32 {
     n
 }
 
+/// Lets the window unit's interrupt line (window done) wake the CPU from [`wait`]: VexRiscv's
+/// external interrupt mask (CSR 0xBC0, LiteX's) and `mie.MEIE`. `mstatus.MIE` stays clear, so
+/// the interrupt is never taken as a trap: `wfi` returns once it is pending, and the loop
+/// reads the status.
+pub fn enable_window_interrupt() {
+    // SAFETY: CSR writes that only enable a wake-up source; no trap can follow (MIE is 0).
+    unsafe {
+        core::arch::asm!("csrw 0xBC0, {0}", "csrs mie, {1}", in(reg) 1u32, in(reg) 1u32 << 11, options(nomem, nostack));
+    }
+}
+
+/// Sleeps until an enabled interrupt is pending (`wfi`).
+pub fn wait() {
+    // SAFETY: `wfi` only stalls the core.
+    unsafe { core::arch::asm!("wfi", options(nomem, nostack)) };
+}
+
 /// The last window's pixels (the DMA's RAM, read as bytes through the uncached I/O region).
 pub fn pixels(n: usize) -> &'static [u8] {
     // SAFETY: the pixel RAM is PIXEL_BYTES of readable I/O memory; the DMA writes it only

@@ -1,7 +1,8 @@
 //! The SoC's firmware image (riscv32imac): locks on to the target in the first window, then
 //! tracks it with the Foveal processor, one window a step, each window's coordinates written
 //! through the `ports` driver's handshake on the unit's MMIO pins, its pixels read from the
-//! capture DMA's RAM, each position sent on the UART in the link format. Measurements go to
+//! capture DMA's RAM (the core sleeping in `wfi` until the unit's window-done interrupt),
+//! each position sent on the UART in the link format. Measurements go to
 //! the console as `window ...` lines; once, a hostile coordinate set is written and must be
 //! refused. Exit code 0 once the camera's last frame (`COOPWIN_SOC_FRAMES`) has started.
 #![no_std]
@@ -110,6 +111,7 @@ extern "C" fn soc_main() -> ! {
     let target = Point { x: TARGET.0 as f32, y: TARGET.1 as f32 };
     let mut tracker = Tracker::new(target);
     let mut req = tracker.lock_on_window();
+    mmio::enable_window_interrupt();
     let _ = writeln!(con, "start target={},{} frames={FRAMES}", TARGET.0, TARGET.1);
     let mut windows = 0u32;
     let mut last_done: Option<u32> = None;
@@ -130,7 +132,12 @@ extern "C" fn soc_main() -> ! {
             Err(e) => fail(&mut con, "the coordinate queue", e),
         }
         let set_taken = mmio::cycle();
-        while mmio::status() & status::DONE == 0 {}
+        // The window-done interrupt wakes the core: one wake a window.
+        let mut wakes = 0u32;
+        while mmio::status() & status::DONE == 0 {
+            mmio::wait();
+            wakes += 1;
+        }
         let (done, frame) = (mmio::done_cycle(), mmio::done_frame().saturating_sub(1));
         let (insn0, bus0) = (mmio::instret(), mmio::bus_busy());
         let (w, h) = req.delivered_size();
@@ -157,7 +164,7 @@ extern "C" fn soc_main() -> ! {
         let sent = mmio::cycle();
         let _ = writeln!(
             con,
-            "window n={windows} frame={frame} x0={} y0={} pixels={n} set_cycles={} done={done} compute_cycles={} compute_insns={} ibus_busy={} dbus_busy={} latency_cycles={} since_last_done={} dma_total={}",
+            "window n={windows} frame={frame} x0={} y0={} pixels={n} wakes={wakes} set_cycles={} done={done} compute_cycles={} compute_insns={} ibus_busy={} dbus_busy={} latency_cycles={} since_last_done={} dma_total={}",
             req.x0,
             req.y0,
             set_taken.wrapping_sub(set_written),
