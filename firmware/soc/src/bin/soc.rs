@@ -36,8 +36,9 @@ core::arch::global_asm!(
 const FRAMES: u32 = parse(env!("COOPWIN_SOC_FRAMES"));
 /// The target on the first frame, X,Y in whole pixels (the scene's ground truth, rounded).
 const TARGET: (u32, u32) = pair(env!("COOPWIN_SOC_TARGET"));
-/// The window after which the hostile set is written.
-const HOSTILE_AFTER: u32 = 5;
+/// The windows after which the hostile sets are written: right after the lock-on, so every run
+/// (the audit's short one too) has them and tracks on after them.
+const HOSTILE_AFTER: u32 = 1;
 
 const fn parse(s: &str) -> u32 {
     let b = s.as_bytes();
@@ -71,20 +72,24 @@ const fn pair(s: &str) -> (u32, u32) {
 }
 
 /// Writes one set's bytes through the driver's handshake and waits for the unit's verdict:
-/// true when it accepted the set.
-fn write_set(writer: &mut CoordinateWriter, pins: &mut Pins, bytes: &[u8], decimate: bool) -> Result<bool, WriteError> {
+/// whether it accepted the set, and the clocks from queueing it to the verdict. Logs the set as queued (`set cycle=C bytes=.. dec=..`: the
+/// processor's side of `coopwin audit`'s requests).
+fn write_set(writer: &mut CoordinateWriter, pins: &mut Pins, con: &mut mmio::Port, bytes: &[u8], decimate: bool) -> Result<(bool, u32), WriteError> {
     mmio::clear(status::ACCEPTED | status::REFUSED | status::DONE);
+    let _ = write!(con, "set cycle={}", mmio::cycle());
+    for (k, b) in bytes.iter().enumerate() {
+        let _ = write!(con, "{}{b}", if k == 0 { " bytes=" } else { "," });
+    }
+    let _ = writeln!(con, " dec={}", u8::from(decimate));
+    let queued = mmio::cycle();
     writer.write_bytes(bytes, decimate)?;
     while writer.busy() {
         let Ok(()) = writer.poll(pins);
     }
     loop {
         let s = mmio::status();
-        if s & status::ACCEPTED != 0 {
-            return Ok(true);
-        }
-        if s & status::REFUSED != 0 {
-            return Ok(false);
+        if s & (status::ACCEPTED | status::REFUSED) != 0 {
+            return Ok((s & status::ACCEPTED != 0, mmio::cycle().wrapping_sub(queued)));
         }
     }
 }
@@ -95,7 +100,7 @@ fn hostile(writer: &mut CoordinateWriter, pins: &mut Pins, con: &mut mmio::Port)
     let over = WindowRequest { x0: 250, y0: 10, width: 24, height: 24, decimation: Decimation::Full };
     let driver = writer.write(&over) == Err(WriteError::OutOfRange);
     let unit = match bound_bytes([200, 100, 10, 20], false) {
-        Ok(set) => write_set(writer, pins, &set, false) == Ok(false) && mmio::status() & status::COORD_ERROR != 0,
+        Ok(set) => matches!(write_set(writer, pins, con, &set, false), Ok((false, _))) && mmio::status() & status::COORD_ERROR != 0,
         Err(_) => false,
     };
     let _ = writeln!(con, "hostile over_edge_refused_by_driver={driver} reversed_refused_by_unit={unit}");
@@ -121,17 +126,15 @@ extern "C" fn soc_main() -> ! {
             let _ = writeln!(con, "end windows={windows}");
             mmio::exit(0);
         }
-        let set_written = mmio::cycle();
         let bytes = match coopwin_firmware::ports::window::coordinate_set(&req, (256, 256)) {
             Ok(b) => b,
             Err(e) => fail(&mut con, "the driver refused the tracker's window", e),
         };
-        match write_set(&mut writer, &mut pins, &bytes, req.decimation == Decimation::Quarter) {
-            Ok(true) => {}
-            Ok(false) => fail(&mut con, "the unit refused the tracker's window", ()),
+        let set_cycles = match write_set(&mut writer, &mut pins, &mut con, &bytes, req.decimation == Decimation::Quarter) {
+            Ok((true, cycles)) => cycles,
+            Ok((false, _)) => fail(&mut con, "the unit refused the tracker's window", ()),
             Err(e) => fail(&mut con, "the coordinate queue", e),
-        }
-        let set_taken = mmio::cycle();
+        };
         // The window-done interrupt wakes the core: one wake a window.
         let mut wakes = 0u32;
         while mmio::status() & status::DONE == 0 {
@@ -167,7 +170,7 @@ extern "C" fn soc_main() -> ! {
             "window n={windows} frame={frame} x0={} y0={} pixels={n} wakes={wakes} set_cycles={} done={done} compute_cycles={} compute_insns={} ibus_busy={} dbus_busy={} latency_cycles={} since_last_done={} dma_total={}",
             req.x0,
             req.y0,
-            set_taken.wrapping_sub(set_written),
+            set_cycles,
             computed.wrapping_sub(done),
             insn1.wrapping_sub(insn0),
             bus1.0.wrapping_sub(bus0.0),
