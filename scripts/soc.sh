@@ -95,6 +95,7 @@ simulate() { # name image frames-folder count every vblank [testbench options]
   [ "$status" = 0 ] || { cat "$dir/firmware.log" >&2; echo "soc.sh: $dir: the SoC's firmware ended with status $status" >&2; exit 1; }
   grep -q 'hostile over_edge_refused_by_driver=true reversed_refused_by_unit=true' "$dir/sim.log" ||
     { echo "soc.sh: $dir: the hostile sets were not refused" >&2; exit 1; }
+  sed -n 's/^fw [0-9]* \(hostile .*\)/soc.sh: '"$(basename "$dir")"': \1/p; s/^fw [0-9]* \(end .*\)/soc.sh: '"$(basename "$dir")"': \1/p' "$dir/firmware.log" >&2
 }
 simulate realtime "$out/fw.hex" "$out/scene-raw" "$frames" 12 80000
 simulate everyframe "$out/fw.hex" "$out/scene-raw" "$frames" 48 600000

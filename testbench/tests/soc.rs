@@ -2,9 +2,9 @@
 //! firmware, built for riscv32imac, runs on VexRiscv in Verilator beside the window unit's RTL,
 //! the camera fed with a built-in scene's 21 frames. The script fails unless the firmware
 //! exits cleanly and refuses both hostile coordinate sets; its references: the UART's bytes
-//! against the same tracker on the host over a model of the unit (`soc-replay`), and, where
-//! the SoC measures every frame, against `coopwin track`'s rows (this CLI, the testbench's
-//! whole system). Needs Verilator, binutils-riscv64-unknown-elf, Debian's rustc-web with
+//! against the same tracker on the host over a model of the unit (`soc-replay`), where the
+//! SoC measures every frame against `coopwin track`'s rows (this CLI, the testbench's whole
+//! system), and the unit's traced signals against the firmware's sets (`coopwin audit`). Needs Verilator, binutils-riscv64-unknown-elf, Debian's rustc-web with
 //! rust-web-src and pip's pythondata-cpu-vexriscv (.ci/run installs them).
 mod common;
 use std::path::Path;
@@ -40,4 +40,5 @@ fn the_soc_tracks_a_scene_bit_for_bit_with_the_host() {
     assert!(text.contains("hostile over_edge_refused_by_driver=true reversed_refused_by_unit=true"), "{text}");
     assert!(text.contains("336 UART bytes equal to the host's"), "the every-frame run: 21 updates of 16 bytes\n{text}");
     assert!(text.contains("21 updates equal to"), "the every-frame run against track's rows\n{text}");
+    assert!(text.contains("5 sets taken, 4 windows verified, 0 violations"), "coopwin audit on the unit's VCD\n{text}");
 }
