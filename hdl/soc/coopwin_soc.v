@@ -172,7 +172,7 @@ module coopwin_soc #(
         end
         if (window_done) begin
             done_flag <= 1'b1;
-            pix_count <= pix_addr + (pixel_strobe ? 1'b1 : 1'b0);
+            pix_count <= pix_addr + {{(PIX_AW + 1){1'b0}}, pixel_strobe};
             done_frame <= frames;
             done_cycle <= cycle;
         end
