@@ -100,12 +100,16 @@ module coopwin_soc #(
     // ---------------------------------------------------------------- RAM (two ports)
     reg [31:0] ram [0:RAM_WORDS-1];
     // The firmware image, as `objcopy -O verilog --verilog-data-width 4` hex words.
-    reg [1023:0] image;
     initial begin
         halted = 1'b0;
         exit_code = 8'd0;
-        if ($value$plusargs("firmware=%s", image)) $readmemh(image, ram);
     end
+`ifndef SYNTHESIS
+    // The simulation loads the image named by +firmware=FILE; a bitstream would initialise
+    // the RAM from the image instead.
+    reg [1023:0] image;
+    initial if ($value$plusargs("firmware=%s", image)) $readmemh(image, ram);
+`endif
     // Instruction bus: a cache line's refill is an incrementing burst (CTI 010, the last beat
     // 111), one beat a clock: while a beat is acknowledged and more follow, the next word is
     // read ahead (the CPU moves to the next address as it takes the beat).
