@@ -66,11 +66,15 @@ open(sys.argv[2], "w").write("".join("%08x\n" % w for w in struct.unpack("<%dI" 
 PY
 }
 target="$(scene scene "$frames")"
-# The audit's run has a camera of its own, 64 frames of a pixel a clock (below).
+# The audit's run has a camera of its own (below): the scene's first frame, 64 times, so that
+# the target stays where the firmware, far slower than that camera, looks for it.
 audit_frames=64
-audit_target="$(scene scene-audit "$audit_frames")"
+rm -rf "$out/still-raw" && mkdir -p "$out/still-raw"
+for k in $(seq 0 $((audit_frames - 1))); do
+  cp "$out/scene-raw/frame0000.raw" "$out/still-raw/$(printf 'frame%04d.raw' "$k")"
+done
 echo "soc.sh: firmware (riscv32imac, target $target)" >&2
-firmware "$audit_frames" "$audit_target" "$out/fw-audit.hex"
+firmware "$audit_frames" "$target" "$out/fw-audit.hex"
 firmware "$frames" "$target" "$out/fw.hex"
 
 echo "soc.sh: Verilator model" >&2
@@ -101,9 +105,9 @@ simulate realtime "$out/fw.hex" "$out/scene-raw" "$frames" 12 80000
 simulate everyframe "$out/fw.hex" "$out/scene-raw" "$frames" 48 600000
 # A third run traces the window unit for `coopwin audit`, whose pixel columns are clocks of
 # lval: a pixel every clock and 2,000 clocks between frames (75,736 clocks a frame), 64
-# frames, so that the firmware gets through a few windows after its lock-on (2.4 M clocks);
-# the unit's signals in unit.vcd.
-simulate audit "$out/fw-audit.hex" "$out/scene-audit-raw" "$audit_frames" 1 2000 --vcd "$out/audit/unit.vcd"
+# frames of a still scene, so that the firmware gets through a few windows after its lock-on
+# (2.4 M clocks); the unit's signals in unit.vcd.
+simulate audit "$out/fw-audit.hex" "$out/still-raw" "$audit_frames" 1 2000 --vcd "$out/audit/unit.vcd"
 
 echo "soc.sh: host references" >&2
 (cd "$root/firmware/soc" && CARGO_TARGET_DIR="$out/host" nice -n 10 cargo build --release --locked -q --features host --bin soc-replay)

@@ -14,7 +14,7 @@ use coopwin_firmware::processors::foveal::{Foveal, FovealKind};
 use coopwin_firmware::processors::step::{Step, Work};
 use coopwin_firmware::processors::template::Template;
 use coopwin_firmware::processors::Params;
-use coopwin_firmware::types::{Decimation, Point, Source, WindowRequest};
+use coopwin_firmware::types::{Decimation, Point, WindowRequest};
 
 /// The camera's frame rate the time stamps count in (the thesis's camera, 2.6).
 pub const FPS: u32 = 114;
@@ -38,6 +38,9 @@ pub type Processor = Foveal<24, 324>;
 pub enum TrackError {
     /// The lock-on window does not hold the template around the target.
     NoTemplate,
+    /// The Foveal processor asked for a first window other than the lock-on window (its
+    /// parameters size it otherwise).
+    StartWindow,
 }
 
 /// The loop's pure part: the lock-on window, the template, then one step a window.
@@ -64,30 +67,24 @@ impl Tracker {
     /// A window arrived from frame `frame`: the position update to send and the next window
     /// to ask for (none when tracking was lost).
     pub fn on_window(&mut self, win: &WindowView<'_>, frame: u32) -> Result<(Option<PositionUpdate>, Option<WindowRequest>), TrackError> {
-        let t_us = frame_us(frame);
-        match self.fov.as_mut() {
-            None => {
+        let (t_us, lock_on) = (frame_us(frame), self.lock_on_window());
+        let fov = match &mut self.fov {
+            Some(fov) => fov,
+            empty @ None => {
                 let tpl = Template::capture(win, self.target, usize::from(self.params.template)).ok_or(TrackError::NoTemplate)?;
                 let mut fov = Processor::sized(FovealKind::Ncc, self.params);
                 fov.set_template(tpl);
                 fov.start_at_into(self.target, &mut self.step);
-                // The lock-on window is the first Foveal window (a Foveal window on the target,
-                // as `start_at` asks): measured at once, as `coopwin track` measures the first
-                // frame.
-                let first = self.step.request == Some(self.lock_on_window());
-                if first {
-                    fov.on_window_into(win, f64::from(t_us) * 1e-6, &mut self.step);
+                // The lock-on window is the Foveal window `start_at` asks for on the target, so
+                // it is measured at once, as `coopwin track` measures the first frame.
+                if self.step.request != Some(lock_on) {
+                    return Err(TrackError::StartWindow);
                 }
-                self.fov = Some(fov);
-                let at = if first { self.step.report } else { Some((self.target, Source::Ncc)) };
-                let update = at.map(|(p, source)| PositionUpdate { t_us, x: p.x, y: p.y, source });
-                Ok((update, self.step.request))
+                empty.insert(fov)
             }
-            Some(fov) => {
-                fov.on_window_into(win, f64::from(t_us) * 1e-6, &mut self.step);
-                let update = self.step.report.map(|(p, source)| PositionUpdate { t_us, x: p.x, y: p.y, source });
-                Ok((update, self.step.request))
-            }
-        }
+        };
+        fov.on_window_into(win, f64::from(t_us) * 1e-6, &mut self.step);
+        let update = self.step.report.map(|(p, source)| PositionUpdate { t_us, x: p.x, y: p.y, source });
+        Ok((update, self.step.request))
     }
 }
