@@ -10,8 +10,7 @@ use coopwin_firmware::kernels::fmath::sqrtf;
 use coopwin_firmware::kernels::info::{corner_information, edge_information, edge_information_with_prior};
 use coopwin_firmware::kernels::matching::{best_match, best_match_decimated, Match, MatchError, Method};
 use coopwin_firmware::kernels::motion::{detect_motion, MotionArea, MotionError};
-use coopwin_firmware::processors::coop::guard::{Guard, GuardParams};
-use coopwin_firmware::processors::{watch, CornerPartner, Dest, Foveal, FovealKind, Identity, Msg, Params, Peripheral, Policy, Step, Template, Work};
+use coopwin_firmware::processors::{watch, CornerPartner, Dest, Foveal, FovealKind, Identity, Msg, Params, Peripheral, Step, Template, Work};
 use coopwin_firmware::kernels::view::WindowView;
 use coopwin_firmware::types::{Decimation, Point, Source, WindowRequest};
 use core::fmt::{self, Write};
@@ -572,12 +571,10 @@ impl CoopPair {
     }
 }
 
-/// The COOP master (4.2-4.3) with `params`, idle; an adapting master ([`Params::adapt`]) guards
-/// with the adapting track's parameters, as the testbench's does.
+/// The COOP master (4.2-4.3) with `params`, idle.
 #[inline(always)]
 fn coop_master(params: Params) -> Foveal<MASTER_SIDE, MASTER_LK> {
-    let guard = if params.adapt { GuardParams::adapting() } else { GuardParams::default() };
-    Foveal::sized(FovealKind::CoopMaster, params).with_policy(Policy::Guarded(Guard::new(guard)))
+    Foveal::sized(FovealKind::CoopMaster, params)
 }
 
 /// [`coop_master`] returned into its caller's slot: never inlined, so whatever temporaries the

@@ -179,7 +179,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
             detector: CornerDetector::sized(),
             tracking: None,
             params,
-            coop: Policy::Guarded(Guard::new(GuardParams::default())),
+            coop: Policy::Guarded(Guard::new(GuardParams::for_track(&params))),
             own: None,
             partner: None,
             adapt: None,

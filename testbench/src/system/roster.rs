@@ -93,7 +93,7 @@ pub(super) struct Roster<'b> {
 /// The COOP master's policy for `cfg`.
 fn coop_policy(cfg: &SystemConfig) -> Result<Policy, SimError> {
     Ok(match cfg.policy {
-        CoopPolicy::Guarded => Policy::Guarded(Guard::new(if cfg.params.adapt { GuardParams::adapting() } else { GuardParams::default() })),
+        CoopPolicy::Guarded => Policy::Guarded(Guard::new(GuardParams::for_track(&cfg.params))),
         CoopPolicy::Sse => Policy::Sse(SseCoop::new(cfg.coop_n).map_err(|error| SimError::CoopSize { n: cfg.coop_n, error })?),
         // Process noise for a part that turns corners at up to ~100 px/s each frame;
         // measurement noise of half a pixel; newest innovation 30%.

@@ -49,6 +49,7 @@
 
 use crate::kernels::confidence::{ConfidencePolicy, SseCoop};
 use crate::kernels::fmath::sqrtf;
+use crate::processors::Params;
 use crate::types::{Point, Source};
 
 /// Thresholds of the guard.
@@ -98,6 +99,12 @@ impl GuardParams {
     /// [`crate::processors::ADAPT_NCC_MIN`]) followed a neck or a shoulder after a blink.
     pub fn adapting() -> Self {
         GuardParams { trust: ADAPT_TRUST, resume: ADAPT_TRUST, ..Self::default() }
+    }
+
+    /// The guard of a track with `params`: [`GuardParams::adapting`] where its template adapts,
+    /// the thesis's fixed template's otherwise. Every guarded Foveal is paired here.
+    pub fn for_track(params: &Params) -> Self {
+        if params.adapt { Self::adapting() } else { Self::default() }
     }
 }
 
