@@ -6,6 +6,8 @@ import numpy.typing as npt
 
 #: ``coopwin track``'s CSV header.
 TRACK_HEADER: str
+#: The hash of the sources the extension was built from (python/source_hash.rs).
+SOURCE_HASH: str
 
 class FrameRun:
     """A run fed one frame at a time (behind :class:`coopwin.Tracker`)."""

@@ -318,10 +318,13 @@ fn verilog(options: Vec<String>) -> PyResult<Vec<(String, String)>> {
     Ok(files.into_iter().map(|(name, text)| (name.to_string(), text)).collect())
 }
 
-/// The CSV's header, the columns of every row.
+/// The CSV's header (the columns of every row), and the hash of the sources the extension
+/// was built from (python/source_hash.rs; testbench/tests/python.rs checks it is the
+/// checkout's).
 #[pymodule]
 fn _coopwin(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("TRACK_HEADER", csv::TRACK_HEADER)?;
+    m.add("SOURCE_HASH", env!("COOPWIN_SOURCE_HASH"))?;
     m.add_class::<FrameRun>()?;
     m.add_class::<VideoRows>()?;
     m.add_function(wrap_pyfunction!(verilog, m)?)?;
