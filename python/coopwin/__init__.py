@@ -94,6 +94,9 @@ def _options(**options: Any) -> List[str]:
             argv.append(flag)
         elif name == "target_box":
             argv.append(f"{flag}={','.join(str(v) for v in _box(value))}")
+        elif name == "blank_jitter" and isinstance(value, (tuple, list)):
+            # (LINE, FRAME) or (LINE, FRAME, SEED), the option's LINE,FRAME[,SEED].
+            argv.append(f"{flag}={','.join(str(v) for v in value)}")
         elif isinstance(value, (str, numbers.Real)) and not isinstance(value, bool):
             # One word, so a negative value reaches the option's own check.
             argv.append(f"{flag}={value}")
@@ -134,9 +137,17 @@ class Tracker:
     ``Tracker(frame, box)`` starts tracking the box (x, y, w, h) of ``frame`` (a NumPy
     ``uint8`` array: H x W gray, or H x W x 3 BGR as OpenCV reads it, converted to gray as
     the CLI converts colour PNG frames); ``ok, box = tracker.update(next_frame)`` follows
-    it. The keyword options are ``coopwin track``'s (``fps``: the frames' rate, default 114,
-    the thesis's camera; ``template``, ``search``, ``strategy``, ``policy``, ``profile``,
-    ``fixed_template``, ``coop_n``, ``watch``; see ``coopwin track --help``).
+    it. The keyword options are ``coopwin track``'s (``template``, ``search``, ``strategy``,
+    ``policy``, ``profile``, ``fixed_template``, ``coop_n``, ``watch``; see ``coopwin track
+    --help``). ``fps`` is the frames' rate; without it, the rate of the thesis camera's 8 MHz
+    pixel clock over the frames' raster, ``8e6 / ((H + 2) * (W + 16) + 16)``: 114 frames/s
+    at 256x256, but 17.65 at 768x576. For a video, give its own rate
+    (``fps=cap.get(cv2.CAP_PROP_FPS)``), as ``coopwin track`` takes a video's.
+
+    The CLI's options of a run over a whole source (``--start-frame``, ``--end-frame``,
+    ``--blank-jitter``, a clocked ``--hdl``, ``--allow-damaged``) are :func:`track_video`'s,
+    and those that write files (``--out``, ``--overlay``, ``--vcd``) the CLI's: the run
+    behind a Tracker (``_coopwin.FrameRun``) refuses them with a ``ValueError`` that says so.
 
     After each frame (the first included), the attributes say what the run knew at the end
     of that frame's period: :attr:`row` (the CSV's row: the same line ``coopwin track``
@@ -263,13 +274,20 @@ def track_video(
     fixed_template: bool = False,
     coop_n: Optional[int] = None,
     watch: Optional[str] = None,
+    blank_jitter: Optional[Union[str, Sequence[int]]] = None,
+    hdl: Optional[str] = None,
+    pixel_bits: Optional[int] = None,
 ) -> Iterator[Row]:
     """``coopwin track --frames PATH [--target-box X,Y,W,H] ...``'s rows, one :class:`Row` a
     frame, as the run makes them (a video through FFmpeg, or a folder of PNG frames).
 
-    Without ``box`` the tracker locks on to the first motion. The input is opened and checked
+    Without ``box`` the tracker locks on to the first motion. ``fps`` defaults to a video's
+    own rate (for PNG frames, the pixel clock's rate, as :class:`Tracker`'s);
+    ``blank_jitter`` is ``(LINE, FRAME)`` or ``(LINE, FRAME, SEED)``; ``hdl`` is ``"model"``,
+    ``"rust-hdl"`` or ``"verilator"`` (with ``pixel_bits``). The input is opened and checked
     now (``FileNotFoundError``, ``ValueError``); the run goes on in the background, a little
-    ahead of the reader, and stops when the iterator is dropped.
+    ahead of the reader, and stops when the iterator is dropped. Nothing is written: the
+    CLI's ``--out``, ``--overlay``, ``--vcd`` and ``--list`` raise ``ValueError``.
     """
     # Every keyword argument is the CLI option of the same name.
     options = _options(target_box=box, **_keywords(locals(), "path", "box"))

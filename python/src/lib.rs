@@ -2,7 +2,9 @@
 //! `coopwin` CLI runs (`coopwin_testbench::commands::track` and `verilog`). It takes and gives
 //! the CLI's options and CSV rows; `coopwin/__init__.py` turns them into the OpenCV-style
 //! trackers, `track_video`'s rows and `verilog`'s files.
-use clap::Parser;
+use clap::parser::ValueSource;
+use clap::{CommandFactory, FromArgMatches, Parser, ValueEnum};
+use coopwin_testbench::commands::args::HdlArg;
 use coopwin_testbench::commands::track::{track_frames, TrackArgs, TrackRun};
 use coopwin_testbench::commands::verilog::{verilog_files, VerilogArgs};
 use coopwin_testbench::commands::CliError;
@@ -37,11 +39,47 @@ struct VerilogOptions {
 }
 
 /// Parses `options` as the CLI would, after `--frames frames`; a bad one is a ValueError
-/// with clap's first line ("invalid value ... for '--fps <FPS>': ...").
-fn track_args(frames: &str, options: Vec<String>) -> PyResult<TrackArgs> {
+/// with clap's first line ("invalid value ... for '--fps <FPS>': ..."), and so is an option
+/// `api` cannot honour (one of `refused`, or a clocked `--hdl` where `clocked` is false),
+/// saying why and what to use instead.
+fn track_args(frames: &str, options: Vec<String>, api: &str, refused: &[Refusal], clocked: bool) -> PyResult<TrackArgs> {
     let argv = ["--frames".to_string(), frames.to_string()].into_iter().chain(options);
-    TrackOptions::try_parse_from(argv).map(|o| o.track).map_err(clap_error)
+    let matches = TrackOptions::command().try_get_matches_from(argv).map_err(clap_error)?;
+    let args = TrackOptions::from_arg_matches(&matches).map_err(clap_error)?.track;
+    let given = |id: &str| matches.value_source(id) == Some(ValueSource::CommandLine);
+    if let Some((id, why)) = refused.iter().find(|(id, _)| given(id)) {
+        return Err(PyValueError::new_err(format!("--{} is not available from {api}: {why}", id.replace('_', "-"))));
+    }
+    if !clocked && !matches!(args.hdl, HdlArg::Model) {
+        let hdl = args.hdl.to_possible_value().map(|v| v.get_name().to_string()).unwrap_or_default();
+        return Err(PyValueError::new_err(format!(
+            "--hdl {hdl} is not available from {api}: the clocked window units read each frame's pixels as its period starts, before the previous frame's answer is out, so frames handed in one at a time would wait on each other; use coopwin.track_video(path, box, hdl=\"{hdl}\") or `coopwin track --hdl {hdl}`"
+        )));
+    }
+    Ok(args)
 }
+
+/// A `coopwin track` option (clap's id) that a Python entry point refuses, and why (with what
+/// to use instead).
+type Refusal = (&'static str, &'static str);
+
+/// Options that write files or print instead of tracking: the package returns rows instead.
+const WRITES: [Refusal; 4] = [
+    ("out", "the rows are returned (Tracker.csv_row, track_video's Row tuples), not written; write them yourself, or run `coopwin track --out FILE`"),
+    ("overlay", "the package writes no files; run `coopwin track --overlay FILE`"),
+    ("vcd", "the package writes no files; run `coopwin track --hdl rust-hdl --vcd FILE`"),
+    ("list", "it prints the frames' order and tracks nothing; run `coopwin track --list`"),
+];
+
+/// Options of a run over a source of known frames, which a Tracker fed one frame at a time is
+/// not (besides [`WRITES`]).
+const NOT_FED: [Refusal; 5] = [
+    ("start_frame", "a Tracker tracks the frames it is handed, from the one it is created with; create it on the frame to start from (coopwin.track_video(path, box, start_frame=N) starts a video later)"),
+    ("end_frame", "a Tracker tracks the frames it is handed; stop calling update (coopwin.track_video(path, box, end_frame=N) stops a video's run)"),
+    ("blank_jitter", "jittered blanking is drawn for each frame of a run whose length is known; use coopwin.track_video(path, box, blank_jitter=(LINE, FRAME, SEED)) or `coopwin track --blank-jitter`"),
+    ("pixel_bits", "it sets the clocked window units' pixel width, and a Tracker runs the behavioural model; use coopwin.track_video(path, box, hdl=\"rust-hdl\", pixel_bits=N)"),
+    ("allow_damaged", "it concerns a video's decoding, and a Tracker is handed decoded frames; use coopwin.track_video(path, allow_damaged=True)"),
+];
 
 /// clap's message, without its "error: " and its usage lines.
 fn clap_error(e: clap::Error) -> PyErr {
@@ -50,8 +88,9 @@ fn clap_error(e: clap::Error) -> PyErr {
     PyValueError::new_err(line.strip_prefix("error: ").unwrap_or(line).to_string())
 }
 
-/// A CLI error as Python's: a missing input is FileNotFoundError, the rest ValueError (a bad
-/// option, or input that cannot be tracked) with the CLI's message.
+/// A CLI error as Python's ValueError (a bad option, or input that cannot be tracked) with the
+/// CLI's message. (A missing input is FileNotFoundError, raised by [`VideoRows::new`] before
+/// the CLI's code would make it a message.)
 fn cli_error(e: CliError) -> PyErr {
     PyValueError::new_err(e.message)
 }
@@ -153,7 +192,8 @@ impl FrameRun {
     #[new]
     fn new(py: Python<'_>, frame: &Bound<'_, PyAny>, options: Vec<String>) -> PyResult<Self> {
         let (px, (w, h)) = gray(frame)?;
-        let args = track_args("<frames>", options)?;
+        let refused: Vec<Refusal> = WRITES.into_iter().chain(NOT_FED).collect();
+        let args = track_args("<frames>", options, "coopwin.Tracker", &refused, false)?;
         args.check_against((w, h), 1).map_err(cli_error)?;
         let cfg = args.config((w, h), args.fps);
         let (to_run, from_caller) = channel();
@@ -234,7 +274,7 @@ impl VideoRows {
         if !path.exists() {
             return Err(PyFileNotFoundError::new_err(InputError::NoSuchFile(path).to_string()));
         }
-        let args = track_args(&path.to_string_lossy(), options)?;
+        let args = track_args(&path.to_string_lossy(), options, "coopwin.track_video", &WRITES, true)?;
         let mut run = py.detach(|| TrackRun::open(&args, &|| false)).map_err(cli_error)?;
         let (to_caller, rows) = sync_channel(ROWS_AHEAD);
         let stop = Arc::new(AtomicBool::new(false));
@@ -278,10 +318,13 @@ fn verilog(options: Vec<String>) -> PyResult<Vec<(String, String)>> {
     Ok(files.into_iter().map(|(name, text)| (name.to_string(), text)).collect())
 }
 
-/// The CSV's header, the columns of every row.
+/// The CSV's header (the columns of every row), and the hash of the sources the extension
+/// was built from (python/source_hash.rs; testbench/tests/python.rs checks it is the
+/// checkout's).
 #[pymodule]
 fn _coopwin(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("TRACK_HEADER", csv::TRACK_HEADER)?;
+    m.add("SOURCE_HASH", env!("COOPWIN_SOURCE_HASH"))?;
     m.add_class::<FrameRun>()?;
     m.add_class::<VideoRows>()?;
     m.add_function(wrap_pyfunction!(verilog, m)?)?;

@@ -1,11 +1,13 @@
 """Bad input raises a clear Python exception (the CLI's message where the CLI has one), never
 a panic; each expected message is the one the CLI prints, or names what to fix."""
+import subprocess
+
 import numpy as np
 import pytest
 
 import coopwin
 
-FRAME = np.tile(np.arange(256, dtype=np.uint8), (120, 1))[:, :160]  # 160x120, textured
+from conftest import FRAME
 
 
 def test_wrong_dtype_is_a_type_error():
@@ -71,9 +73,14 @@ def test_update_before_init():
         coopwin.TrackerCOOP_create().update(FRAME)
 
 
-def test_missing_video_is_file_not_found():
-    with pytest.raises(FileNotFoundError, match="/no/such.avi: no such file"):
-        coopwin.track_video("/no/such.avi", (1, 1, 5, 5))
+@pytest.mark.parametrize("path", ["/no/such.avi", "/no/such/folder"])
+def test_missing_input_is_file_not_found_with_the_cli_message(coopwin_bin, path):
+    with pytest.raises(FileNotFoundError) as missing:
+        coopwin.track_video(path, (1, 1, 5, 5))
+    cli = subprocess.run([str(coopwin_bin), "track", "--frames", path], capture_output=True, text=True)
+    assert cli.returncode == 1
+    assert str(missing.value) == f"{path}: no such file or folder"
+    assert str(missing.value) in cli.stderr
 
 
 def test_bad_sensor_for_verilog():

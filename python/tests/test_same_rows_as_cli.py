@@ -6,25 +6,9 @@ import numpy as np
 import coopwin
 from coopwin import _coopwin
 
-from conftest import run_cli
+from conftest import BOX, cli_rows, read_frames, run_cli, tracked_rows, without_file, write_frames
 
-BOX = (280, 180, 40, 80)  # a walker in vtest.avi's first frame
 FRAMES = 40
-
-
-def cli_rows(binary, tmp_path, frames, *options):
-    out = tmp_path / "cli.csv"
-    run_cli(binary, "track", "--frames", str(frames), "--out", str(out), *options)
-    lines = out.read_text().splitlines()
-    assert lines[0] == _coopwin.TRACK_HEADER
-    return lines[1:]
-
-
-def without_file(line):
-    """A row without its `file` column (a folder's file name; frames from memory have none)."""
-    fields = line.split(",")
-    del fields[coopwin.COLUMNS.index("file")]
-    return fields
 
 
 def test_opencv_loop_on_a_real_clip_gives_the_cli_rows(coopwin_bin, vtest, tmp_path):
@@ -32,18 +16,14 @@ def test_opencv_loop_on_a_real_clip_gives_the_cli_rows(coopwin_bin, vtest, tmp_p
     # CLI reads a folder of colour PNGs and converts them to gray as the package converts BGR
     # arrays). Every row but the last: the CLI's last row closes a run that ends there, while
     # the tracker's run goes on, so the CLI is given one frame more than the tracker.
-    cap = cv2.VideoCapture(str(vtest))
-    folder = tmp_path / "frames"
-    folder.mkdir()
-    frames = []
-    for k in range(FRAMES + 1):
-        ok, frame = cap.read()
-        assert ok, f"frame {k} of {vtest}"
-        frames.append(frame)
-        assert cv2.imwrite(str(folder / f"f{k:04d}.png"), frame)
-    expected = cli_rows(coopwin_bin, tmp_path, folder, "--target-box", ",".join(map(str, BOX)))[:FRAMES]
+    # The frames' rate is the video's, as README's loop gives it (the CLI takes a video's own,
+    # and PNG frames need it said).
+    fps = cv2.VideoCapture(str(vtest)).get(cv2.CAP_PROP_FPS)
+    frames = read_frames(vtest, FRAMES + 1)
+    folder = write_frames(tmp_path / "frames", frames)
+    expected = cli_rows(coopwin_bin, tmp_path, folder, "--target-box", ",".join(map(str, BOX)), "--fps", str(fps))[:FRAMES]
 
-    tracker = coopwin.TrackerCOOP_create()
+    tracker = coopwin.TrackerCOOP_create(fps=fps)
     tracker.init(frames[0], BOX)
     got = [tracker.tracker.csv_row]
     answers = []
@@ -62,18 +42,11 @@ def test_opencv_loop_on_a_real_clip_gives_the_cli_rows(coopwin_bin, vtest, tmp_p
 
 def test_gray_frames_give_the_cli_rows(coopwin_bin, vtest, tmp_path):
     # Reference: the CLI on gray PNG files of the same pixels (no colour conversion on either side).
-    cap = cv2.VideoCapture(str(vtest))
-    folder = tmp_path / "frames"
-    folder.mkdir()
-    grays = []
-    for k in range(11):
-        ok, frame = cap.read()
-        assert ok
-        grays.append(cv2.cvtColor(frame, cv2.COLOR_BGR2GRAY))
-        assert cv2.imwrite(str(folder / f"g{k:04d}.png"), grays[-1])
+    grays = [cv2.cvtColor(f, cv2.COLOR_BGR2GRAY) for f in read_frames(vtest, 11)]
+    folder = write_frames(tmp_path / "frames", grays)
     expected = cli_rows(coopwin_bin, tmp_path, folder, "--target-box", ",".join(map(str, BOX)), "--fps", "10")[:10]
     tracker = coopwin.Tracker(grays[0], BOX, fps=10)
-    got = [tracker.csv_row] + [(tracker.update(g), tracker.csv_row)[1] for g in grays[1:10]]
+    got = tracked_rows(tracker, grays[1:10])
     assert [without_file(r) for r in got] == [without_file(r) for r in expected]
 
 

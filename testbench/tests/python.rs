@@ -1,9 +1,14 @@
 //! The Python package's tests (python/tests, pytest) as part of the README's one test command.
 //! They compare the installed package (`pip install ./python`, which .ci/run does) against
-//! this build's `coopwin` binary; a machine without the package fails here, saying how to
-//! install it.
+//! this build's `coopwin` binary; a machine without the package, or with one built from other
+//! sources than this checkout's, fails here, saying how to install it.
 use std::path::Path;
 use std::process::Command;
+
+include!("../../python/source_hash.rs");
+
+/// How to install the package from this checkout.
+const INSTALL: &str = "python3 -m pip install --no-build-isolation ./python (as .ci/run does)";
 
 #[test]
 fn python_package_gives_the_cli_rows() {
@@ -12,7 +17,19 @@ fn python_package_gives_the_cli_rows() {
     let installed = installed.is_ok_and(|o| o.status.success());
     assert!(
         installed,
-        "the Python package or its test tools are missing: python3 -m pip install maturin==1.16.0 pytest opencv-contrib-python-headless && python3 -m pip install ./python (as .ci/run does)"
+        "the Python package or its test tools are missing: python3 -m pip install -r python/tests/requirements.txt && {INSTALL}"
+    );
+    // The extension's build identity against this checkout's sources: another checkout's
+    // build would be compared with this one's binary.
+    let ask = "from coopwin import _coopwin; print(getattr(_coopwin, 'SOURCE_HASH', 'none (built before it had one)')); print(_coopwin.__file__)";
+    let out = Command::new("python3").args(["-c", ask]).current_dir(&root).output().expect("run python3");
+    let text = String::from_utf8_lossy(&out.stdout);
+    let mut lines = text.lines();
+    let (built, file) = (lines.next().unwrap_or_default(), lines.next().unwrap_or_default());
+    let here = source_hash(&root).expect("hash this checkout's sources");
+    assert_eq!(
+        built, here,
+        "the installed extension {file} was built from other sources (hash {built}) than this checkout's ({here}): reinstall it from here with {INSTALL}"
     );
     let out = Command::new("python3")
         .args(["-m", "pytest", "-q", "-p", "no:cacheprovider", "python/tests"])

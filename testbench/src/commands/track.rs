@@ -56,8 +56,9 @@ pub struct TrackArgs {
     /// shot cut [default: the last frame]
     #[arg(long, value_name = "N")]
     pub end_frame: Option<usize>,
-    /// Frames per second of the source [default: a video's own rate; 114 for PNG frames,
-    /// the thesis's camera]
+    /// Frames per second of the source [default: a video's own rate; for PNG frames, the
+    /// rate of the thesis camera's 8 MHz pixel clock over the frames' raster,
+    /// 8e6 / ((H + 2) (W + 16) + 16): 114 at 256x256, 17.65 at 768x576]
     #[arg(long, value_parser = args::parse_fps)]
     pub fps: Option<f64>,
     /// Foveal search margin R: the Foveal window is the template plus R pixels on each side
@@ -281,6 +282,9 @@ impl TrackRun {
     /// Opens `args`' input (`stop` is asked while a video is scanned) and checks the options
     /// against it.
     pub fn open(args: &TrackArgs, stop: &dyn Fn() -> bool) -> Result<TrackRun, CliError> {
+        if matches!(args.hdl, HdlArg::Model) && args.pixel_bits != 8 {
+            return Err(CliError::arg("--pixel-bits sets the clocked window units' pixel width: add --hdl rust-hdl or --hdl verilator"));
+        }
         let input = Input::open(&args.frames, args.allow_damaged, stop)?;
         let range = args.frame_range(input.len())?;
         args.check_against(input.size(), range.len())?;
@@ -331,9 +335,6 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
     };
     if matches!(args.hdl, HdlArg::Model) && vcd.is_some() {
         return Err(CliError::arg("--vcd traces the window units' signals: add --hdl rust-hdl"));
-    }
-    if matches!(args.hdl, HdlArg::Model) && args.pixel_bits != 8 {
-        return Err(CliError::arg("--pixel-bits sets the clocked window units' pixel width: add --hdl rust-hdl or --hdl verilator"));
     }
     let overlay_out = match &args.overlay {
         Some(p) => {
