@@ -43,7 +43,7 @@ module coopwin_soc #(
     parameter integer PIX_BYTES = 1 << 16,  // window pixel RAM (a whole 256x256 frame)
     parameter integer WIDTH = 256,          // camera pixels per line
     parameter integer HEIGHT = 256,         // camera lines per frame
-    parameter RAM_INIT = ""                 // program RAM image for a bitstream ($readmemh hex words)
+    parameter RAM_INIT = ""                 // program RAM image for a bitstream: byte lane k in RAM_INIT + "k" (soc_ram)
 ) (
     input  wire       clk,          // the one clock
     input  wire       reset,        // synchronous, active high
@@ -133,8 +133,20 @@ module coopwin_soc #(
         .b_rdata(ram_q)
     );
 `ifndef SYNTHESIS
+    // The image as 32-bit hex words, split into the RAM's byte lanes.
     reg [1023:0] image;
-    initial if ($value$plusargs("firmware=%s", image)) $readmemh(image, ram.mem);
+    reg [31:0]   image_words [0:RAM_WORDS-1];
+    integer      w;
+    initial if ($value$plusargs("firmware=%s", image)) begin
+        for (w = 0; w < RAM_WORDS; w = w + 1) image_words[w] = 32'd0;
+        $readmemh(image, image_words);
+        for (w = 0; w < RAM_WORDS; w = w + 1) begin
+            ram.lane[0].mem[w] = image_words[w][7:0];
+            ram.lane[1].mem[w] = image_words[w][15:8];
+            ram.lane[2].mem[w] = image_words[w][23:16];
+            ram.lane[3].mem[w] = image_words[w][31:24];
+        end
+    end
 `endif
 
     // ---------------------------------------------------------------- window unit
