@@ -3,7 +3,7 @@
 // lane is a memory of its own (8 bits wide, its own write enable) rather than one 32-bit
 // memory with byte enables: Yosys 0.23 mapped the latter to DP16KD at 1 KiB a block, the
 // lanes map at 2 KiB a block (2048 x 9), so a 256 KiB RAM takes 128 DP16KD, not 256.
-// A read on port B in the clock it writes returns the old word.
+// A write on port B leaves that lane's read data as it was.
 `timescale 1ns / 1ps
 `default_nettype none
 
@@ -19,7 +19,7 @@ module soc_ram #(
     input  wire [3:0]               b_we,     // port B: byte lanes written (0: a read)
     input  wire [$clog2(WORDS)-1:0] b_addr,   // port B: word address
     input  wire [31:0]              b_wdata,  // port B: the word written (lanes by b_we)
-    output wire [31:0]              b_rdata   // port B: the word read (before the write)
+    output wire [31:0]              b_rdata   // port B: the word read (lanes not written)
 );
     genvar k;
     generate for (k = 0; k < 4; k = k + 1) begin : lane
@@ -32,8 +32,10 @@ module soc_ram #(
         always @(posedge clk) if (a_en) a_q <= mem[a_addr];
         always @(posedge clk) begin
             if (b_en) begin
+                // A write does not read (no-change): the bus ignores a write's read data,
+                // and Yosys maps a read-before-write port at twice the DP16KD.
                 if (b_we[k]) mem[b_addr] <= b_wdata[8 * k +: 8];
-                b_q <= mem[b_addr];
+                else b_q <= mem[b_addr];
             end
         end
         assign a_rdata[8 * k +: 8] = a_q;
