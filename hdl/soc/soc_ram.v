@@ -1,8 +1,8 @@
 // soc_ram: the SoC's word RAM (32-bit words) with two ports, in the pattern Yosys infers as
-// block RAM (DP16KD on ECP5): each port in its own clocked block, registered reads. Each byte
-// lane is a memory of its own (8 bits wide, its own write enable) rather than one 32-bit
-// memory with byte enables: Yosys 0.23 mapped the latter to DP16KD at 1 KiB a block, the
-// lanes map at 2 KiB a block (2048 x 9), so a 256 KiB RAM takes 128 DP16KD, not 256.
+// block RAM (DP16KD on ECP5): each port in its own clocked block, registered reads, a memory
+// a byte lane (8 bits wide, its own write enable). Yosys 0.23 still maps the program RAM (a
+// read port and a read/write port) at 1 KiB a DP16KD: 128 KiB takes 128 blocks, 256 KiB 256
+// (docs/synthesis.md); the write-only-by-DMA pixel RAM maps at 2 KiB a block.
 // A write on port B leaves that lane's read data as it was.
 `timescale 1ns / 1ps
 `default_nettype none
