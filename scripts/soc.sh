@@ -80,7 +80,7 @@ firmware "$frames" "$target" "$out/fw.hex"
 echo "soc.sh: Verilator model" >&2
 (cd "$out" && nice -n 10 verilator --cc --exe --build -O2 -j 1 --top-module coopwin_soc \
   -Wall --timescale 1ns/1ps --Mdir obj \
-  "$root/hdl/soc/tb/verilator.vlt" "$vex" "$root/hdl/verilog/window_unit.v" "$root/hdl/soc/coopwin_soc.v" "$root/hdl/soc/tb/sim_main.cpp" \
+  "$root/hdl/soc/tb/verilator.vlt" "$vex" "$root/hdl/verilog/window_unit.v" "$root/hdl/soc/soc_ram.v" "$root/hdl/soc/coopwin_soc.v" "$root/hdl/soc/tb/sim_main.cpp" \
   -o Vcoopwin_soc >verilator.log 2>&1) || { tail -20 "$out/verilator.log" >&2; exit 1; }
 
 # Two runs of the same model and image. "realtime": a 100 MHz clock and the thesis's camera

@@ -42,7 +42,8 @@ module coopwin_soc #(
     parameter integer RAM_BYTES = 1 << 20,  // program RAM
     parameter integer PIX_BYTES = 1 << 16,  // window pixel RAM (a whole 256x256 frame)
     parameter integer WIDTH = 256,          // camera pixels per line
-    parameter integer HEIGHT = 256          // camera lines per frame
+    parameter integer HEIGHT = 256,         // camera lines per frame
+    parameter RAM_INIT = ""                 // program RAM image for a bitstream: byte lane k in RAM_INIT + "k" (soc_ram)
 ) (
     input  wire       clk,          // the one clock
     input  wire       reset,        // synchronous, active high
@@ -71,7 +72,7 @@ module coopwin_soc #(
     wire [2:0]  i_cti;
     wire [1:0]  i_bte;
     reg         i_ack = 1'b0;
-    reg  [31:0] i_dat_r = 32'd0;
+    wire [31:0] i_dat_r;
     wire        d_cyc, d_stb, d_we;
     wire [29:0] d_adr;
     wire [31:0] d_dat_w;
@@ -79,7 +80,7 @@ module coopwin_soc #(
     wire [2:0]  d_cti;
     wire [1:0]  d_bte;
     reg         d_ack = 1'b0;
-    reg  [31:0] d_dat_r = 32'd0;
+    wire [31:0] d_dat_r;
 
     VexRiscv cpu (
         .externalResetVector(32'h0000_0000),
@@ -98,28 +99,17 @@ module coopwin_soc #(
     );
 
     // ---------------------------------------------------------------- RAM (two ports)
-    reg [31:0] ram [0:RAM_WORDS-1];
-    // The firmware image, as `objcopy -O verilog --verilog-data-width 4` hex words.
     initial begin
         halted = 1'b0;
         exit_code = 8'd0;
     end
-`ifndef SYNTHESIS
-    // The simulation loads the image named by +firmware=FILE; a bitstream would initialise
-    // the RAM from the image instead.
-    reg [1023:0] image;
-    initial if ($value$plusargs("firmware=%s", image)) $readmemh(image, ram);
-`endif
     // Instruction bus: a cache line's refill is an incrementing burst (CTI 010, the last beat
     // 111), one beat a clock: while a beat is acknowledged and more follow, the next word is
     // read ahead (the CPU moves to the next address as it takes the beat).
     wire i_more = i_ack & (i_cti == 3'b010);
     wire i_req = i_cyc & i_stb & (~i_ack | i_more);
     wire [RAM_AW-1:0] i_word = i_adr[RAM_AW-1:0] + {{(RAM_AW-1){1'b0}}, i_more};
-    always @(posedge clk) begin
-        i_ack <= i_req;
-        if (i_req) i_dat_r <= ram[i_word];
-    end
+    always @(posedge clk) i_ack <= i_req;
 
     // Data bus: one access a time, acknowledged the clock after it is seen.
     wire d_req = d_cyc & d_stb & ~d_ack;
@@ -128,6 +118,36 @@ module coopwin_soc #(
     wire d_win = d_adr[29:10] == 20'h80001;             // 0x8000_1xxx
     wire d_pix = d_adr[29:26] == 4'h9;                  // 0x9xxx_xxxx
     wire [RAM_AW-1:0] d_word = d_adr[RAM_AW-1:0];
+    // The data read: a RAM's registered word or the I/O registers' value, chosen by where the
+    // access went (registered with it), so each RAM keeps its own output register.
+    reg         d_from_ram = 1'b0, d_from_pix = 1'b0;
+    reg  [31:0] d_io_r = 32'd0;
+    wire [31:0] ram_q, pix_q;
+    wire        d_pix_read = d_req & ~d_ram & ~d_uart & ~d_win & d_pix;
+    assign d_dat_r = d_from_ram ? ram_q : d_from_pix ? pix_q : d_io_r;
+    // Port A the instruction bus (read only), port B the data bus. The firmware image is
+    // INIT_FILE for a bitstream; the simulation loads +firmware=FILE instead.
+    soc_ram #(.WORDS(RAM_WORDS), .INIT_FILE(RAM_INIT)) ram (
+        .clk(clk), .a_en(i_req), .a_addr(i_word), .a_rdata(i_dat_r),
+        .b_en(d_req & d_ram), .b_we(d_we ? d_sel : 4'd0), .b_addr(d_word), .b_wdata(d_dat_w),
+        .b_rdata(ram_q)
+    );
+`ifndef SYNTHESIS
+    // The image as 32-bit hex words, split into the RAM's byte lanes.
+    reg [1023:0] image;
+    reg [31:0]   image_words [0:RAM_WORDS-1];
+    integer      w;
+    initial if ($value$plusargs("firmware=%s", image)) begin
+        for (w = 0; w < RAM_WORDS; w = w + 1) image_words[w] = 32'd0;
+        $readmemh(image, image_words);
+        for (w = 0; w < RAM_WORDS; w = w + 1) begin
+            ram.lane[0].mem[w] = image_words[w][7:0];
+            ram.lane[1].mem[w] = image_words[w][15:8];
+            ram.lane[2].mem[w] = image_words[w][23:16];
+            ram.lane[3].mem[w] = image_words[w][31:24];
+        end
+    end
+`endif
 
     // ---------------------------------------------------------------- window unit
     reg         coord_strobe = 1'b0;
@@ -151,8 +171,15 @@ module coopwin_soc #(
     reg  [31:0] frames = 32'd0, done_frame = 32'd0;
     reg         fval_was = 1'b0;
     reg  [PIX_AW+1:0] pix_addr = 0, pix_count = 0;
-    reg  [31:0] pix [0:PIX_WORDS-1];
     assign irq_window = done_flag;
+    // The capture DMA writes one byte lane a strobe (port B); the data bus reads (port A).
+    wire        dma_write = pixel_strobe & ~set_accepted;
+    wire [31:0] pix_unused;
+    soc_ram #(.WORDS(PIX_WORDS)) pix (
+        .clk(clk), .a_en(d_pix_read), .a_addr(d_adr[PIX_AW-1:0]), .a_rdata(pix_q),
+        .b_en(dma_write), .b_we(4'd1 << pix_addr[1:0]), .b_addr(pix_addr[PIX_AW+1:2]),
+        .b_wdata({4{pixel_out}}), .b_rdata(pix_unused)
+    );
 
     always @(posedge clk) begin
         cycle <= cycle + 32'd1;
@@ -165,12 +192,6 @@ module coopwin_soc #(
         if (set_accepted) begin
             pix_addr <= 0;
         end else if (pixel_strobe) begin
-            case (pix_addr[1:0])
-                2'd0: pix[pix_addr[PIX_AW+1:2]][7:0] <= pixel_out;
-                2'd1: pix[pix_addr[PIX_AW+1:2]][15:8] <= pixel_out;
-                2'd2: pix[pix_addr[PIX_AW+1:2]][23:16] <= pixel_out;
-                default: pix[pix_addr[PIX_AW+1:2]][31:24] <= pixel_out;
-            endcase
             pix_addr <= pix_addr + 1'b1;
             dma_cycles <= dma_cycles + 32'd1;
         end
@@ -187,17 +208,13 @@ module coopwin_soc #(
         uart_valid <= 1'b0;
         console_valid <= 1'b0;
         if (d_req) begin
-            d_dat_r <= 32'd0;
+            d_io_r <= 32'd0;
+            d_from_ram <= d_ram;
+            d_from_pix <= d_pix_read;
             if (d_ram) begin
-                d_dat_r <= ram[d_word];
-                if (d_we) begin
-                    if (d_sel[0]) ram[d_word][7:0] <= d_dat_w[7:0];
-                    if (d_sel[1]) ram[d_word][15:8] <= d_dat_w[15:8];
-                    if (d_sel[2]) ram[d_word][23:16] <= d_dat_w[23:16];
-                    if (d_sel[3]) ram[d_word][31:24] <= d_dat_w[31:24];
-                end
+                // soc_ram's port B
             end else if (d_uart) begin
-                d_dat_r <= 32'd1;
+                d_io_r <= 32'd1;
                 if (d_we && d_adr[1:0] == 2'd1) begin
                     halted <= 1'b1;
                     exit_code <= d_dat_w[7:0];
@@ -211,17 +228,17 @@ module coopwin_soc #(
                 end
             end else if (d_win) begin
                 case (d_adr[3:0])
-                    4'd0: d_dat_r <= {15'd0, coord_decimate, coord_data, 7'd0, coord_strobe};
-                    4'd1: d_dat_r <= {26'd0, accepted_flag, refused_flag, done_flag, armed, coord_error, coord_ready};
-                    4'd2: d_dat_r <= {{(30-PIX_AW){1'b0}}, pix_count};
-                    4'd3: d_dat_r <= done_frame;
-                    4'd4: d_dat_r <= cycle;
-                    4'd5: d_dat_r <= done_cycle;
-                    4'd6: d_dat_r <= frames;
-                    4'd7: d_dat_r <= dma_cycles;
-                    4'd8: d_dat_r <= i_busy;
-                    4'd9: d_dat_r <= d_busy;
-                    default: d_dat_r <= 32'd0;
+                    4'd0: d_io_r <= {15'd0, coord_decimate, coord_data, 7'd0, coord_strobe};
+                    4'd1: d_io_r <= {26'd0, accepted_flag, refused_flag, done_flag, armed, coord_error, coord_ready};
+                    4'd2: d_io_r <= {{(30-PIX_AW){1'b0}}, pix_count};
+                    4'd3: d_io_r <= done_frame;
+                    4'd4: d_io_r <= cycle;
+                    4'd5: d_io_r <= done_cycle;
+                    4'd6: d_io_r <= frames;
+                    4'd7: d_io_r <= dma_cycles;
+                    4'd8: d_io_r <= i_busy;
+                    4'd9: d_io_r <= d_busy;
+                    default: d_io_r <= 32'd0;
                 endcase
                 if (d_we && d_adr[3:0] == 4'd0) begin
                     coord_strobe <= d_dat_w[0];
@@ -235,8 +252,6 @@ module coopwin_soc #(
                     if (d_dat_w[4]) refused_flag <= 1'b0;
                     if (d_dat_w[5]) accepted_flag <= 1'b0;
                 end
-            end else if (d_pix) begin
-                d_dat_r <= pix[d_adr[PIX_AW-1:0]];
             end
         end
         if (reset) begin
@@ -255,6 +270,6 @@ module coopwin_soc #(
 
     // Unused by this SoC: the instruction bus only reads; the data bus's beats are taken one
     // by one (two clocks a beat), whatever its burst hints.
-    wire unused = &{1'b0, i_we, i_dat_w, i_sel, i_bte, d_cti, d_bte, i_adr[29:RAM_AW]};
+    wire unused = &{1'b0, pix_unused, i_we, i_dat_w, i_sel, i_bte, d_cti, d_bte, i_adr[29:RAM_AW]};
 endmodule
 `default_nettype wire
