@@ -9,7 +9,7 @@
 # where the SoC measures every frame, `coopwin track`'s rows (frame, x, y).
 #
 #   scripts/soc.sh                 21 frames of the default scene (triangle path, 256x256)
-#   scripts/soc.sh --frames N      N frames (N >= 2)
+#   scripts/soc.sh --frames N      N frames (N >= 8: the figures need windows after the lock-on; 8 and 21 were run)
 #   COOPWIN=path/to/coopwin scripts/soc.sh   use that build of the CLI (scene, track) instead
 #                                  of building target/release/coopwin
 #
@@ -23,7 +23,7 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 frames=21
 case "${1:-}" in
-  --frames) frames="${2:?--frames N}"; [[ "$frames" =~ ^[0-9]+$ && "$frames" -ge 2 ]] || { echo "soc.sh: --frames takes a whole number >= 2" >&2; exit 2; } ;;
+  --frames) frames="${2:?--frames N}"; [[ "$frames" =~ ^[0-9]+$ && "$frames" -ge 8 ]] || { echo "soc.sh: --frames takes a whole number >= 8 (the figures need windows after the lock-on)" >&2; exit 2; } ;;
   "") ;;
   *) echo "usage: $0 [--frames N]" >&2; exit 2 ;;
 esac

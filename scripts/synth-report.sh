@@ -465,10 +465,12 @@ TRELLIS_COMB is nextpnr's count of the combinational sites used after packing (L
   wrapping counters, 8-bit coordinates compared as each byte arrived) had 72 SB_LUT4,
   20 SB_CARRY and 161 flip-flops, and 160 to 182 MHz on iCE40 over seeds 1-5 with the same tools.
 EOF
-  # The wrapper's section (scripts/synth-report.sh --axis), kept as it is.
+  # The wrapper's section (scripts/synth-report.sh --axis) and what follows it (the SoC's,
+  # written from scripts/soc-ecp5.sh's run), kept as they are.
   if [ -f "$doc" ] && grep -qF "$axis_begin" "$doc"; then
     echo
     axis_section
+    awk -v e="$axis_end" 'p { print } $0 == e { p = 1 }' "$doc"
   fi
 } >"$work/full.md"
 mv "$work/full.md" "$doc"
