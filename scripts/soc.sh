@@ -17,7 +17,7 @@
 # clock and the firmware's lines; firmware.log: those lines; uart.bin; audit/unit.vcd and
 # requests.csv, what `coopwin audit` checks), track.csv (the host's rows),
 # report.md (the measured cycles, scripts/soc_report.py).
-# Needs: apt-get install verilator gcc-riscv64-unknown-elf rustc-web cargo-web rust-web-src;
+# Needs: apt-get install verilator binutils-riscv64-unknown-elf rustc-web cargo-web rust-web-src;
 # pip install pythondata-cpu-vexriscv (the versions .ci/run pins).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"

@@ -4,7 +4,7 @@ and prints a Markdown table a run: the frames measured, cycles a window, instruc
 bus occupancy, the capture DMA's, and the latency from a window's last pixel to its position
 update's last UART byte, measured twice: by the firmware (its cycle counter) and by the
 testbench (the clock it took the UART byte on). Fails if the two disagree by more than the
-firmware's own read of the counter (a few hundred clocks), or if a window did not wake the
+1,000 clocks (the firmware's own read of the counter takes a few hundred), or if a window did not wake the
 sleeping core exactly once (its interrupt).
 
     scripts/soc_report.py target/soc
