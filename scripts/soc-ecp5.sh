@@ -64,6 +64,11 @@ for k in range(4):
     open(sys.argv[2] + str(k), "w").write("".join("%02x\n" % ((w >> (8 * k)) & 0xFF) for w in words))
 PY
 step "firmware $fw: $(( $(grep -c . "$fw") * 4 )) bytes in a $ram_bytes-byte RAM"
+# The image's stack starts at the top of the RAM it is linked for: in a smaller RAM the address
+# wraps into the code, and the bitstream's firmware does not run (docs/synthesis.md).
+linked_kib="$(sed -n 's/.*LENGTH *= *\([0-9]*\)K.*/\1/p' "$root/firmware/soc/memory.x")"
+[ "${linked_kib:-0}" -le "$ram_kib" ] ||
+  echo "soc-ecp5.sh: warning: the firmware is linked for ${linked_kib} KiB (firmware/soc/memory.x), the RAM is ${ram_kib} KiB: its stack overruns the code and the bitstream will not track" >&2
 
 # 2. Synthesis. The lane files are named relative to the output folder (yosys runs there).
 (cd "$out" && yosys -q -l yosys.log -p "read_verilog -DSYNTHESIS $vex $root/hdl/verilog/window_unit.v \
