@@ -12,6 +12,8 @@ use coopwin_testbench::experiments::long_term::clips::{labelled, score_object, C
 use coopwin_testbench::experiments::long_term::{present, rows, run};
 use coopwin_testbench::experiments::real_footage::{Clip, DEFAULT_CLIPS};
 use coopwin_testbench::frames::scene::longterm::sets;
+use coopwin_testbench::system::RunLog;
+use coopwin_firmware::ports::{frame::FrameDecoder, position::PositionUpdate};
 use std::path::Path;
 
 /// (set, measured recall) of the default tracker; every set measured with no wrong `ok` 1 row
@@ -50,20 +52,34 @@ const CLIPS_MEASURED: [(&str, &str, usize, f64); 15] = [
     ("tree", "frame", 0, 1.0),
 ];
 
+/// The robot link's updates, decoded with the firmware's own frame decoder.
+fn link_updates(log: &RunLog) -> Vec<PositionUpdate> {
+    let mut dec = FrameDecoder::new();
+    log.robot_link.iter().filter_map(|&b| dec.feed(b)).map(|f| PositionUpdate::decode(&f.expect("valid frame")).expect("valid payload")).collect()
+}
+
 #[test]
 fn the_default_never_vouches_for_a_look_alike_an_occluder_or_an_empty_place() {
+    let mut unvouched = 0;
     for set in sets() {
         let (_, recall) = SYNTHETIC.iter().copied().find(|m| m.0 == set.name).expect("a measured figure");
         let mut frames = set.render_all();
         let truth = present(&frames);
         let (log, acceptance) = run(&set, &mut frames, true).expect("runs");
         common::assert_rows_are_honest(set.name, &log);
+        // A robot follows the link: it carries the reports vouched for, and no other.
+        let vouched: Vec<_> = log.reports.iter().filter(|r| r.vouched).map(|r| (r.point.x, r.point.y)).collect();
+        let sent: Vec<_> = link_updates(&log).iter().map(|u| (u.x, u.y)).collect();
+        assert_eq!(sent.len(), vouched.len(), "{}: updates on the robot link against vouched reports", set.name);
+        assert_eq!(sent, vouched, "{}: the robot link", set.name);
+        unvouched += log.reports.len() - vouched.len();
         let s = longterm::score(&rows(&log, acceptance), &truth);
         eprintln!("{}: {s:?}", set.name);
         assert_eq!(s.wrong, 0, "{}: {} of {} ok rows wrong", set.name, s.wrong, s.vouched);
         assert!(s.tnr.is_none_or(|t| t == 1.0), "{}: TNR {:?}", set.name, s.tnr);
         assert!(s.recall >= 0.9 * recall, "{}: recall {:.4}, measured {recall}", set.name, s.recall);
     }
+    assert!(unvouched > 0, "the sets have reports the firmware did not vouch for, which the link leaves out");
 }
 
 #[test]

@@ -10,7 +10,7 @@ use coopwin_firmware::kernels::fmath::sqrtf;
 use coopwin_firmware::kernels::info::{corner_information, edge_information, edge_information_with_prior};
 use coopwin_firmware::kernels::matching::{best_match, best_match_decimated, Match, MatchError, Method};
 use coopwin_firmware::kernels::motion::{detect_motion, MotionArea, MotionError};
-use coopwin_firmware::processors::{watch, CornerPartner, Dest, Foveal, FovealKind, Identity, Msg, Params, Peripheral, Step, Template, Work};
+use coopwin_firmware::processors::{watch, CornerPartner, Dest, Foveal, FovealKind, Fix, Msg, Outcome, Params, Peripheral, Step, Template, Work};
 use coopwin_firmware::kernels::view::WindowView;
 use coopwin_firmware::types::{Decimation, Point, Source, WindowRequest};
 use core::fmt::{self, Write};
@@ -704,21 +704,21 @@ fn decision_line<W: Write>(out: &mut W, name: &str, k: u16, f: &Frame<'_>, step:
     if (f.w, f.h) != (24, 24) {
         write!(out, " size={}x{}", f.w, f.h)?;
     }
-    match (step.report, step.lost) {
-        (Some((p, algo)), _) => {
+    match step.outcome {
+        Outcome::Measured(Fix { at: p, source: algo, shape, .. }) | Outcome::Unconfirmed(Fix { at: p, source: algo, shape, .. }) => {
             tally.0 += 1;
             tally.1 += u32::from(algo == Source::Cd);
             write!(out, " x={:08x} y={:08x} algo={algo:?}", p.x.to_bits(), p.y.to_bits())?;
-            if let Some(sh) = step.shape {
+            if let Some(sh) = shape {
                 write!(out, " scale={:08x} angle={:08x}", sh.scale.to_bits(), sh.angle_deg.to_bits())?;
             }
-            if step.identity == Identity::Unconfirmed {
+            if step.outcome.vouched().is_none() {
                 write!(out, " unconfirmed")?;
             }
             writeln!(out)
         }
-        (None, Some(p)) => writeln!(out, " lost={:08x},{:08x}", p.x.to_bits(), p.y.to_bits()),
-        (None, None) => writeln!(out, " none"),
+        Outcome::Lost(p) => writeln!(out, " lost={:08x},{:08x}", p.x.to_bits(), p.y.to_bits()),
+        _ => writeln!(out, " none"),
     }
 }
 

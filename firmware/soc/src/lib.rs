@@ -1,6 +1,7 @@
 //! The tracking firmware of the soft-CPU SoC (issue 40): the thesis's Foveal processor (2.3,
-//! NCC on a fixed 20x20 template, Table 2.2's 24x24 window) on one window unit, its position
-//! updates for the robot controller on the UART ([`coopwin_firmware::ports::position`]).
+//! NCC on a fixed 20x20 template, Table 2.2's 24x24 window) on one window unit, the positions
+//! it vouches for sent to the robot controller on the UART
+//! ([`coopwin_firmware::ports::position`]).
 //! [`Tracker`] is the loop's pure part, the same on the SoC and in the host's reference
 //! replay (`soc-replay`); [`mmio`] is the SoC's hardware, reached through the `ports` traits.
 #![no_std]
@@ -84,7 +85,7 @@ impl Tracker {
             }
         };
         fov.on_window_into(win, f64::from(t_us) * 1e-6, &mut self.step);
-        let update = self.step.report.map(|(p, source)| PositionUpdate { t_us, x: p.x, y: p.y, source });
+        let update = self.step.outcome.vouched().map(|f| PositionUpdate { t_us, x: f.at.x, y: f.at.y, source: f.source });
         Ok((update, self.step.request))
     }
 }

@@ -6,7 +6,7 @@ use super::coop::guard::{dist, Guard, GuardParams, Measured};
 use super::coop::Policy;
 use super::messages::{Dest, Msg};
 use super::params::{Params, COAST_MARGIN, CONFIRM_ALIGN, CONFIRM_NCC, GROW_MARGIN, HOLD_NCC, MAX_MARGIN, MISS_DECAY, REDETECT_MIN, UNCONFIRMED_RUN};
-use super::step::{placements, Identity, Mode, Step, Work};
+use super::step::{placements, Fix, Mode, Outcome, Step, Work};
 use super::template::Template;
 use crate::kernels::corner::{CornerDetector, CornerParams, MAX_DIM};
 use crate::kernels::matching::{best_match_full, best_match_pyramid};
@@ -113,6 +113,19 @@ pub enum FovealKind {
     CoopMaster,
 }
 
+/// What a Foveal processor is doing (a COOP master's coasting is its guard's,
+/// [`Guard::coasting`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Phase {
+    /// No track: waiting for a target (the Peripheral's location, or one given at start).
+    Idle,
+    /// Tracking; the last point followed.
+    Tracking(Point),
+    /// An adapting track the Peripheral handed over near the point: its first window, still
+    /// to come, tries the first template too ([`Foveal::handed_over`]).
+    HandedOver(Point),
+}
+
 /// A Foveal (Tracking) processor, its corner detector sized for windows (and templates) up
 /// to `N x N`, its Lucas-Kanade template for up to `P` used pixels ([`LkTemplate`]: `(n - 2)²`
 /// for an `n x n` template; a larger template is tracked without the refinement).
@@ -123,7 +136,7 @@ pub struct Foveal<const N: usize = MAX_DIM, const P: usize = INTERIOR> {
     support: Option<Support>,
     lk: LkCache<P>,
     detector: CornerDetector<N>,
-    tracking: Option<Point>,
+    phase: Phase,
     params: Params,
     coop: Policy,
     /// COOP master: own result of the current window (no corner yet), waiting for the
@@ -139,16 +152,11 @@ pub struct Foveal<const N: usize = MAX_DIM, const P: usize = INTERIOR> {
     /// Adapting tracks: the largest recent distance between where a window was aimed and
     /// where the point was found, decaying by [`MISS_DECAY`] a window: the motion's surprise.
     miss: f32,
-    /// Where a coasting track expects the point (its window's centre), while it coasts.
-    predicted: Option<Point>,
     /// The object's shape as the last window's alignment measured it (adapting tracks).
     shape: Option<Shape>,
     /// Adapting tracks: the first template aligned in the last window with a score of at
     /// least [`CONFIRM_ALIGN`].
     first_seen: bool,
-    /// Adapting tracks: the window asked for is the first of a track the Peripheral handed
-    /// over ([`Foveal::handed_over`]).
-    handed: bool,
     /// Adapting tracks: windows in a row whose point the first template did not confirm.
     unconfirmed: u8,
 }
@@ -177,7 +185,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
             support: None,
             lk: LkCache { over: None, template: LkTemplate::sized() },
             detector: CornerDetector::sized(),
-            tracking: None,
+            phase: Phase::Idle,
             params,
             coop: Policy::Guarded(Guard::new(GuardParams::for_track(&params))),
             own: None,
@@ -186,10 +194,8 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
             pinned: false,
             aimed: None,
             miss: 0.0,
-            predicted: None,
             shape: None,
             first_seen: false,
-            handed: false,
             unconfirmed: 0,
         }
     }
@@ -246,9 +252,11 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     /// Starts tracking at `p`: the tracked point itself when `exact`, otherwise the
     /// Peripheral's approximate location.
     fn start(&mut self, p: Point, exact: bool, step: &mut Step) {
-        (self.tracking, self.predicted) = (Some(p), None);
+        self.phase = if !exact && self.adapt.is_some() { Phase::HandedOver(p) } else { Phase::Tracking(p) };
         (self.aimed, self.miss, self.unconfirmed, self.first_seen) = (None, 0.0, 0, false);
-        self.handed = !exact && self.adapt.is_some();
+        if !exact {
+            step.outcome = Outcome::Redetected(p);
+        }
         self.coop.begin(p, exact);
         // An adapting track resumed from the Peripheral's approximate location (25 %: +-2 px)
         // looks as widely as when its motion is unknown.
@@ -264,18 +272,11 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         matches!(&self.coop, Policy::Guarded(g) if g.coasting())
     }
 
-    /// Whether an adapting track restarts where the Peripheral found the target, its first
-    /// window still to come.
-    pub fn restarting(&self) -> bool {
-        self.handed
-    }
-
     /// Whether it is tracking.
     pub fn mode(&self) -> Mode {
-        if self.tracking.is_some() {
-            Mode::Track
-        } else {
-            Mode::Watch
+        match self.phase {
+            Phase::Idle => Mode::Watch,
+            Phase::Tracking(_) | Phase::HandedOver(_) => Mode::Track,
         }
     }
 
@@ -293,9 +294,9 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         match m {
             Msg::Template(tpl) => self.set_template(tpl.clone()),
             // An adapting track that coasts restarts where the Peripheral found the target.
-            Msg::Approx(p) if self.tracking.is_none() || (self.adapt.is_some() && self.coasting()) => self.start(*p, false, step),
+            Msg::Approx(p) if self.phase == Phase::Idle || (self.adapt.is_some() && self.coasting()) => self.start(*p, false, step),
             Msg::Follow(p) => {
-                self.tracking = Some(*p);
+                self.phase = Phase::Tracking(*p);
                 step.ask(Some(self.params.foveal_window(*p)));
             }
             Msg::Result(r) if self.kind == FovealKind::CoopMaster => {
@@ -327,7 +328,13 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
             FovealKind::Ncc | FovealKind::CoopMaster => {
                 // A track the Peripheral handed over tries its first template too (one call
                 // site: the NCC master's 64 KiB has no room for a second inlined search).
-                let handed = core::mem::take(&mut self.handed);
+                let handed = match self.phase {
+                    Phase::HandedOver(p) => {
+                        self.phase = Phase::Tracking(p);
+                        true
+                    }
+                    _ => false,
+                };
                 let first = self.adapt.as_ref().map(Adaptive::first).filter(|f| handed && Some(*f) != self.template.as_ref());
                 let (mut found, mut work, mut by_first) = (None, Work::None, false);
                 for (k, tpl) in self.template.iter().chain(first).enumerate() {
@@ -393,37 +400,37 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         let (Some(own), Some(partner)) = (self.own, self.partner) else { return false };
         self.own = None;
         self.partner = None;
+        let coasted = self.coasting();
         let chosen = self.coop.decide(t, Measured { corner: partner, ..own });
         if let Some(q) = chosen.is_none().then(|| self.coop.coast(t)).flatten() {
-            // Nothing measured the point: look where it should be next, report nothing.
+            // Nothing measured the point: look where it should be next.
             let side = self.params.foveal + 2 * COAST_MARGIN;
-            if self.adapt.is_some() && self.predicted.is_none() {
+            if self.adapt.is_some() && !coasted {
                 step.send(Dest::Peripheral, Msg::Coasting(q));
             }
-            self.predicted = Some(q);
+            step.outcome = Outcome::Predicted(q);
             if let Some(a) = self.adapt.as_mut() {
                 a.discard();
             }
             step.ask(Some(self.params.window(q, side, Decimation::Full))).send(Dest::FovealCd, Msg::Follow(q));
             return true;
         }
-        self.predicted = None;
         let (found, source) = (chosen.map(|c| c.0), chosen.map_or(Source::Ncc, |c| c.1));
         // NCC vouches for the point it measured, or one fused with it.
         let score = own.ncc.zip(found).filter(|((n, _), p)| dist(*n, *p) <= VOUCH).map(|((_, s), _)| s);
         self.follow(step, t, found, source, score);
-        match (step.request, found, step.lost) {
-            (Some(req), Some(_), _) => {
+        match (step.request, step.outcome) {
+            (Some(req), Outcome::Measured(fix) | Outcome::Unconfirmed(fix)) => {
                 // The partner looks where the master's window is centred.
                 let centre = Point {
                     x: f32::from(req.x0) + (f32::from(req.width) - 1.0) / 2.0,
                     y: f32::from(req.y0) + (f32::from(req.height) - 1.0) / 2.0,
                 };
-                let at = if self.adapt.is_some() { centre } else { found.unwrap_or(centre) };
+                let at = if self.adapt.is_some() { centre } else { fix.at };
                 step.send(Dest::FovealCd, Msg::Follow(at));
             }
             // The partner stops with the master; the Peripheral takes over.
-            (_, _, Some(last)) => {
+            (_, Outcome::Lost(last)) => {
                 step.send(Dest::FovealCd, Msg::Lost(last));
             }
             _ => {}
@@ -432,11 +439,12 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     }
 
     /// Follows `found` (measured by `source`, with NCC's `score` when NCC vouches for it) at
-    /// time `t`: the next window, the Peripheral told, the report; or the loss. An adapting
-    /// template takes the window's proposal when NCC measured the point followed.
+    /// time `t`: the next window, the Peripheral told, the outcome: the point, vouched for or
+    /// not, or the loss. An adapting template takes the window's proposal when NCC measured
+    /// the point followed.
     fn follow(&mut self, step: &mut Step, t: f64, found: Option<Point>, source: Source, score: Option<f32>) {
-        let identity = self.identity(score);
-        let astray = self.astray(identity);
+        let confirmed = self.confirms(score);
+        let astray = self.astray(confirmed);
         if let Some(a) = self.adapt.as_mut() {
             match a.take() {
                 // A track that has gone astray starts again from the object's first view.
@@ -448,28 +456,26 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
                 _ => {}
             }
         }
-        match (found.filter(|_| !astray), self.tracking) {
+        match (found.filter(|_| !astray), self.phase) {
             (Some(p), _) => {
-                self.tracking = Some(p);
+                self.phase = Phase::Tracking(p);
                 if let Some(a) = self.aimed {
                     self.miss = dist(p, a).max(self.miss * MISS_DECAY);
                 }
                 step.ask(Some(self.next_window(p, t))).send(Dest::Peripheral, Msg::Tracked(p));
-                step.report = Some((p, source));
-                step.identity = identity;
-                step.score = score;
-                step.shape = score.and(self.shape);
+                let fix = Fix { at: p, source, score, shape: score.and(self.shape) };
+                step.outcome = if confirmed { Outcome::Measured(fix) } else { Outcome::Unconfirmed(fix) };
             }
-            (None, Some(last)) => {
-                self.tracking = None;
+            (None, Phase::Tracking(last) | Phase::HandedOver(last)) => {
+                self.phase = Phase::Idle;
                 // The Peripheral re-detects with the last look the track trusted, too.
                 if let (Some(_), Some(t)) = (&self.adapt, &self.template) {
                     step.send(Dest::Peripheral, Msg::Template(t.clone()));
                 }
                 step.send(Dest::Peripheral, Msg::Lost(last));
-                step.lost = Some(last);
+                step.outcome = Outcome::Lost(last);
             }
-            (None, None) => {}
+            (None, Phase::Idle) => {}
         }
     }
 
@@ -496,35 +502,30 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     /// object's first view, turned and scaled, is there); a fixed template's where NCC scores at least [`CONFIRM_NCC`]. The corner
     /// detector alone has no model of the target: the thesis's CD tracker is vouched for as the
     /// thesis does, a COOP report of the corner alone is not.
-    fn identity(&self, score: Option<f32>) -> Identity {
-        let confirmed = match (self.kind, &self.adapt) {
+    fn confirms(&self, score: Option<f32>) -> bool {
+        match (self.kind, &self.adapt) {
             (FovealKind::Cd, _) => true,
             (_, Some(_)) => score.is_some() && self.first_seen,
             (_, None) => score.is_some_and(|s| s >= CONFIRM_NCC),
-        };
-        if confirmed {
-            Identity::Confirmed
-        } else {
-            Identity::Unconfirmed
         }
     }
 
-    /// Whether an adapting track has gone astray: more than [`UNCONFIRMED_RUN`] windows with
-    /// `identity` unconfirmed since it was last confirmed, counting those where the first
+    /// Whether an adapting track has gone astray: more than [`UNCONFIRMED_RUN`] windows not
+    /// `confirmed` since it was last confirmed, counting those where the first
     /// template aligns without confirming (something like the target, but not it: a
     /// look-alike that passed in front, an occluder it learnt); it is then lost, and the
     /// Peripheral re-detects the object by its first view. A window where the first template
     /// does not align at all (the object looks unlike its first view) neither counts nor
     /// clears the run: the track holds, unvouched (opencv-doc's hinge and eye: 70 and 26
     /// measured rows against 40 and 17 when every unconfirmed window counts).
-    fn astray(&mut self, identity: Identity) -> bool {
+    fn astray(&mut self, confirmed: bool) -> bool {
         if self.adapt.is_none() {
             return false;
         }
-        self.unconfirmed = match identity {
-            Identity::Confirmed => 0,
-            Identity::Unconfirmed if self.shape.is_some() => self.unconfirmed.saturating_add(1),
-            Identity::Unconfirmed => self.unconfirmed,
+        self.unconfirmed = match confirmed {
+            true => 0,
+            false if self.shape.is_some() => self.unconfirmed.saturating_add(1),
+            false => self.unconfirmed,
         };
         self.unconfirmed > UNCONFIRMED_RUN
     }
@@ -550,11 +551,6 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         let extra = (libm::ceilf(extra) as u16).min(MAX_MARGIN);
         self.params.window(ahead.unwrap_or(p), self.params.foveal + 2 * extra, Decimation::Full)
     }
-
-    /// Where a coasting track expects the point, while it coasts (no measurement).
-    pub fn predicted(&self) -> Option<Point> {
-        self.predicted
-    }
 }
 
 #[cfg(test)]
@@ -568,6 +564,11 @@ mod tests {
         (p.x - q.x).abs() < 0.01 && (p.y - q.y).abs() < 0.01
     }
 
+    /// The position `s` measured; a test's failure where it measured none.
+    fn fix(s: &Step) -> Fix {
+        *s.outcome.fix().unwrap_or_else(|| panic!("no position measured: {:?}", s.outcome))
+    }
+
     #[test]
     fn ncc_tracks_the_block_and_loses_it_when_it_goes() {
         let mut f = Foveal::new(FovealKind::Ncc, params(), Some(template()));
@@ -577,20 +578,20 @@ mod tests {
         // The template (8x8) placed at its own pixels: NCC 1, the point where it started.
         let s = f.on_window(&cut(&frame(Some((30, 20))), &win), 0.0);
         assert_eq!(s.work, Work::Match { method: Method::Ncc, template: 64, placements: 81 });
-        let (p, source) = s.report.unwrap();
+        let Fix { at: p, source, score, .. } = fix(&s);
         assert!(near(p, TARGET) && source == Source::Ncc, "{p:?}");
-        assert!(s.score.is_some_and(|v| v > 0.999_99), "the report carries NCC's score: {:?}", s.score);
+        assert!(score.is_some_and(|v| v > 0.999_99), "the report carries NCC's score: {score:?}");
         assert_eq!(&s.sends[..], &[(Dest::Peripheral, Msg::Tracked(p))][..]);
         assert_eq!(s.request, Some(win));
         // The block moves by (2, 1): so does the point, and the window follows
         // (round(33.5 - 7.5) = 26, round(22.5 - 7.5) = 15).
         let s = f.on_window(&cut(&frame(Some((32, 21))), &win), 0.04);
-        let (p, _) = s.report.unwrap();
+        let p = fix(&s).at;
         assert!(near(p, Point { x: 33.5, y: 22.5 }), "{p:?}");
         assert_eq!(s.request, Some(square(26, 15, 16, Decimation::Full)));
         // A flat window: NCC 5600 / sqrt(760000 * 64) = 0.80 < 0.97, lost where it last was.
         let s = f.on_window(&cut(&frame(None), &win), 0.08);
-        assert_eq!((s.report, s.request, s.lost), (None, None, Some(p)));
+        assert_eq!((s.outcome, s.request), (Outcome::Lost(p), None));
         assert_eq!(&s.sends[..], &[(Dest::Peripheral, Msg::Lost(p))][..]);
         assert_eq!(f.mode(), Mode::Watch);
     }
@@ -609,7 +610,7 @@ mod tests {
             let t = 0.04 * k as f64;
             f.on_window(&cut(&frame(Some((x, 20))), &req), t);
             let s = f.on_message(&Msg::Result(None), t);
-            let (p, _) = s.report.unwrap();
+            let p = fix(&s).at;
             assert!(near(p, Point { x: TARGET.x + (x - 30) as f32, y: TARGET.y }), "window {k}: {p:?}");
             req = s.request.unwrap();
             last = Some(p);
@@ -651,7 +652,7 @@ mod tests {
         let s = f.on_window(&cut(&frame(Some((30, 20))), &req), 0.0);
         // Both searches are charged: twice the 21x21 placements of an 8x8 template in 28x28.
         assert_eq!(s.work, Work::Match { method: Method::Zncc, template: 64, placements: 2 * 21 * 21 });
-        let (p, _) = s.report.expect("re-locked");
+        let p = fix(&s).at;
         assert!(near(p, TARGET), "{p:?}");
         assert!(f.template == Some(template()), "the first template is taken back");
         // A 2x2 block where the Peripheral pointed: zero-mean NCC 192 / sqrt(768 x 240) = 0.447
@@ -663,16 +664,16 @@ mod tests {
         }
         let (mut f, req) = handed(&template());
         let s = f.on_window(&cut(&small, &req), 0.0);
-        assert_eq!((s.report, s.lost), (None, Some(TARGET)));
+        assert_eq!(s.outcome, Outcome::Lost(TARGET));
         // Refused, a track keeps the look it had, even where the first template scored higher.
         let (mut f, req) = handed(&look);
-        assert!(f.on_window(&cut(&small, &req), 0.0).report.is_none());
+        assert!(f.on_window(&cut(&small, &req), 0.0).outcome.fix().is_none());
         assert!(f.template == Some(look.clone()), "the adapted look is kept");
         // The same window in a running track is accepted.
         let mut running = Foveal::new(FovealKind::Ncc, params().adaptive(), Some(template()));
         let req = running.start_at(TARGET).request.unwrap();
         let s = running.on_window(&cut(&small, &req), 0.0);
-        assert!(s.score.is_some_and(|v| (v - 0.447).abs() < 0.001), "{:?}", s.score);
+        assert!(fix(&s).score.is_some_and(|v| (v - 0.447).abs() < 0.001), "{:?}", s.outcome);
     }
 
     #[test]
@@ -683,30 +684,32 @@ mod tests {
         for t in [0.0, 0.01] {
             master.on_window(&cut(&frame(Some((30, 20))), &req), t);
             let s = master.on_message(&Msg::Result(None), t);
-            assert!(s.report.is_some());
+            assert!(s.outcome.fix().is_some());
             req = s.request.unwrap();
         }
-        // The block is gone: nothing measured, the track coasts; the Peripheral is told where
-        // the track expects it, on the first such window only.
-        let mut told = [None; 2];
+        // The block is gone: nothing measured, the track coasts, predicting the point; the
+        // Peripheral is told where the track expects it, on the first such window only.
+        let (mut told, mut predicted) = ([None; 2], [None; 2]);
         for (k, t) in [0.02, 0.03].into_iter().enumerate() {
             master.on_window(&cut(&frame(None), &req), t);
             let s = master.on_message(&Msg::Result(None), t);
-            assert!(s.report.is_none() && s.lost.is_none() && master.coasting());
+            let Outcome::Predicted(q) = s.outcome else { panic!("window {k}: {:?}", s.outcome) };
+            assert!(master.coasting());
             told[k] = s.sends.iter().find_map(|(d, m)| match m {
                 Msg::Coasting(q) if *d == Dest::Peripheral => Some(*q),
                 _ => None,
             });
+            predicted[k] = Some(q);
             req = s.request.unwrap();
         }
-        assert!(told[0].is_some() && told == [master.predicted(), None], "{told:?}");
+        assert!(told[0].is_some() && told == [predicted[0], None], "{told:?}");
         // The Peripheral finds the block elsewhere: the track restarts there, as a handed-over
         // one (the wider window, the partner told), no longer coasting.
         let found = Point { x: 41.5, y: 31.5 };
         let s = master.on_message(&Msg::Approx(found), 0.04);
         assert_eq!(s.request, Some(master.params.window(found, 16 + 2 * GROW_MARGIN, Decimation::Full)));
         assert_eq!(&s.sends[..], &[(Dest::FovealCd, Msg::Follow(found))][..]);
-        assert!(!master.coasting() && master.predicted().is_none());
+        assert!(!master.coasting() && s.outcome == Outcome::Redetected(found));
     }
 
     #[test]
@@ -720,15 +723,15 @@ mod tests {
         let block = frame(Some((30, 20)));
         // The partner answers with its corner, whatever it is; it reports nothing itself.
         let s = partner.on_window(&cut(&block, &win));
-        assert!(matches!(&s.sends[..], [(Dest::Foveal, Msg::Result(_))]) && s.report.is_none());
+        assert!(matches!(&s.sends[..], [(Dest::Foveal, Msg::Result(_))]) && s.outcome == Outcome::Silent);
         // The master's own NCC waits for the partner's result.
         let s = master.on_window(&cut(&block, &win), 0.0);
-        assert_eq!((s.report, s.request, s.sends.len()), (None, None, 0));
+        assert_eq!((s.outcome, s.request, s.sends.len()), (Outcome::Silent, None, 0));
         // No corner: trusted NCC (score 1 >= 0.99) is followed, and the partner told to follow.
         let s = master.on_message(&Msg::Result(None), 0.0);
-        let (p, source) = s.report.unwrap();
+        let Fix { at: p, source, score, .. } = fix(&s);
         assert!(near(p, TARGET) && source == Source::Ncc, "{p:?}");
-        assert!(s.score.is_some_and(|v| v > 0.999_99), "NCC vouches for its own point: {:?}", s.score);
+        assert!(score.is_some_and(|v| v > 0.999_99), "NCC vouches for its own point: {score:?}");
         assert_eq!(s.work, Work::Decision);
         assert_eq!(&s.sends[..], &[(Dest::Peripheral, Msg::Tracked(p)), (Dest::FovealCd, Msg::Follow(p))][..]);
     }

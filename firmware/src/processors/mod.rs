@@ -41,6 +41,6 @@ pub use params::{Params, ADAPT_NCC_MIN, COAST_MARGIN, CONFIRM_NCC, GROW_MARGIN};
 pub use partner::CornerPartner;
 pub use peripheral::Peripheral;
 pub use spmf::Spmf;
-pub use step::{Identity, Mode, Step, Work};
+pub use step::{Fix, Mode, Outcome, Step, Work};
 pub use template::{Template, MAX_TEMPLATE};
 pub use watch::Watch;

@@ -88,6 +88,7 @@ mod tests {
     use crate::kernels::corner::CornerParams;
     use crate::processors::testing::{cut, frame, params, square, TARGET};
     use crate::types::Decimation;
+    use crate::processors::step::Outcome;
 
     #[test]
     fn it_follows_its_master_and_returns_the_detectors_corner() {
@@ -104,7 +105,7 @@ mod tests {
         let s = partner.on_window(&view);
         let expected = Msg::Result(reference.map(|c| Point { x: c.x, y: c.y }));
         assert_eq!(&s.sends[..], &[(Dest::Foveal, expected)][..]);
-        assert_eq!((s.work, s.report, s.request), (Work::Corner { pixels: 256 }, None, None));
+        assert_eq!((s.work, s.outcome, s.request), (Work::Corner { pixels: 256 }, Outcome::Silent, None));
         // Lost: it stops, answering nothing; a Result (the master's input) is not its own.
         let s = partner.on_message(&Msg::Lost(TARGET));
         assert_eq!((s.request, s.sends.len(), partner.mode()), (None, 0, Mode::Watch));

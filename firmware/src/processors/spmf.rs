@@ -58,12 +58,8 @@ impl<'b> Spmf<'b> {
             Mode::Track => self.foveal.on_window(win, t),
         };
         let mut out = Step::new(step.work);
-        out.report = step.report;
-        out.identity = step.identity;
-        out.score = step.score;
-        out.shape = step.shape;
+        out.outcome = step.outcome;
         out.request = step.request;
-        out.lost = step.lost;
         let mut mode = self.mode;
         let mut queue: heapless::Deque<Msg, 8> = heapless::Deque::new();
         for (_, m) in step.sends {
@@ -101,6 +97,7 @@ impl<'b> Spmf<'b> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::processors::step::{Fix, Outcome};
     use crate::processors::testing::{cut, frame, params, square, TARGET};
 
     #[test]
@@ -118,14 +115,14 @@ mod tests {
         // Located: the Foveal window around the location.
         let fovea = square(24, 14, 16, Decimation::Full);
         let st = s.on_window(&cut(&block, &periph), 0.08);
-        assert_eq!((st.request, s.mode(), st.report), (Some(fovea), Mode::Track, None));
+        assert_eq!((st.request, s.mode(), st.outcome), (Some(fovea), Mode::Track, Outcome::Silent));
         let st = s.on_window(&cut(&block, &fovea), 0.12);
-        let (p, source) = st.report.unwrap();
+        let Some(&Fix { at: p, source, .. }) = st.outcome.fix() else { panic!("{:?}", st.outcome) };
         assert!((p.x - TARGET.x).abs() < 0.01 && (p.y - TARGET.y).abs() < 0.01 && source == Source::Ncc);
         assert_eq!((st.request, s.mode()), (Some(fovea), Mode::Track));
         // Lost: the Peripheral hands over where it last located the target, tracked again there.
         let st = s.on_window(&cut(&blank, &fovea), 0.16);
-        assert_eq!((st.lost, st.request, s.mode()), (Some(p), Some(fovea), Mode::Track));
+        assert_eq!((st.outcome, st.request, s.mode()), (Outcome::Lost(p), Some(fovea), Mode::Track));
         // Lost there too: Detection around it, then the larger window, then Watch.
         let st = s.on_window(&cut(&blank, &fovea), 0.20);
         assert_eq!((st.request, s.mode()), (Some(periph), Mode::Detect));

@@ -1,6 +1,6 @@
 //! What a processor answers to an event (thesis 2.3): the mode it is in, the kernel work it
 //! did (for the processor cost model of 2.5) and a [`Step`] carrying the next window request,
-//! the messages sent and the position reported.
+//! the messages sent and what it says of the target's position.
 use super::messages::{Dest, Msg};
 use crate::kernels::view::WindowView;
 use crate::types::{Point, Shape, Source, WindowRequest};
@@ -17,15 +17,60 @@ pub enum Mode {
     Track,
 }
 
-/// Whether a position report is the target's, as far as the processor can tell (issue 38):
-/// a robot follows only a confirmed one (`coopwin track`'s `ok`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Identity {
-    /// The target's model confirms the point (see `Foveal`'s `identity`).
-    Confirmed,
-    /// Tracked, but nothing confirms that the point is the target's: a look-alike, an
+/// A position a window measured: where, by which algorithm, and how well.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Fix {
+    /// The point.
+    pub at: Point,
+    /// The algorithm that measured it.
+    pub source: Source,
+    /// The NCC score of the window behind the point when NCC measured it (a confidence;
+    /// `None` when the corner detector alone did).
+    pub score: Option<f32>,
+    /// The object's turn and scale, when an adapting track measured them.
+    pub shape: Option<Shape>,
+}
+
+/// What a step says of the target's position: the verdict a robot follows (issue 38),
+/// decided here, in the firmware, and nowhere else. Only [`Outcome::Measured`] vouches for a
+/// position (`coopwin track`'s `ok` 1).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Outcome {
+    /// Nothing new of the target's position.
+    Silent,
+    /// A position measured and confirmed to be the target's by its model (see `Foveal`'s
+    /// `confirms`).
+    Measured(Fix),
+    /// A position measured that nothing confirms to be the target's: a look-alike, an
     /// occluder or a changed look may be under the window.
-    Unconfirmed,
+    Unconfirmed(Fix),
+    /// Nothing believable measured: where the motion predicts the point, and the Foveal
+    /// window looks next (COOP's coasting).
+    Predicted(Point),
+    /// The Peripheral found the target again near this point; the Foveal window has yet to
+    /// measure it.
+    Redetected(Point),
+    /// The Foveal window gave the target up; the last position tracked.
+    Lost(Point),
+}
+
+impl Outcome {
+    /// The position a robot may follow: a measured one, vouched for. Only such positions go
+    /// to the robot controller's link.
+    pub fn vouched(&self) -> Option<&Fix> {
+        match self {
+            Outcome::Measured(f) => Some(f),
+            _ => None,
+        }
+    }
+
+    /// The position measured, vouched for or not.
+    pub fn fix(&self) -> Option<&Fix> {
+        match self {
+            Outcome::Measured(f) | Outcome::Unconfirmed(f) => Some(f),
+            _ => None,
+        }
+    }
 }
 
 /// Kernel work done for one event, for a processor cost model.
@@ -65,17 +110,8 @@ pub struct Step {
     pub request: Option<WindowRequest>,
     /// Messages sent.
     pub sends: heapless::Vec<(Dest, Msg), 4>,
-    /// A position to report to the robot controller.
-    pub report: Option<(Point, Source)>,
-    /// Whether `report` is confirmed to be the target's.
-    pub identity: Identity,
-    /// The NCC score of the window behind `report` when NCC measured the reported point (a
-    /// confidence; `None` when the corner detector alone did).
-    pub score: Option<f32>,
-    /// The object's turn and scale behind `report`, when an adapting track measured them.
-    pub shape: Option<Shape>,
-    /// Tracking was lost on this step; the last position tracked.
-    pub lost: Option<Point>,
+    /// What it says of the target's position (a measured one goes to the robot controller).
+    pub outcome: Outcome,
 }
 
 // A step holds four messages, each as large as a template: over 4 KiB, so it is built in
@@ -84,13 +120,12 @@ impl Step {
     /// An answer with `work` and nothing else: no request, message or report.
     #[inline]
     pub fn new(work: Work) -> Self {
-        Step { work, request: None, sends: heapless::Vec::new(), report: None, identity: Identity::Unconfirmed, score: None, shape: None, lost: None }
+        Step { work, request: None, sends: heapless::Vec::new(), outcome: Outcome::Silent }
     }
     /// Empties it for a new answer with `work` (as [`Step::new`], in place).
     #[inline]
     pub fn clear(&mut self, work: Work) {
-        (self.work, self.request, self.report, self.score, self.shape, self.lost) = (work, None, None, None, None, None);
-        self.identity = Identity::Unconfirmed;
+        (self.work, self.request, self.outcome) = (work, None, Outcome::Silent);
         self.sends.clear();
     }
     #[inline(always)]

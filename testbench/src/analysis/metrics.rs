@@ -7,10 +7,6 @@ use crate::system::RunLog;
 /// Errors beyond this many pixels count as lost (for RLT).
 pub const LOST_PX: f64 = 3.0;
 
-/// Oldest report, in frames, that still counts as a frame's position (the pipeline's
-/// latency: a COOP decision waits for the partner's message).
-pub const MAX_AGE: usize = 2;
-
 /// The figures of one run.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Summary {

@@ -15,7 +15,6 @@
 //! - agreement with CSRT: the mean distance to CSRT's position, and the frames within 5 px of
 //!   it, over the frames where both report.
 use super::ExperimentError;
-use crate::analysis::metrics::MAX_AGE;
 use crate::frames::video::{self, VideoFrames};
 use crate::frames::{FrameError, FrameSource};
 use crate::report::plot::{self, Bars, Chart, Series};
@@ -210,9 +209,9 @@ impl Clip {
     }
 }
 
-/// A run's measured position of each frame, at most [`MAX_AGE`] frames old.
+/// A run's measured position of each frame, at most [`crate::system::MAX_AGE`] frames old.
 fn measured(log: &RunLog) -> Track {
-    log.frames.iter().map(|r| r.point.filter(|_| r.measured_frame.is_some_and(|m| m <= r.frame && r.frame - m <= MAX_AGE))).collect()
+    log.frames.iter().map(|r| r.fresh().map(|(p, _)| p)).collect()
 }
 
 /// A tracker's figures on an object (see the module documentation).

@@ -22,7 +22,7 @@ use std::path::{Path, PathBuf};
 /// Error beyond which a frame counts as lost (5 px, as in the OpenCV script).
 pub const LOSS_PX: f64 = 5.0;
 
-use crate::analysis::metrics::MAX_AGE;
+use crate::system::MAX_AGE;
 
 /// Which point of the object is tracked.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -210,7 +210,7 @@ pub fn judge_frames(c: &Condition, log: &RunLog, truth: &[Truth], acceptance: f3
         .enumerate()
         .filter(|(k, _)| truth.get(*k).is_some_and(|t| t.visible))
         .map(|(k, r)| {
-            let fresh = r.point.zip(r.measured_frame).filter(|(_, m)| *m <= k && k - m <= MAX_AGE);
+            let fresh = r.fresh();
             let (at, e, confidence) = match (fresh, r.score) {
                 (Some((p, m)), Some(s)) => (Some(p), err(p, m), csv::confidence(s, acceptance)),
                 (Some((p, m)), None) => (Some(p), err(p, m), csv::CD_CONFIDENCE),

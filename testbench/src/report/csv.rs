@@ -1,7 +1,6 @@
 //! The CSV files of a tracking run: the per-frame record (`coopwin track --out`, the main
 //! job's `coop.csv`) and the frame listing (`coopwin track --list`).
-use crate::analysis::metrics::MAX_AGE;
-use crate::system::{FrameRecord, TrackState};
+use crate::system::FrameRecord;
 use coopwin_firmware::types::Source;
 use coopwin_firmware::processors::Mode;
 use std::fmt::Write as _;
@@ -99,14 +98,11 @@ pub fn track_row(r: &FrameRecord, info: FrameInfo, shape: CsvBox) -> String {
     )
 }
 
-/// A row's `ok` and `confidence`: `ok` when the frame has a position measured at most
-/// [`MAX_AGE`] frames before that the firmware confirmed to be the target's
-/// ([`coopwin_firmware::processors::Identity`]; the state `unconfirmed` is not); the
-/// confidence of its position (NCC's score scaled from `acceptance`, or [`CD_CONFIDENCE`]),
-/// when it has one.
+/// A row's `ok` and `confidence`: `ok` where the firmware vouched for a fresh position
+/// ([`FrameRecord::vouched`]); the confidence of its position (NCC's score scaled from
+/// `acceptance`, or [`CD_CONFIDENCE`]), when it has one.
 pub fn verdict(r: &FrameRecord, acceptance: f32) -> (bool, Option<f64>) {
-    let fresh = r.measured_frame.is_some_and(|m| m <= r.frame && r.frame - m <= MAX_AGE) && r.point.is_some();
-    let ok = fresh && r.state != TrackState::Unconfirmed;
+    let ok = r.vouched();
     let c = r.point.map(|_| r.score.map_or(CD_CONFIDENCE, |v| confidence(v, acceptance)));
     (ok, c)
 }

@@ -1,10 +1,50 @@
 //! A run's configuration: the strategy, the processors' speeds, the window units, COOP's
 //! decision policy and the faults to inject (thesis 2.3-2.6, 4.2-4.3, 5.2).
 use super::cost::CostModel;
-use super::roster::Strategy;
 use crate::units::UnitBackend;
 use coopwin_firmware::processors::Params;
 use coopwin_hdl::sim::camera::Jitter;
+
+/// A windowing strategy (thesis 2.3, 4.2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Strategy {
+    /// Single processor, multiple function.
+    Spmf,
+    /// Triple processor, dedicated function.
+    Tpdf,
+    /// Multiple processor (two Watch strips), dedicated function.
+    Mpdf,
+    /// Cooperative: Watch, Peripheral, and NCC + corner-detector Foveal windows.
+    Coop,
+    /// TPDF with the corner detector as the Foveal algorithm (Table 4.1's CD).
+    TpdfCd,
+    /// The corner detector's Foveal window alone, with nothing to recover a loss (Fig. 3.7's
+    /// single-window approach).
+    SingleCd,
+}
+
+impl Strategy {
+    /// Lower-case name, as on the command line.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Strategy::Spmf => "spmf",
+            Strategy::Tpdf => "tpdf",
+            Strategy::Mpdf => "mpdf",
+            Strategy::Coop => "coop",
+            Strategy::TpdfCd => "cd",
+            Strategy::SingleCd => "single-cd",
+        }
+    }
+
+    /// Window units (= processors) the strategy uses.
+    pub fn units(self) -> usize {
+        match self {
+            Strategy::Spmf | Strategy::SingleCd => 1,
+            Strategy::Tpdf | Strategy::TpdfCd => 3,
+            Strategy::Mpdf | Strategy::Coop => 4,
+        }
+    }
+}
 
 /// How the COOP master chooses between NCC and the corner detector.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -93,7 +93,7 @@ pub fn simulate_with(
         }
     }
     if n > 0 {
-        on_record(run.recorder.end_frame(n - 1, &run.roster));
+        on_record(run.recorder.end_frame(n - 1, run.roster.mode()));
     }
     let mut log = run.recorder.finish();
     log.requests = run.wiring.writes.written;
@@ -198,7 +198,7 @@ impl Run<'_, '_> {
     /// Frame `k`'s FVAL rises on clock `c`: the last frame's record, and the watchdog.
     fn on_frame_start(&mut self, k: usize, c: u64, progress: &mut dyn FnMut(usize), on_record: &mut dyn FnMut(&FrameRecord)) {
         if k > 0 {
-            on_record(self.recorder.end_frame(k - 1, &self.roster));
+            on_record(self.recorder.end_frame(k - 1, self.roster.mode()));
         }
         progress(k);
         let rewrites = self.wiring.writes.watchdog(k, c, self.wiring.units);

@@ -1,11 +1,10 @@
 //! What a run records: a record per frame, the position reports (also framed onto the robot
 //! controller's link, thesis 2.6), losses, windows, writes, faults and the units' timings.
-use super::roster::Roster;
 use super::SimError;
 use crate::units::RequestRefused;
 use coopwin_firmware::ports::position::{FramedPositionSink, PositionSink, PositionUpdate};
 use coopwin_firmware::types::{Point, Shape, Source, WindowRequest};
-use coopwin_firmware::processors::{Identity, Mode, Msg, Step};
+use coopwin_firmware::processors::{Mode, Msg, Outcome, Step};
 use std::collections::VecDeque;
 
 /// What the system knew at the end of a frame period.
@@ -35,7 +34,26 @@ pub struct FrameRecord {
     pub estimate: Option<(f64, f64)>,
 }
 
-/// What a track is doing in a frame, as a user reads it.
+/// Oldest report, in frames, that still counts as a frame's position (the pipeline's
+/// latency: a COOP decision waits for the partner's message).
+pub const MAX_AGE: usize = 2;
+
+impl FrameRecord {
+    /// The frame's position and the frame it was measured in: the last one reported, when it
+    /// was measured at most [`MAX_AGE`] frames before.
+    pub fn fresh(&self) -> Option<((f64, f64), usize)> {
+        self.point.zip(self.measured_frame).filter(|(_, m)| *m <= self.frame && self.frame - m <= MAX_AGE)
+    }
+
+    /// Whether a robot may follow the frame's position (`coopwin track`'s `ok`): a fresh one
+    /// the firmware vouched for ([`Outcome::Measured`]).
+    pub fn vouched(&self) -> bool {
+        self.fresh().is_some() && self.state == TrackState::Tracking
+    }
+}
+
+/// What a track is doing in a frame, as a user reads it: the firmware's last [`Outcome`] of
+/// it, held until the next.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TrackState {
     /// A position measured in a recent window, confirmed to be the target's.
@@ -86,8 +104,8 @@ pub struct Report {
     pub score: Option<f32>,
     /// The object's turn and scale, when an adapting track measured them.
     pub shape: Option<Shape>,
-    /// Whether the firmware confirmed the point to be the target's.
-    pub identity: Identity,
+    /// Whether the firmware vouched for the point ([`Outcome::Measured`]).
+    pub vouched: bool,
 }
 
 /// What a processor of the run does (thesis 2.3), for drawing its windows.
@@ -120,7 +138,7 @@ pub struct RunLog {
     pub frame_period: f64,
     /// Every request written: (processor, clock, request as the unit received it).
     pub requests: Vec<(usize, u64, WindowRequest)>,
-    /// The robot controller's link: every position report as the firmware's
+    /// The robot controller's link: every position report the firmware vouched for, as its
     /// `FramedPositionSink` sends it (thesis 2.6: position updates to the robot controller).
     pub robot_link: Vec<u8>,
     /// With clock-by-clock window units: pixel clocks simulated, for the speed report.
@@ -152,11 +170,22 @@ pub struct RunLog {
     pub sets_before_trace: Vec<usize>,
 }
 
-/// The run's log as it is written, with the robot link and the last report.
+/// Where a track stands between the firmware's outcomes.
+#[derive(Clone, Copy, Debug)]
+enum Track {
+    /// No position since the start, a loss or a re-detection.
+    Searching,
+    /// The last position measured.
+    Reported(Report),
+    /// Coasting: where the motion predicts the point.
+    Predicted(Point),
+}
+
+/// The run's log as it is written, with the robot link and where the track stands.
 pub(super) struct Recorder {
     pub(super) log: RunLog,
     robot: FramedPositionSink<VecDeque<u8>>,
-    last: Option<Report>,
+    track: Track,
     /// The last position reported, kept through a loss, or where the Peripheral last found
     /// the target for the Foveal window.
     last_seen: Option<Point>,
@@ -167,12 +196,11 @@ pub(super) struct Recorder {
 impl Recorder {
     /// An empty log.
     pub(super) fn new(log: RunLog) -> Self {
-        Recorder { log, robot: FramedPositionSink::new(VecDeque::new()), last: None, last_seen: None, last_shape: None }
+        Recorder { log, robot: FramedPositionSink::new(VecDeque::new()), track: Track::Searching, last_seen: None, last_shape: None }
     }
 
-    /// What a step finished at `t` seconds tells the outside: its position report, measured
-    /// in `frame`, goes to the robot controller and the log; a loss of track is logged and
-    /// ends the last report's validity.
+    /// What a step finished at `t` seconds tells the outside: its outcome; a position, measured
+    /// in `frame`, goes to the robot controller and the log; a loss of track is logged.
     pub(super) fn publish(&mut self, step: &Step, t: f64, frame: usize) -> Result<(), SimError> {
         let template_cut = step.sends.iter().any(|(_, m)| matches!(m, Msg::Template(_)));
         if let Some(Msg::Motion { xmin, xmax, ymin, ymax }) = step.sends.iter().map(|(_, m)| m).find(|m| matches!(m, Msg::Motion { .. })) {
@@ -189,17 +217,26 @@ impl Recorder {
         if let Some(Msg::Approx(p)) = step.sends.iter().map(|(_, m)| m).find(|m| matches!(m, Msg::Approx(_))) {
             self.last_seen = Some(*p);
         }
-        if let Some((point, algo)) = step.report {
-            let r = Report { t, frame, point, algo, score: step.score, shape: step.shape, identity: step.identity };
-            self.emit(&r)?;
-            self.log.reports.push(r);
-            self.last = Some(r);
-            self.last_seen = Some(point);
-            self.last_shape = r.shape.or(self.last_shape);
-        }
-        if step.lost.is_some() {
-            self.log.losses.push(t);
-            self.last = None;
+        match step.outcome {
+            Outcome::Measured(fix) | Outcome::Unconfirmed(fix) => {
+                let vouched = step.outcome.vouched().is_some();
+                let r = Report { t, frame, point: fix.at, algo: fix.source, score: fix.score, shape: fix.shape, vouched };
+                // A robot follows what the link carries: only what the firmware vouched for.
+                if vouched {
+                    self.emit(&r)?;
+                }
+                self.log.reports.push(r);
+                self.track = Track::Reported(r);
+                self.last_seen = Some(fix.at);
+                self.last_shape = r.shape.or(self.last_shape);
+            }
+            Outcome::Predicted(q) => self.track = Track::Predicted(q),
+            Outcome::Redetected(_) => self.track = Track::Searching,
+            Outcome::Lost(_) => {
+                self.log.losses.push(t);
+                self.track = Track::Searching;
+            }
+            Outcome::Silent => {}
         }
         Ok(())
     }
@@ -211,22 +248,19 @@ impl Recorder {
         self.robot.emit(&update).map_err(SimError::RobotLink)
     }
 
-    /// The record of `frame`, at the end of its period.
-    pub(super) fn end_frame(&mut self, frame: usize, roster: &Roster) -> &FrameRecord {
-        let mode = roster.mode();
-        // A coasting COOP track has no current position: its last one is not this frame's.
-        let coasting = roster.coasting();
-        // Nor has a track restarting where the Peripheral found the target, before its window.
-        let restarting = roster.restarting();
-        let tracked = if mode == Mode::Track && !coasting && !restarting { self.last } else { None };
-        let (state, estimate) = match mode {
-            Mode::Track if coasting => (TrackState::Predicted, roster.predicted().or(self.last_seen)),
+    /// The record of `frame`, at the end of its period, the system in `mode`.
+    pub(super) fn end_frame(&mut self, frame: usize, mode: Mode) -> &FrameRecord {
+        let tracked = match (mode, self.track) {
+            (Mode::Track, Track::Reported(r)) => Some(r),
+            _ => None,
+        };
+        let (state, estimate) = match (mode, self.track) {
+            (Mode::Track, Track::Reported(r)) if r.vouched => (TrackState::Tracking, None),
+            (Mode::Track, Track::Reported(_)) => (TrackState::Unconfirmed, None),
+            (Mode::Track, Track::Predicted(q)) => (TrackState::Predicted, Some(q)),
             // Re-found, with its first Foveal window still to come: still searching.
-            Mode::Track if tracked.is_none() => (TrackState::Searching, self.last_seen),
-            Mode::Track if tracked.is_some_and(|r| r.identity == Identity::Unconfirmed) => (TrackState::Unconfirmed, None),
-            Mode::Track => (TrackState::Tracking, None),
-            Mode::Detect => (TrackState::Searching, self.last_seen),
-            Mode::Watch => (TrackState::Lost, self.last_seen),
+            (Mode::Track | Mode::Detect, _) => (TrackState::Searching, self.last_seen),
+            (Mode::Watch, _) => (TrackState::Lost, self.last_seen),
         };
         let xy = |p: Point| (f64::from(p.x), f64::from(p.y));
         self.log.frames.push(FrameRecord {

@@ -4,7 +4,7 @@
 //! firmware's processors from `coopwin_firmware::tracker`, each busy for as long as the cost
 //! model says its kernels take, and 20 Mbyte/s links between them. A discrete-event loop.
 //!
-//! - [`config`]: what a run is asked to do; [`cost`]: how long the processors take;
+//! - [`config`]: what a run is asked to do (the strategy among it); [`cost`]: how long the processors take;
 //! - [`roster`]: the processors of each strategy and their roles;
 //! - [`event_loop`]: the loop itself, over `events`, `links` and `writes` (coordinate
 //!   writes, the watchdog and the injected faults);
@@ -18,10 +18,9 @@ pub mod log;
 pub mod roster;
 mod writes;
 
-pub use config::{CoopPolicy, MpdfWatch, SystemConfig};
+pub use config::{CoopPolicy, MpdfWatch, Strategy, SystemConfig};
 pub use event_loop::simulate_with;
-pub use log::{FrameRecord, Report, Role, RunLog, TrackState};
-pub use roster::Strategy;
+pub use log::{FrameRecord, Report, Role, RunLog, TrackState, MAX_AGE};
 
 use crate::frames::{FrameError, FrameSource};
 use crate::units::clocked::Trace;

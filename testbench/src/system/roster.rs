@@ -1,7 +1,7 @@
 //! Which processors a strategy runs (thesis 2.3, 3.5, 4.2), how each is started, and which
 //! processor plays each role messages are addressed to. A new strategy is a [`Strategy`]
-//! variant and its arms in this file.
-use super::config::{CoopPolicy, MpdfWatch, SystemConfig};
+//! variant (`config.rs`) and its arms in this file.
+use super::config::{CoopPolicy, MpdfWatch, Strategy, SystemConfig};
 use super::log::Role;
 use super::SimError;
 use coopwin_firmware::kernels::confidence::{KalmanCoop, SseCoop};
@@ -10,47 +10,6 @@ use coopwin_firmware::types::{Decimation, WindowRequest};
 use coopwin_firmware::processors::{CornerPartner, Dest, Foveal, FovealKind, Mode, Msg, Params, Peripheral, Policy, Spmf, Step, Template, Watch, Work};
 use coopwin_firmware::types::Point;
 use coopwin_firmware::kernels::view::WindowView;
-
-/// A windowing strategy (thesis 2.3, 4.2).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Strategy {
-    /// Single processor, multiple function.
-    Spmf,
-    /// Triple processor, dedicated function.
-    Tpdf,
-    /// Multiple processor (two Watch strips), dedicated function.
-    Mpdf,
-    /// Cooperative: Watch, Peripheral, and NCC + corner-detector Foveal windows.
-    Coop,
-    /// TPDF with the corner detector as the Foveal algorithm (Table 4.1's CD).
-    TpdfCd,
-    /// The corner detector's Foveal window alone, with nothing to recover a loss (Fig. 3.7's
-    /// single-window approach).
-    SingleCd,
-}
-
-impl Strategy {
-    /// Lower-case name, as on the command line.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Strategy::Spmf => "spmf",
-            Strategy::Tpdf => "tpdf",
-            Strategy::Mpdf => "mpdf",
-            Strategy::Coop => "coop",
-            Strategy::TpdfCd => "cd",
-            Strategy::SingleCd => "single-cd",
-        }
-    }
-
-    /// Window units (= processors) the strategy uses.
-    pub fn units(self) -> usize {
-        match self {
-            Strategy::Spmf | Strategy::SingleCd => 1,
-            Strategy::Tpdf | Strategy::TpdfCd => 3,
-            Strategy::Mpdf | Strategy::Coop => 4,
-        }
-    }
-}
 
 /// One processor of a run, lent its Watch buffer (if any) for the run.
 // A run holds one to four processors, so their sizes (a Foveal carries the corner
@@ -231,23 +190,5 @@ impl<'b> Roster<'b> {
             };
         }
         mode
-    }
-
-    /// A COOP track is coasting: it has no current position.
-    pub(super) fn coasting(&self) -> bool {
-        self.processors.iter().any(|p| matches!(p, Processor::Foveal(f) if f.coasting()))
-    }
-
-    /// Whether a track restarts where the Peripheral found the target, its first window to come.
-    pub(super) fn restarting(&self) -> bool {
-        self.processors.iter().any(|p| matches!(p, Processor::Foveal(f) if f.restarting()))
-    }
-
-    /// Where a coasting track expects the target, while it coasts.
-    pub(super) fn predicted(&self) -> Option<Point> {
-        self.processors.iter().find_map(|p| match p {
-            Processor::Foveal(f) => f.predicted(),
-            _ => None,
-        })
     }
 }

@@ -5,7 +5,8 @@
 //! the position updates it would send with the bytes the SoC's UART sent, byte for byte.
 //! With `--track CSV` (`coopwin track --strategy tpdf --target X,Y --fixed-template`'s rows,
 //! the testbench's whole system on the behavioural units), it also requires an update for
-//! every frame of the CSV, each equal to the row's x, y as the CSV prints them (3 decimals).
+//! every frame of the CSV with `ok` 1 and none for the others, each equal to the row's x, y
+//! as the CSV prints them (3 decimals): the robot is sent what the tracker vouches for.
 //!
 //!   soc-replay --frames DIR --log sim.log --uart uart.bin --target X,Y [--track CSV]
 use coopwin_firmware::kernels::view::WindowView;
@@ -76,14 +77,15 @@ fn run() -> Result<String, String> {
     Ok(said)
 }
 
-/// The UART's updates against `coopwin track`'s rows: one a frame, x and y as printed.
+/// The UART's updates against `coopwin track`'s rows: one a row with `ok` 1, x and y as
+/// printed.
 fn against_track(uart: &[u8], csv: &str) -> Result<String, String> {
     let text = std::fs::read_to_string(csv).map_err(|e| format!("{csv}: {e}"))?;
     let mut lines = text.lines();
     let head: Vec<&str> = lines.next().ok_or(format!("{csv} is empty"))?.split(',').collect();
     let col = |name: &str| head.iter().position(|h| *h == name).ok_or(format!("{csv} has no {name} column"));
-    let (fc, xc, yc) = (col("frame")?, col("x")?, col("y")?);
-    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let (fc, xc, yc, okc) = (col("frame")?, col("x")?, col("y")?, col("ok")?);
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect::<Vec<_>>()).filter(|r| r.get(okc) == Some(&"1")).collect();
     let mut dec = FrameDecoder::new();
     let updates: Vec<PositionUpdate> = uart
         .iter()
@@ -91,7 +93,7 @@ fn against_track(uart: &[u8], csv: &str) -> Result<String, String> {
         .map(|f| f.map_err(|e| format!("UART frame: {e:?}")).and_then(|p| PositionUpdate::decode(&p).map_err(|e| format!("UART update: {e:?}"))))
         .collect::<Result<_, _>>()?;
     if updates.len() != rows.len() {
-        return Err(format!("{} UART updates for the CSV's {} frames: the SoC did not measure every frame", updates.len(), rows.len()));
+        return Err(format!("{} UART updates for the CSV's {} rows with ok 1", updates.len(), rows.len()));
     }
     for (u, row) in updates.iter().zip(&rows) {
         let cell = |c: usize| row.get(c).copied().unwrap_or("");
@@ -101,7 +103,7 @@ fn against_track(uart: &[u8], csv: &str) -> Result<String, String> {
             return Err(format!("frame {frame}: the SoC sent ({x}, {y}), track's row {} says ({}, {})", cell(fc), cell(xc), cell(yc)));
         }
     }
-    Ok(format!("{} updates equal to {csv}'s rows (frame, x, y)", updates.len()))
+    Ok(format!("{} updates equal to {csv}'s rows with ok 1 (frame, x, y)", updates.len()))
 }
 
 fn main() -> ExitCode {
