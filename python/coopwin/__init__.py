@@ -7,7 +7,9 @@ the one ``coopwin track`` writes to its CSV:
   ``ok, box = tracker.update(frame)`` on NumPy frames (``uint8``, gray or BGR);
 - :func:`track_video`: the rows of ``coopwin track --frames PATH`` as :class:`Row` tuples,
   streamed while the run goes on;
-- :func:`verilog`: the window logic's Verilog for a sensor, as ``coopwin verilog`` writes it.
+- :func:`verilog`: the window logic's Verilog for a sensor, as ``coopwin verilog`` writes it;
+- :mod:`coopwin.trax`: the tracker served over TraX for the VOT toolkit
+  (``python -m coopwin.trax``; needs ``vot-trax``).
 
 Errors are Python exceptions with the command line's messages: ``TypeError`` for a frame or
 option of the wrong type, ``ValueError`` for a bad value (a box outside the frame, a wrong

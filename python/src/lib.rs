@@ -1,17 +1,18 @@
 //! `coopwin._coopwin`: the Python package's Rust side, over the same library code the
-//! `coopwin` CLI runs (`coopwin_testbench::commands::track` and `verilog`). It takes and gives
+//! `coopwin` CLI runs (`coopwin_testbench::tracking` and `commands::verilog`). It takes and gives
 //! the CLI's options and CSV rows; `coopwin/__init__.py` turns them into the OpenCV-style
 //! trackers, `track_video`'s rows and `verilog`'s files.
 use clap::parser::ValueSource;
 use clap::{CommandFactory, FromArgMatches, Parser, ValueEnum};
 use coopwin_testbench::commands::args::HdlArg;
-use coopwin_testbench::commands::track::{track_frames, TrackArgs, TrackRun};
+use coopwin_testbench::commands::track::TrackArgs;
 use coopwin_testbench::commands::verilog::{verilog_files, VerilogArgs};
 use coopwin_testbench::commands::CliError;
 use coopwin_testbench::frames::folder::SIDES;
 use coopwin_testbench::frames::input::InputError;
 use coopwin_testbench::frames::{FrameError, FrameSource};
 use coopwin_testbench::report::csv::{self, FrameInfo};
+use coopwin_testbench::tracking::{track_frames, TrackError, TrackRun};
 use coopwin_testbench::units::clocks::Clocks;
 use numpy::{PyArrayDescrMethods, PyArrayDyn, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyFileNotFoundError, PyRuntimeError, PyTypeError, PyValueError};
@@ -88,11 +89,16 @@ fn clap_error(e: clap::Error) -> PyErr {
     PyValueError::new_err(line.strip_prefix("error: ").unwrap_or(line).to_string())
 }
 
-/// A CLI error as Python's ValueError (a bad option, or input that cannot be tracked) with the
-/// CLI's message. (A missing input is FileNotFoundError, raised by [`VideoRows::new`] before
-/// the CLI's code would make it a message.)
+/// A CLI error as Python's ValueError (a bad option) with the CLI's message.
 fn cli_error(e: CliError) -> PyErr {
     PyValueError::new_err(e.message)
+}
+
+/// A run's error as Python's ValueError (a bad option, or input that cannot be tracked) with
+/// the CLI's message. (A missing input is FileNotFoundError, raised by [`VideoRows::new`]
+/// before the run would make it a message.)
+fn track_error(e: TrackError) -> PyErr {
+    PyValueError::new_err(e.to_string())
 }
 
 /// A frame as the CLI's 8-bit gray pixels and its (width, height): a `uint8` array, gray
@@ -194,8 +200,9 @@ impl FrameRun {
         let (px, (w, h)) = gray(frame)?;
         let refused: Vec<Refusal> = WRITES.into_iter().chain(NOT_FED).collect();
         let args = track_args("<frames>", options, "coopwin.Tracker", &refused, false)?;
-        args.check_against((w, h), 1).map_err(cli_error)?;
-        let cfg = args.config((w, h), args.fps);
+        let options = args.options();
+        options.check_against((w, h), 1).map_err(track_error)?;
+        let cfg = options.config((w, h), options.fps);
         let (to_run, from_caller) = channel();
         let (to_caller, rows) = channel();
         let fed = Fed { size: (w, h), from_caller, received: 0, held: VecDeque::new() };
@@ -205,12 +212,12 @@ impl FrameRun {
                 let mut fed = fed;
                 let period = Clocks::for_frames(&fed, cfg.jitter).period() as f64 / cfg.pixel_clock_hz;
                 let info = FrameInfo { period, ..FrameInfo::default() };
-                let shape = args.csv_box();
+                let shape = options.csv_box();
                 let out = track_frames(&mut fed, &cfg, None, &|| false, &mut |_| {}, &mut |r| {
                     let _ = to_caller.send(Ok(csv::track_row(r, info, shape)));
                 });
                 if let Err(e) = out {
-                    let _ = to_caller.send(Err(e.message));
+                    let _ = to_caller.send(Err(e.to_string()));
                 }
             })
             .map_err(|e| PyRuntimeError::new_err(format!("cannot start the tracker's thread: {e}")))?;
@@ -275,7 +282,7 @@ impl VideoRows {
             return Err(PyFileNotFoundError::new_err(InputError::NoSuchFile(path).to_string()));
         }
         let args = track_args(&path.to_string_lossy(), options, "coopwin.track_video", &WRITES, true)?;
-        let mut run = py.detach(|| TrackRun::open(&args, &|| false)).map_err(cli_error)?;
+        let mut run = py.detach(|| TrackRun::open(&args.frames, &args.options(), &|| false)).map_err(track_error)?;
         let (to_caller, rows) = sync_channel(ROWS_AHEAD);
         let stop = Arc::new(AtomicBool::new(false));
         std::thread::Builder::new()
@@ -288,7 +295,7 @@ impl VideoRows {
                     }
                 });
                 if let Err(e) = out {
-                    let _ = to_caller.send(Err(e.message));
+                    let _ = to_caller.send(Err(e.to_string()));
                 }
             })
             .map_err(|e| PyRuntimeError::new_err(format!("cannot start the run's thread: {e}")))?;

@@ -4,9 +4,10 @@
 //! Data flows one way, and so do the modules' dependencies:
 //!
 //! ```text
-//! frames  ->  units  ->  system  ->  analysis  ->  report  ->  experiments  ->  commands
-//! (camera)   (window     (firmware    (metrics,     (tables,    (tables and     (the CLI)
-//!             logic)      processors)  audit)        CSV, SVG)   figures)
+//! frames  ->  units  ->  system  ->  analysis  ->  report  ->  tracking  ->  experiments  ->  commands
+//! (camera)   (window     (firmware    (metrics,     (tables,    (a run of     (tables and     (the CLI)
+//!             logic)      processors)  audit)        CSV, SVG)   track's       figures)
+//!                                                                options)
 //! ```
 //!
 //! - [`frames`]: frames from a folder, the synthetic scene, and the ground truth;
@@ -14,6 +15,7 @@
 //! - [`system`]: the processors and their links in simulated time;
 //! - [`analysis`]: tracking figures against ground truth, and the waveform audit;
 //! - [`report`]: summaries, CSV files, charts and timing diagrams;
+//! - [`tracking`]: a run of `coopwin track`'s options, which the CLI and the Python package share;
 //! - [`experiments`]: the thesis's tables and figures, and the real-image evaluation;
 //! - [`commands`]: the `coopwin` subcommands;
 //! - [`board_stream`]: the window stream the Cortex-M4 board replays.
@@ -38,4 +40,5 @@ pub mod experiments;
 pub mod frames;
 pub mod report;
 pub mod system;
+pub mod tracking;
 pub mod units;

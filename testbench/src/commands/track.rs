@@ -1,29 +1,20 @@
-//! `coopwin track`: tracks a folder of PNG frames or a video with a windowing strategy in
-//! simulated time (thesis 2.3-2.5, 4.2), writes the per-frame CSV (and, with rust-hdl units,
-//! a VCD and its requests CSV; on request an overlay GIF or MP4), and prints the summary
-//! against `groundtruth.csv` when the folder has one.
+//! `coopwin track`: its options in, one tracking run ([`crate::tracking`]) out; it writes
+//! the per-frame CSV (and, with rust-hdl units, a VCD and its requests CSV; on request an
+//! overlay GIF or MP4), and prints the summary against `groundtruth.csv` when the folder has
+//! one.
 use super::args::{self, HdlArg, PolicyArg, ProfileArg, StrategyArg, WatchArg};
-use super::output::{self, OutFile, Shared};
+use super::output::{self, OutFile};
 use super::{interrupt, CliError};
 use crate::analysis::audit::requests;
 use crate::analysis::metrics;
 use crate::frames::folder::FolderFrames;
-use crate::frames::input::{Input, InputError, RowFacts};
-use crate::frames::video::VideoError;
-use crate::frames::{groundtruth, FrameSource, Skip};
-use crate::report::csv::{CsvBox, FrameInfo};
+use crate::frames::{groundtruth, Interruptible};
 use crate::report::overlay::{OverlayError, OverlayKind, Painter};
 use crate::report::{self, csv};
-use crate::system::{self, RunLog, SystemConfig};
+use crate::tracking::{self, Target, TrackError, TrackOptions, TrackRun};
 use crate::units::clocked::Trace;
-use crate::units::clocks::Clocks;
-use coopwin_firmware::kernels::view::WindowView;
-use coopwin_firmware::processors::template::Template;
-use coopwin_firmware::processors::Params;
-use coopwin_firmware::types::Point;
 use coopwin_hdl::sim::camera::Jitter;
 use std::io::{IsTerminal, Write};
-use std::ops::Range;
 use std::path::PathBuf;
 
 /// `coopwin track`'s options.
@@ -135,180 +126,49 @@ pub struct TrackArgs {
 }
 
 impl TrackArgs {
-    /// The template side: `--template`, the target box's shorter side (at most 32), or 20.
-    fn template_side(&self) -> u16 {
-        match (self.template, self.target_box) {
-            (Some(n), _) => n,
-            (None, Some((_, _, w, h))) => w.min(h).min(32) as u16,
-            (None, None) => 20,
-        }
-    }
-
-    /// The point to track: `--target`, or the centre of `--target-box`.
-    fn target_point(&self) -> Option<(f64, f64)> {
-        let centre = |(x, y, w, h): (u32, u32, u32, u32)| (f64::from(x) + (f64::from(w) - 1.0) / 2.0, f64::from(y) + (f64::from(h) - 1.0) / 2.0);
-        self.target.or(self.target_box.map(centre))
-    }
-
-    /// The box the CSV and the overlay draw around each position.
-    pub fn csv_box(&self) -> CsvBox {
-        let n = usize::from(self.template_side());
-        let size = self.target_box.map_or((n, n), |(_, _, w, h)| (w as usize, h as usize));
-        let p = self.params();
-        CsvBox { size, acceptance: p.correlation(p.adapt).1 }
-    }
-
-    /// The processors' parameters: the template side, the search margin, and the template
-    /// adapting unless kept fixed.
-    fn params(&self) -> Params {
-        let n = self.template_side();
-        let p = Params { template: n, foveal: n + 2 * self.search, ..Default::default() };
-        if self.fixed_template || self.policy != PolicyArg::Guarded {
-            p
-        } else {
-            p.adaptive()
-        }
-    }
-
-    /// The run the options ask for on frames of `size` from a source of `fps` frames per
-    /// second (the pixel clock that gives this rate with the camera's blanking), if known.
-    pub fn config(&self, size: (usize, usize), fps: Option<f64>) -> SystemConfig {
-        let cfg = SystemConfig {
-            params: self.params(),
+    /// The run's options (all but the input and the outputs).
+    pub fn options(&self) -> TrackOptions {
+        let target = match (self.target, self.target_box) {
+            (_, Some((x, y, w, h))) => Target::Box(x, y, w, h),
+            (Some((x, y)), None) => Target::Point(x, y),
+            (None, None) => Target::Motion,
+        };
+        TrackOptions {
+            strategy: self.strategy.into(),
+            template: self.template,
+            target,
+            start_frame: self.start_frame,
+            end_frame: self.end_frame,
+            fps: self.fps,
+            search: self.search,
+            fixed_template: self.fixed_template,
+            cost: self.profile.into(),
+            watch: self.watch.into(),
             coop_n: self.coop_n,
-            target: self.target_point(),
-            backend: self.hdl.into(),
-            unit_pixel_bits: self.pixel_bits,
             policy: self.policy.into(),
-            mpdf_watch: self.watch.into(),
+            allow_damaged: self.allow_damaged,
+            backend: self.hdl.into(),
+            pixel_bits: self.pixel_bits,
+            vcd_frames: self.vcd_frames.clone(),
             jitter: self.blank_jitter,
             write_phase: self.write_phase,
-            ..SystemConfig::thesis(self.strategy.into(), self.profile.into(), None)
-        };
-        match fps {
-            Some(fps) => SystemConfig { pixel_clock_hz: Clocks::camera_timing(size).frame_clocks() as f64 * fps, ..cfg },
-            None => cfg,
         }
-    }
-
-    /// The source's frames to track: `--start-frame` up to `--end-frame` (excluded), checked
-    /// against the input's `n` frames.
-    fn frame_range(&self, n: usize) -> Result<Range<usize>, CliError> {
-        let last = n.saturating_sub(1);
-        if self.start_frame >= n {
-            return Err(CliError::arg(format!("--start-frame {}: the input has {n} frames (0..{last})", self.start_frame)));
-        }
-        match self.end_frame {
-            Some(end) if end <= self.start_frame => {
-                Err(CliError::arg(format!("--end-frame {end}: the run stops before this frame, so it must come after --start-frame {}", self.start_frame)))
-            }
-            Some(end) if end > n => Err(CliError::arg(format!("--end-frame {end}: the input has {n} frames (0..{last}); --end-frame {n} tracks to the last"))),
-            Some(end) => Ok(self.start_frame..end),
-            None => Ok(self.start_frame..n),
-        }
-    }
-
-    /// Checks the options that concern the frames against their `(w, h)` size and the
-    /// run's `n` frames, naming the option the user gave.
-    pub fn check_against(&self, (w, h): (usize, usize), n: usize) -> Result<(), CliError> {
-        let inside = |x: f64, y: f64| x <= (w - 1) as f64 && y <= (h - 1) as f64;
-        let extent = format!("the {w}x{h} frames (X 0..{}, Y 0..{})", w - 1, h - 1);
-        if let Some((x, y, bw, bh)) = self.target_box {
-            let (cx, cy) = self.target_point().unwrap_or_default();
-            if !inside(cx, cy) {
-                return Err(CliError::arg(format!("--target-box {x},{y},{bw},{bh}: its centre ({cx}, {cy}) is outside {extent}")));
-            }
-        } else if let Some((x, y)) = self.target.filter(|&(x, y)| !inside(x, y)) {
-            return Err(CliError::arg(format!("--target {x},{y} is outside {extent}")));
-        }
-        if let Some(phase) = self.write_phase {
-            let clocks = Clocks::camera_timing((w, h)).frame_clocks() as u64;
-            if phase >= clocks {
-                return Err(CliError::arg(format!("--write-phase {phase}: a {w}x{h} frame has {clocks} clocks (0..{})", clocks - 1)));
-            }
-        }
-        if let Some(r) = self.vcd_frames.as_ref().filter(|r| r.end > n) {
-            return Err(CliError::arg(format!("--vcd-frames {}..{}: the run has frames 0..{n} (the end is excluded; counted from --start-frame)", r.start, r.end)));
-        }
-        Ok(())
     }
 }
 
-impl From<InputError> for CliError {
-    fn from(e: InputError) -> CliError {
+impl From<TrackError> for CliError {
+    fn from(e: TrackError) -> CliError {
         match e {
-            InputError::Video(VideoError::Interrupted) => CliError::interrupted(),
-            e @ InputError::Damaged(..) => CliError::new(format!("{e}; --allow-damaged tracks the frames that decode and marks these in the CSV's damaged column")),
+            e if e.interrupted() => CliError::interrupted(),
+            e @ TrackError::Option(_) => CliError::arg(e.to_string()),
             e => CliError::new(e.to_string()),
         }
-    }
-}
-
-impl From<VideoError> for CliError {
-    fn from(e: VideoError) -> CliError {
-        CliError::from(InputError::Video(e))
     }
 }
 
 impl From<OverlayError> for CliError {
     fn from(e: OverlayError) -> CliError {
         CliError::new(e.to_string())
-    }
-}
-
-/// The facts of `facts` for the CSV's rows, frames `period` seconds apart where no timestamp
-/// says otherwise, the run's frame 0 being the source's `first`.
-fn row_info(facts: &RowFacts, period: f64, first: usize) -> FrameInfo<'_> {
-    FrameInfo { files: facts.files(), times: facts.times(), damaged: facts.damaged(), period, first }
-}
-
-/// A tracking run of `track`'s options: the input opened and checked against them, and the
-/// run they ask for. The CLI and the Python package's `track_video` both run it.
-pub struct TrackRun {
-    /// The frames.
-    pub input: Input,
-    /// The source's frames tracked.
-    pub range: Range<usize>,
-    /// The run.
-    pub cfg: SystemConfig,
-    /// The source's frame rate (`--fps`, or the video's), if known.
-    pub fps: Option<f64>,
-    /// The box the rows draw around each position.
-    pub shape: CsvBox,
-    facts: RowFacts,
-}
-
-impl TrackRun {
-    /// Opens `args`' input (`stop` is asked while a video is scanned) and checks the options
-    /// against it.
-    pub fn open(args: &TrackArgs, stop: &dyn Fn() -> bool) -> Result<TrackRun, CliError> {
-        if matches!(args.hdl, HdlArg::Model) && args.pixel_bits != 8 {
-            return Err(CliError::arg("--pixel-bits sets the clocked window units' pixel width: add --hdl rust-hdl or --hdl verilator"));
-        }
-        let input = Input::open(&args.frames, args.allow_damaged, stop)?;
-        let range = args.frame_range(input.len())?;
-        args.check_against(input.size(), range.len())?;
-        let fps = args.fps.or(input.declared_fps());
-        let cfg = args.config(input.size(), fps);
-        let facts = RowFacts::of(&input);
-        Ok(TrackRun { input, range, cfg, fps, shape: args.csv_box(), facts })
-    }
-
-    /// Tracks the frames, handing each frame's record and its CSV row to `on_row` as the
-    /// frame ends; with `vcd`, `stop` and `progress`, as [`track_frames`].
-    pub fn track(
-        &mut self,
-        vcd: Option<(&OutFile, Option<Range<usize>>)>,
-        stop: &dyn Fn() -> bool,
-        progress: &mut dyn FnMut(usize),
-        on_row: &mut dyn FnMut(&system::FrameRecord, String),
-    ) -> Result<(RunLog, Option<Shared>), CliError> {
-        let TrackRun { input, range, cfg, shape, facts, .. } = self;
-        let mut all = input.frames()?;
-        let mut frames = from_to(&mut all, range.clone())?;
-        // The run's frame period, as the run computes it.
-        let info = row_info(facts, Clocks::for_frames(&frames, cfg.jitter).period() as f64 / cfg.pixel_clock_hz, range.start);
-        track_frames(&mut frames, cfg, vcd, stop, progress, &mut |r| on_row(r, csv::track_row(r, info, *shape)))
     }
 }
 
@@ -352,7 +212,7 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
     // With the CSV on standard output, the report goes to standard error.
     let to_stdout = out.as_ref().is_some_and(OutFile::is_stdout);
     let say = |line: String| if to_stdout { eprintln!("{line}") } else { println!("{line}") };
-    let mut run = TrackRun::open(&args, &interrupt::requested)?;
+    let mut run = TrackRun::open(&args.frames, &args.options(), &interrupt::requested)?;
     if let Some(damage) = run.input.damage() {
         eprintln!("warning: {}: {damage}", args.frames.display());
     }
@@ -372,7 +232,24 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
         }
         None => None,
     };
-    let (log, vcd_stream) = run.track(vcd.as_ref().map(|(v, _)| (v, args.vcd_frames.clone())), &interrupt::requested, &mut progress_line(range.len(), "tracking"), &mut |_, row| {
+    // The VCD is shared: the run writes into it, and it is finished here with the others.
+    let vcd_stream = match &vcd {
+        Some((v, _)) => {
+            let frames = args.vcd_frames.clone().unwrap_or(0..range.len());
+            let mb = tracking::vcd_megabytes_a_frame(run.input.size(), run.cfg.strategy.units());
+            if frames.len() > 4 {
+                eprintln!(
+                    "warning: --vcd traces {} frames, about {mb:.0} MB each ({:.1} GB); --vcd-frames FIRST..END traces fewer",
+                    frames.len(),
+                    mb * frames.len() as f64 / 1000.0
+                );
+            }
+            Some((v.stream()?.shared(), frames))
+        }
+        None => None,
+    };
+    let trace = vcd_stream.as_ref().map(|(shared, frames)| Trace { out: Box::new(shared.clone()), frames: frames.clone() });
+    let log = run.track(trace, &interrupt::requested, &mut progress_line(range.len(), "tracking"), &mut |_, row| {
         if let Some((_, stream, error @ None)) = &mut csv_out {
             *error = writeln!(stream, "{row}").err();
         }
@@ -397,16 +274,16 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
     if let Some((kind, o)) = &overlay_out {
         let points = truth.as_ref().map(|t| metrics::true_points(&log, t));
         let painter = Painter::new(&log, points.as_deref(), shape.size).numbered_from(range.start);
-        let mut all = run.input.frames()?;
-        let mut frames = from_to(&mut all, range.clone())?;
-        let (stream, reduced) = kind.write(o.stream()?, &mut interrupt::Interruptible(&mut frames, &interrupt::requested), painter, run.fps.unwrap_or(1.0 / log.frame_period))?;
+        let mut all = run.input.frames().map_err(TrackError::from)?;
+        let mut frames = tracking::tracked(&mut all, range.clone())?;
+        let (stream, reduced) = kind.write(o.stream()?, &mut Interruptible(&mut frames, &interrupt::requested), painter, run.fps.unwrap_or(1.0 / log.frame_period))?;
         let reduced = reduced.map(|r| format!(" ({r}, to bound the GIF's size; an .mp4 overlay keeps every frame at full size)")).unwrap_or_default();
         done.push((stream, Some(format!("wrote {}{reduced}", o.path.display()))));
     }
     if interrupt::requested() {
         return Err(CliError::interrupted());
     }
-    if let Some(v) = vcd_stream {
+    if let Some((v, _)) = vcd_stream {
         v.finish()?;
     }
     for (stream, line) in done {
@@ -415,65 +292,14 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
             say(l);
         }
     }
-    let secs = started.elapsed().as_secs_f64().max(1e-9);
-    let tracked = log.frames.iter().filter(|r| r.point.is_some()).count();
-    if log.hdl_clocks > 0 {
-        say(format!(
-            "window units: {} pixel clocks, {:.2} M clocks/s over the run, about {:.0}% of the time in the HDL simulator",
-            log.hdl_clocks,
-            log.hdl_clocks as f64 / tracking_secs.max(1e-9) / 1e6,
-            (100.0 * log.hdl_seconds / tracking_secs.max(1e-9)).min(100.0)
-        ));
-    }
-    let n = log.frames.len();
-    say(format!(
-        "{n} frames, {tracked} tracked, {} position reports; {:.0} frames/s wall-clock ({secs:.1} s on this machine); simulated: the camera, window units and processors in simulated time, at the source's {:.2} frames/s ({:.2} s of camera time)",
-        log.reports.len(),
-        n as f64 / secs,
-        1.0 / log.frame_period,
-        n as f64 * log.frame_period
-    ));
-    if let Some((k, (x, y))) = log.locked_on {
-        say(format!("locked on in frame {}: tracking the object's point at ({x:.1}, {y:.1}) there, the centre of the first motion seen", k + range.start));
-    }
-    if !(log.losses.is_empty() && log.watchdog.is_empty() && log.refused.is_empty()) {
-        say(format!(
-            "log: {} losses of track, {} sets written again by the watchdog, {} requests refused",
-            log.losses.len(),
-            log.watchdog.len(),
-            log.refused.len()
-        ));
-        for (_, clock, why) in log.refused.iter().take(3) {
-            say(format!("  refused on clock {clock}: {why}"));
-        }
+    for line in report::run_lines(&log, started.elapsed().as_secs_f64(), tracking_secs, range.start) {
+        say(line);
     }
     if let Some(s) = summary {
         say(report::verdict(&s));
         say(report::summary_table(&[(run.cfg.strategy.name(), s)]));
     }
     Ok(())
-}
-
-/// The pixel value of a template the run would cut flat at its target (no variance: nothing
-/// for NCC to match, as on a clip's black first frame); `None` without a target or where the
-/// template has texture.
-fn flat_target(frames: &mut dyn FrameSource, cfg: &SystemConfig) -> Result<Option<u8>, CliError> {
-    let Some((x, y)) = cfg.target else { return Ok(None) };
-    let (w, h) = frames.size();
-    let frame0 = frames.frame(0).map_err(|e| CliError::new(e.to_string()))?;
-    let view = WindowView::packed(frame0, w, h).map_err(|e| CliError::new(format!("the first frame: {e}")))?;
-    let at = Point { x: x as f32, y: y as f32 };
-    let Some(tpl) = Template::capture(&view, at, usize::from(cfg.params.template)) else { return Ok(None) };
-    let Some(tv) = tpl.view() else { return Ok(None) };
-    let mut px = (0..tv.height()).filter_map(|r| tv.row(r)).flatten().copied();
-    let value = px.next();
-    Ok(value.filter(|&v| px.all(|p| p == v)))
-}
-
-/// `frames`' frames `range` (checked by [`TrackArgs::frame_range`]).
-fn from_to<'a>(frames: &'a mut dyn FrameSource, range: Range<usize>) -> Result<Skip<'a>, CliError> {
-    let n = frames.len();
-    Skip::new(frames, range.clone()).ok_or_else(|| CliError::new(format!("internal: frames {}..{} of {n}", range.start, range.end)))
 }
 
 /// Seconds between two progress lines when standard error is not a terminal (a log file, a
@@ -510,50 +336,4 @@ pub fn progress_line(total: usize, label: &'static str) -> impl FnMut(usize) {
             eprintln!("{line}");
         }
     }
-}
-
-/// Tracks `frames` until `stop` says to (the run then ends with `FrameError::Interrupted`),
-/// calling `progress(k)` at each frame's start and handing each frame's record to
-/// `on_record` as the frame ends; with `vcd`, every window unit is traced into it,
-/// for the frames in its range (all without), and its stream is returned for the caller to
-/// finish. A target on a flat template is refused before the run.
-pub fn track_frames(
-    frames: &mut dyn FrameSource,
-    cfg: &SystemConfig,
-    vcd: Option<(&OutFile, Option<Range<usize>>)>,
-    stop: &dyn Fn() -> bool,
-    progress: &mut dyn FnMut(usize),
-    on_record: &mut dyn FnMut(&system::FrameRecord),
-) -> Result<(RunLog, Option<Shared>), CliError> {
-    let (w, h) = frames.size();
-    if let (Some(value), Some((x, y))) = (flat_target(frames, cfg)?, cfg.target) {
-        let n = cfg.params.template;
-        return Err(CliError::new(format!(
-            "the {n}x{n} template around the target ({x}, {y}) is flat on the first frame tracked (every pixel {value}): there is nothing there to track. A clip that opens on black or blank frames: --start-frame N starts on the frame the target is on"
-        )));
-    }
-    let n = frames.len();
-    let mut stream = None;
-    let trace = match vcd {
-        Some((out, range)) => {
-            let range = range.unwrap_or(0..n);
-            // Measured on 2026-12-01: 455 MB for 4 frames of 256x256 with COOP's 4 units, so
-            // about 110 MB a frame, in proportion to the pixels and the units.
-            let mb = 110.0 * (w * h) as f64 / 65_536.0 * cfg.strategy.units() as f64 / 4.0;
-            if range.len() > 4 {
-                eprintln!(
-                    "warning: --vcd traces {} frames, about {:.0} MB each ({:.1} GB); --vcd-frames FIRST..END traces fewer",
-                    range.len(),
-                    mb,
-                    mb * range.len() as f64 / 1000.0
-                );
-            }
-            let shared = out.stream()?.shared();
-            stream = Some(shared.clone());
-            Some(Trace { out: Box::new(shared), frames: range })
-        }
-        None => None,
-    };
-    let log = system::simulate_traced(cfg, &mut interrupt::Interruptible(frames, stop), progress, on_record, trace)?;
-    Ok((log, stream))
 }

@@ -89,6 +89,26 @@ impl FrameSource for Skip<'_> {
     }
 }
 
+/// A frame source that stops handing out frames once its second field says so (the run then
+/// ends with [`FrameError::Interrupted`]): Ctrl-C for the CLI, the caller gone for the Python
+/// package.
+pub struct Interruptible<'a>(pub &'a mut dyn FrameSource, pub &'a dyn Fn() -> bool);
+
+impl FrameSource for Interruptible<'_> {
+    fn size(&self) -> (usize, usize) {
+        self.0.size()
+    }
+    fn len(&self) -> usize {
+        self.0.len()
+    }
+    fn frame(&mut self, k: usize) -> Result<&[u8], FrameError> {
+        if (self.1)() {
+            return Err(FrameError::Interrupted);
+        }
+        self.0.frame(k)
+    }
+}
+
 /// The last few frames made, for sources that decode or render on demand.
 #[derive(Default)]
 pub struct FrameCache {

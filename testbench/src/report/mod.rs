@@ -1,4 +1,4 @@
-//! How results are shown: the run summary and its verdict ([`summary`]), the CSV files a run
+//! How results are shown: a run's closing lines, summary and verdict ([`summary`]), the CSV files a run
 //! writes ([`csv`]), line charts ([`plot`]) and the Appendix B timing diagrams
 //! ([`timing_svg`]).
 pub mod csv;
@@ -7,7 +7,7 @@ pub mod plot;
 pub mod summary;
 pub mod timing_svg;
 
-pub use summary::{summary_table, verdict};
+pub use summary::{run_lines, summary_table, verdict};
 
 /// Seconds as milliseconds with `decimals` decimals, or `-` for none.
 pub fn ms(v: Option<f64>, decimals: usize) -> String {

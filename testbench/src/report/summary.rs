@@ -1,7 +1,8 @@
-//! A run's summary as text: the verdict first (tracked or lost), then the figures of
-//! eqs. 2.1-2.3 and RMS/RLT as a markdown table.
+//! A run's summary as text: what the run did and how fast ([`run_lines`]), the verdict
+//! (tracked or lost), then the figures of eqs. 2.1-2.3 and RMS/RLT as a markdown table.
 use super::ms;
 use crate::analysis::metrics::Summary;
+use crate::system::RunLog;
 use std::fmt::Write as _;
 
 /// Runs that lose more than this share of the visible frames read as lost.
@@ -45,4 +46,45 @@ pub fn summary_table(rows: &[(&str, Summary)]) -> String {
         );
     }
     s
+}
+
+/// The lines `coopwin track` closes with for `log`: the HDL simulator's share (clocked units),
+/// frames tracked and the wall-clock rate against the simulated camera's, the lock-on, and
+/// the log's losses and refusals. `secs` is the whole command's wall-clock time,
+/// `tracking_secs` the run's; `first` the source's number of the run's frame 0.
+pub fn run_lines(log: &RunLog, secs: f64, tracking_secs: f64, first: usize) -> Vec<String> {
+    let mut lines = Vec::new();
+    let secs = secs.max(1e-9);
+    let tracked = log.frames.iter().filter(|r| r.point.is_some()).count();
+    if log.hdl_clocks > 0 {
+        lines.push(format!(
+            "window units: {} pixel clocks, {:.2} M clocks/s over the run, about {:.0}% of the time in the HDL simulator",
+            log.hdl_clocks,
+            log.hdl_clocks as f64 / tracking_secs.max(1e-9) / 1e6,
+            (100.0 * log.hdl_seconds / tracking_secs.max(1e-9)).min(100.0)
+        ));
+    }
+    let n = log.frames.len();
+    lines.push(format!(
+        "{n} frames, {tracked} tracked, {} position reports; {:.0} frames/s wall-clock ({secs:.1} s on this machine); simulated: the camera, window units and processors in simulated time, at the source's {:.2} frames/s ({:.2} s of camera time)",
+        log.reports.len(),
+        n as f64 / secs,
+        1.0 / log.frame_period,
+        n as f64 * log.frame_period
+    ));
+    if let Some((k, (x, y))) = log.locked_on {
+        lines.push(format!("locked on in frame {}: tracking the object's point at ({x:.1}, {y:.1}) there, the centre of the first motion seen", k + first));
+    }
+    if !(log.losses.is_empty() && log.watchdog.is_empty() && log.refused.is_empty()) {
+        lines.push(format!(
+            "log: {} losses of track, {} sets written again by the watchdog, {} requests refused",
+            log.losses.len(),
+            log.watchdog.len(),
+            log.refused.len()
+        ));
+        for (_, clock, why) in log.refused.iter().take(3) {
+            lines.push(format!("  refused on clock {clock}: {why}"));
+        }
+    }
+    lines
 }
