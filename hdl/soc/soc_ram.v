@@ -5,7 +5,7 @@
 // Port A reads the byte port B writes on the same clock (write-first across the ports). With
 // port A reading the old byte instead, Yosys 0.23 emulates that read-before-write at two
 // DP16KD a 2 KiB lane (1 KiB a block: a 256 KiB program RAM took 298 of the 85F's 208); with
-// this bypass it maps one (256 KiB in 128), for about 60 LUT4 a lane of compare and mux.
+// this bypass, a compare and a mux in logic, it maps one (256 KiB in 128; docs/synthesis.md).
 `timescale 1ns / 1ps
 `default_nettype none
 
