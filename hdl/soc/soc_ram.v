@@ -4,8 +4,8 @@
 // A write on port B leaves that lane's read data as it was.
 // Port A reads the byte port B writes on the same clock (write-first across the ports). With
 // port A reading the old byte instead, Yosys 0.23 emulates that read-before-write at two
-// DP16KD a 2 KiB lane (1 KiB a block: a 256 KiB program RAM took 298 of the 85F's 208); with
-// this bypass, a compare and a mux in logic, it maps one (256 KiB in 128; docs/synthesis.md).
+// DP16KD a 2 KiB lane (with a 256 KiB program RAM the SoC took 298 of the 85F's 208 DP16KD);
+// with this bypass, a compare and a mux in logic, it maps one (256 KiB in 128 blocks).
 `timescale 1ns / 1ps
 `default_nettype none
 
