@@ -6,7 +6,9 @@
 # fails unless the firmware exits cleanly, the hostile coordinate sets are refused, and the
 # UART's position updates equal, byte for byte, those the same tracker sends on the host from
 # windows a model of the unit cuts from the same frames (firmware/soc's `soc-replay`), and,
-# where the SoC measures every frame, `coopwin track`'s rows (frame, x, y).
+# where the SoC measures every frame, `coopwin track`'s rows (frame, x, y). The program RAM is
+# firmware/soc/memory.x's LENGTH (the bitstream's too, scripts/soc-ecp5.sh); each run fails if
+# the stack's deepest point (the lowest RAM address written) reaches the image.
 #
 #   scripts/soc.sh                 21 frames of the default scene (triangle path, 256x256)
 #   scripts/soc.sh --frames N      N frames (N >= 8: the figures need windows after the lock-on; 8 and 21 were run)
