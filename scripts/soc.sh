@@ -6,7 +6,9 @@
 # fails unless the firmware exits cleanly, the hostile coordinate sets are refused, and the
 # UART's position updates equal, byte for byte, those the same tracker sends on the host from
 # windows a model of the unit cuts from the same frames (firmware/soc's `soc-replay`), and,
-# where the SoC measures every frame, `coopwin track`'s rows (frame, x, y).
+# where the SoC measures every frame, `coopwin track`'s rows (frame, x, y). The program RAM is
+# firmware/soc/memory.x's LENGTH (the bitstream's too, scripts/soc-ecp5.sh); each run fails if
+# the stack's deepest point (the lowest RAM address written) reaches the image.
 #
 #   scripts/soc.sh                 21 frames of the default scene (triangle path, 256x256)
 #   scripts/soc.sh --frames N      N frames (N >= 8: the figures need windows after the lock-on; 8 and 21 were run)
@@ -35,6 +37,10 @@ vex="$(python3 -c 'import pythondata_cpu_vexriscv as p; print(p.data_location)' 
 [ -f "$vex" ] || { echo "soc.sh: $vex is missing" >&2; exit 2; }
 out="$root/target/soc"
 mkdir -p "$out"
+# The program RAM the firmware is linked for is the one simulated (and the bitstream's,
+# scripts/soc-ecp5.sh): firmware/soc/memory.x's LENGTH.
+ram_kib="$(sed -n 's/^ *RAM *:.*LENGTH *= *\([0-9][0-9]*\)K *$/\1/p' "$root/firmware/soc/memory.x")"
+[ -n "$ram_kib" ] || { echo "soc.sh: no 'RAM : ... LENGTH = <N>K' line in firmware/soc/memory.x" >&2; exit 1; }
 
 echo "soc.sh: scene ($frames frames)" >&2
 if [ -z "${COOPWIN:-}" ]; then
@@ -57,7 +63,11 @@ firmware() { # frames target hex
       --target riscv32imac-unknown-none-elf -Zbuild-std=core \
       --config 'target.riscv32imac-unknown-none-elf.linker="riscv64-unknown-elf-ld"' \
       --config "target.riscv32imac-unknown-none-elf.rustflags=[\"-C\",\"link-arg=-melf32lriscv\",\"-C\",\"link-arg=-T$root/firmware/soc/memory.x\"]")
-  riscv64-unknown-elf-objcopy -O binary "$fw/riscv32imac-unknown-none-elf/release/soc" "$out/fw.bin"
+  local elf="$fw/riscv32imac-unknown-none-elf/release/soc"
+  # No .data or .bss: every data-bus write to RAM is then the stack's (simulate's measure).
+  [ -z "$(riscv64-unknown-elf-size -A "$elf" | awk '$1 ~ /^\.(s?data|s?bss)/ && $2 > 0')" ] ||
+    { echo "soc.sh: the firmware has .data or .bss, which the stack's measure (ram_low_write) takes for stack" >&2; exit 1; }
+  riscv64-unknown-elf-objcopy -O binary "$elf" "$out/fw.bin"
   python3 - "$out/fw.bin" "$3" <<'PY'
 import struct, sys
 b = open(sys.argv[1], "rb").read()
@@ -77,9 +87,9 @@ echo "soc.sh: firmware (riscv32imac, target $target)" >&2
 firmware "$audit_frames" "$target" "$out/fw-audit.hex"
 firmware "$frames" "$target" "$out/fw.hex"
 
-echo "soc.sh: Verilator model" >&2
+echo "soc.sh: Verilator model (program RAM $ram_kib KiB)" >&2
 (cd "$out" && nice -n 10 verilator --cc --exe --build -O2 -j 1 --top-module coopwin_soc \
-  -Wall --timescale 1ns/1ps --Mdir obj \
+  -Wall --timescale 1ns/1ps --Mdir obj -GRAM_BYTES=$((ram_kib * 1024)) \
   "$root/hdl/soc/tb/verilator.vlt" "$vex" "$root/hdl/verilog/window_unit.v" "$root/hdl/soc/soc_ram.v" "$root/hdl/soc/coopwin_soc.v" "$root/hdl/soc/tb/sim_main.cpp" \
   -o Vcoopwin_soc >verilator.log 2>&1) || { tail -20 "$out/verilator.log" >&2; exit 1; }
 
@@ -96,6 +106,15 @@ simulate() { # name image frames-folder count every vblank [testbench options]
   (cd "$dir" && nice -n 10 "$out/obj/Vcoopwin_soc" +firmware="$image" --frames "$raw" --count "$count" \
     --every "$every" --vblank "$vblank" --uart "$dir/uart.bin" --log "$dir/sim.log" "$@") || status=$?
   grep -v '^uart ' "$dir/sim.log" >"$dir/firmware.log"
+  # The stack's deepest point (the lowest RAM address written) must stay above the image.
+  local low image_end
+  low="$(sed -n 's/^end .* ram_low_write=\(0x[0-9a-f]*\)$/\1/p' "$dir/sim.log")"
+  [ -n "$low" ] || { tail -5 "$dir/sim.log" >&2; echo "soc.sh: $dir/sim.log has no end line (the testbench stopped)" >&2; exit 1; }
+  low=$((low))
+  image_end=$(( $(grep -c . "$image") * 4 ))
+  [ "$low" -ge "$image_end" ] ||
+    { echo "soc.sh: $dir: the stack reached $low, below the image's end $image_end: it overran the code" >&2; exit 1; }
+  echo "soc.sh: $(basename "$dir"): stack $((ram_kib * 1024 - low)) bytes deep, $((low - image_end)) bytes between it and the image ($ram_kib KiB RAM)" >&2
   [ "$status" = 0 ] || { cat "$dir/firmware.log" >&2; echo "soc.sh: $dir: the SoC's firmware ended with status $status" >&2; exit 1; }
   grep -q 'hostile over_edge_refused_by_driver=true reversed_refused_by_unit=true' "$dir/sim.log" ||
     { echo "soc.sh: $dir: the hostile sets were not refused" >&2; exit 1; }

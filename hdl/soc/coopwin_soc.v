@@ -39,7 +39,7 @@
 `default_nettype none
 
 module coopwin_soc #(
-    parameter integer RAM_BYTES = 1 << 20,  // program RAM
+    parameter integer RAM_BYTES = 1 << 18,  // program RAM (firmware/soc/memory.x: the firmware is linked for it)
     parameter integer PIX_BYTES = 1 << 16,  // window pixel RAM (a whole 256x256 frame)
     parameter integer WIDTH = 256,          // camera pixels per line
     parameter integer HEIGHT = 256,         // camera lines per frame
@@ -147,6 +147,10 @@ module coopwin_soc #(
             ram.lane[3].mem[w] = image_words[w][31:24];
         end
     end
+    // The lowest RAM word the data bus wrote: the stack's deepest point while the image has no
+    // .data or .bss (sim_main.cpp's end line; scripts/soc.sh checks it against the image's end).
+    reg [RAM_AW-1:0] ram_low_write = {RAM_AW{1'b1}};
+    always @(posedge clk) if (d_req && d_ram && d_we && d_word < ram_low_write) ram_low_write <= d_word;
 `endif
 
     // ---------------------------------------------------------------- window unit

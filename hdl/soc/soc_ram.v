@@ -1,9 +1,11 @@
 // soc_ram: the SoC's word RAM (32-bit words) with two ports, in the pattern Yosys infers as
-// block RAM (DP16KD on ECP5): each port in its own clocked block, registered reads, a memory
-// a byte lane (8 bits wide, its own write enable). Yosys 0.23 still maps the program RAM (a
-// read port and a read/write port) at 1 KiB a DP16KD: 128 KiB takes 128 blocks, 256 KiB 256
-// (docs/synthesis.md); the write-only-by-DMA pixel RAM maps at 2 KiB a block.
+// block RAM (DP16KD on ECP5, 2 KiB a block: 2048x9 a byte lane): each port in its own clocked
+// block, registered reads, a memory a byte lane (8 bits wide, its own write enable).
 // A write on port B leaves that lane's read data as it was.
+// Port A reads the byte port B writes on the same clock (write-first across the ports). With
+// port A reading the old byte instead, Yosys 0.23 emulates that read-before-write at two
+// DP16KD a 2 KiB lane (with a 256 KiB program RAM the SoC took 298 of the 85F's 208 DP16KD);
+// with this bypass, a compare and a mux in logic, it maps one (256 KiB in 128 blocks).
 `timescale 1ns / 1ps
 `default_nettype none
 
@@ -29,7 +31,7 @@ module soc_ram #(
         if (INIT_FILE != "") begin : init
             initial $readmemh({INIT_FILE, DIGIT}, mem);
         end
-        always @(posedge clk) if (a_en) a_q <= mem[a_addr];
+        always @(posedge clk) if (a_en) a_q <= b_en && b_we[k] && b_addr == a_addr ? b_wdata[8 * k +: 8] : mem[a_addr];
         always @(posedge clk) begin
             if (b_en) begin
                 // A write does not read (no-change): the bus ignores a write's read data,

@@ -206,7 +206,8 @@ int main(int argc, char** argv) {
             break;
         }
     }
-    std::fprintf(log, "end cycle=%llu status=%d\n", cyc, status);
+    // The lowest byte address the data bus wrote in RAM (the stack's deepest point).
+    std::fprintf(log, "end cycle=%llu status=%d ram_low_write=0x%x\n", cyc, status, (unsigned)top->rootp->coopwin_soc->ram_low_write * 4);
     std::fclose(uart);
     std::fclose(log);
     if (trace.f) std::fclose(trace.f);
