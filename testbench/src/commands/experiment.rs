@@ -45,16 +45,43 @@ pub fn write_results(args: ExperimentArgs) -> Result<(), CliError> {
     let mut progress = |s: &str| eprintln!("  {s}");
     let mut ctx = Context::new(&args.out, args.profile.into(), args.hdl.into(), &mut progress);
     ctx.clips = args.clips.clone();
-    let mut all = String::from("# Experiments\n\n");
+    let mut sections = Vec::new();
     for e in chosen {
         eprintln!("experiment {}", e.name());
         let md = e.reproduce(&mut ctx)?;
         println!("{md}");
-        all.push_str(&md);
+        sections.push(md);
     }
-    results.write(all.as_bytes())?;
+    let earlier = std::fs::read_to_string(&results.path).unwrap_or_default();
+    results.write(merged(&earlier, &sections).as_bytes())?;
     println!("wrote {}", results.path.display());
     Ok(())
+}
+
+/// `results.md`: the `earlier` file's sections (each from its `## name` line) with those of
+/// the experiments just run in their place, new ones after; rerunning one experiment into a
+/// folder keeps the others' sections.
+fn merged(earlier: &str, sections: &[String]) -> String {
+    let name = |section: &str| section.strip_prefix("## ").and_then(|h| h.split_whitespace().next()).map(str::to_owned);
+    let mut kept: Vec<String> = Vec::new();
+    for line in earlier.lines().skip_while(|l| !l.starts_with("## ")) {
+        match kept.last_mut() {
+            Some(last) if !line.starts_with("## ") => {
+                last.push_str(line);
+                last.push('\n');
+            }
+            _ => kept.push(format!("{line}\n")),
+        }
+    }
+    for new in sections {
+        match kept.iter_mut().find(|old| name(old) == name(new)) {
+            Some(old) => old.clone_from(new),
+            None => kept.push(new.clone()),
+        }
+    }
+    // A blank line between sections, as markdown needs before a heading.
+    let spaced = kept.into_iter().map(|s| if s.ends_with("\n\n") { s } else { s + "\n" });
+    std::iter::once("# Experiments\n\n".to_owned()).chain(spaced).collect()
 }
 
 /// Writes every real-image and appearance condition's frames, `groundtruth.csv` and `fingerprint.txt` (the
@@ -69,4 +96,19 @@ fn write_sequences(root: &Path) -> Result<(), CliError> {
         std::fs::write(&fp, c.render().fingerprint() + "\n").map_err(|e| CliError::new(format!("cannot write {}: {e}", fp.display())))?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::merged;
+
+    #[test]
+    fn a_rerun_replaces_its_own_section_and_keeps_the_others() {
+        // By hand: two sections, the second rerun, a third new.
+        let earlier = "# Experiments\n\n## fig-2.9 (c40 profile)\n\nold 2.9\n\n## long-term\n\nold lt\n\n";
+        let new = ["## long-term\n\nnew lt\n\n".to_owned(), "## table-4.1 (c40 profile)\n\nt\n\n".to_owned()];
+        let want = "# Experiments\n\n## fig-2.9 (c40 profile)\n\nold 2.9\n\n## long-term\n\nnew lt\n\n## table-4.1 (c40 profile)\n\nt\n\n";
+        assert_eq!(merged(earlier, &new), want);
+        assert_eq!(merged("", &new[..1]), "# Experiments\n\n## long-term\n\nnew lt\n\n");
+    }
 }
