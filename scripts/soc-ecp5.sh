@@ -60,6 +60,16 @@ import sys
 words = [int(l, 16) for l in open(sys.argv[1]) if l.strip()]
 if len(words) * 4 > int(sys.argv[3]):
     sys.exit("soc-ecp5.sh: the image is %d bytes, the RAM %s" % (len(words) * 4, sys.argv[3]))
+# The image opens with `la sp, _stack_top` (auipc sp + addi sp, firmware/soc/src/bin/soc.rs):
+# the stack top it was linked with must be this RAM's end, or an image built for another
+# memory.x would put its stack outside the RAM (or over its code).
+w0, w1 = (words + [0, 0])[:2]
+if w0 & 0xFFF != 0x117 or w1 & 0xFFFFF != 0x10113:
+    sys.exit("soc-ecp5.sh: the image does not open with la sp, _stack_top (auipc, addi): not scripts/soc.sh's firmware")
+lo = (w1 >> 20) - ((w1 >> 20) & 0x800) * 2
+top = (w0 & 0xFFFFF000) + lo
+if top != int(sys.argv[3]):
+    sys.exit("soc-ecp5.sh: the image was linked for a %d-byte RAM (its stack top), firmware/soc/memory.x says %s: rebuild it with scripts/soc.sh" % (top, sys.argv[3]))
 for k in range(4):
     open(sys.argv[2] + str(k), "w").write("".join("%02x\n" % ((w >> (8 * k)) & 0xFF) for w in words))
 PY
