@@ -250,17 +250,13 @@ impl Recorder {
 
     /// The record of `frame`, at the end of its period, the system in `mode`.
     pub(super) fn end_frame(&mut self, frame: usize, mode: Mode) -> &FrameRecord {
-        let tracked = match (mode, self.track) {
-            (Mode::Track, Track::Reported(r)) => Some(r),
-            _ => None,
-        };
-        let (state, estimate) = match (mode, self.track) {
-            (Mode::Track, Track::Reported(r)) if r.vouched => (TrackState::Tracking, None),
-            (Mode::Track, Track::Reported(_)) => (TrackState::Unconfirmed, None),
-            (Mode::Track, Track::Predicted(q)) => (TrackState::Predicted, Some(q)),
+        let (tracked, state, estimate) = match (mode, self.track) {
+            (Mode::Track, Track::Reported(r)) if r.vouched => (Some(r), TrackState::Tracking, None),
+            (Mode::Track, Track::Reported(r)) => (Some(r), TrackState::Unconfirmed, None),
+            (Mode::Track, Track::Predicted(q)) => (None, TrackState::Predicted, Some(q)),
             // Re-found, with its first Foveal window still to come: still searching.
-            (Mode::Track | Mode::Detect, _) => (TrackState::Searching, self.last_seen),
-            (Mode::Watch, _) => (TrackState::Lost, self.last_seen),
+            (Mode::Track | Mode::Detect, _) => (None, TrackState::Searching, self.last_seen),
+            (Mode::Watch, _) => (None, TrackState::Lost, self.last_seen),
         };
         let xy = |p: Point| (f64::from(p.x), f64::from(p.y));
         self.log.frames.push(FrameRecord {
