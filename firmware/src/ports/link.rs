@@ -2,7 +2,8 @@
 //! coordinates and the template between processors, e.g. Fw1 <-> Fw2 in COOP).
 //!
 //! A message is a tag byte and little-endian fields: `Motion` (1) four `u16` bounds;
-//! `Approx` (2), `Tracked` (3), `Lost` (4), `Result` (6) and `Follow` (7) a point as two `f32`;
+//! `Approx` (2), `Tracked` (3), `Lost` (4), `Result` (6), `Follow` (7), `Coasting` (10) and
+//! `Doubted` (11) a point as two `f32`;
 //! `Result(None)` (5) the tag alone. A template (8) is a header (anchor point, side N as `u8`)
 //! and then its N x N pixels in chunk payloads (9), each a sequence number and up to
 //! [`MAX_PAYLOAD`] - 2 pixels; a template missing a chunk is dropped whole. Each payload is one
@@ -27,6 +28,7 @@ mod tag {
     pub const TEMPLATE: u8 = 8;
     pub const TEMPLATE_PIXELS: u8 = 9;
     pub const COASTING: u8 = 10;
+    pub const DOUBTED: u8 = 11;
 }
 
 /// Template pixels in one chunk payload (after its tag and sequence number).
@@ -86,6 +88,7 @@ impl Iterator for MessagePayloads<'_> {
             Msg::Tracked(p) => single(point_payload(tag::TRACKED, p)),
             Msg::Lost(p) => single(point_payload(tag::LOST, p)),
             Msg::Coasting(p) => single(point_payload(tag::COASTING, p)),
+            Msg::Doubted(p) => single(point_payload(tag::DOUBTED, p)),
             Msg::Result(None) => single(Vec::from_slice(&[tag::NO_RESULT]).unwrap_or_default()),
             Msg::Result(Some(p)) => single(point_payload(tag::RESULT, p)),
             Msg::Follow(p) => single(point_payload(tag::FOLLOW, p)),
@@ -178,6 +181,7 @@ fn single(t: u8, b: &[u8]) -> Result<Msg, DecodeError> {
         tag::TRACKED => payload_point(b).map(Msg::Tracked),
         tag::LOST => payload_point(b).map(Msg::Lost),
         tag::COASTING => payload_point(b).map(Msg::Coasting),
+        tag::DOUBTED => payload_point(b).map(Msg::Doubted),
         tag::NO_RESULT if b.len() == 1 => Ok(Msg::Result(None)),
         tag::RESULT => payload_point(b).map(|p| Msg::Result(Some(p))),
         tag::FOLLOW => payload_point(b).map(Msg::Follow),
@@ -289,6 +293,7 @@ mod tests {
             Msg::Tracked(p),
             Msg::Lost(p),
             Msg::Coasting(p),
+            Msg::Doubted(p),
             Msg::Result(None),
             Msg::Result(Some(p)),
             Msg::Follow(p),

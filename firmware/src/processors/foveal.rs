@@ -5,7 +5,7 @@ use super::adapt::Adaptive;
 use super::coop::guard::{dist, Guard, GuardParams, Measured};
 use super::coop::Policy;
 use super::messages::{Dest, Msg};
-use super::params::{Params, COAST_MARGIN, CONFIRM_ALIGN, CONFIRM_NCC, GROW_MARGIN, HOLD_NCC, MAX_MARGIN, MISS_DECAY, REDETECT_MIN, UNCONFIRMED_RUN};
+use super::params::{Params, COAST_MARGIN, CONFIRM_ALIGN, CONFIRM_NCC, GROW_MARGIN, HOLD_NCC, MAX_MARGIN, MISS_DECAY, PRIOR_SECONDS, REDETECT_MIN, UNCONFIRMED_RUN};
 use super::step::{placements, Fix, Mode, Outcome, Step, Work};
 use super::template::Template;
 use crate::kernels::corner::{CornerDetector, CornerParams, MAX_DIM};
@@ -124,6 +124,15 @@ enum Phase {
     /// An adapting track the Peripheral handed over near the point: its first window, still
     /// to come, tries the first template too ([`Foveal::handed_over`]).
     HandedOver(Point),
+    /// An adapting track holding a point its first view does not confirm (issue 38): the
+    /// Peripheral looks for the object elsewhere meanwhile ([`Msg::Doubted`]), and a location
+    /// it hands over is taken ([`Phase::Redirected`]).
+    Doubted(Point),
+    /// A doubted track the Peripheral found the object for elsewhere, at `to`: the window in
+    /// flight (around `held`) is followed, and unless it confirms the object there, the next
+    /// goes to `to`. Windows come in the order they were asked for: a restart at once would
+    /// take the one in flight for the object's.
+    Redirected { held: Point, to: Point },
 }
 
 /// A Foveal (Tracking) processor, its corner detector sized for windows (and templates) up
@@ -159,6 +168,8 @@ pub struct Foveal<const N: usize = MAX_DIM, const P: usize = INTERIOR> {
     first_seen: bool,
     /// Adapting tracks: windows in a row whose point the first template did not confirm.
     unconfirmed: u8,
+    /// Adapting tracks: when a window was last vouched for, in seconds.
+    vouched_at: Option<f64>,
 }
 
 impl Foveal {
@@ -197,6 +208,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
             shape: None,
             first_seen: false,
             unconfirmed: 0,
+            vouched_at: None,
         }
     }
 
@@ -276,7 +288,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     pub fn mode(&self) -> Mode {
         match self.phase {
             Phase::Idle => Mode::Watch,
-            Phase::Tracking(_) | Phase::HandedOver(_) => Mode::Track,
+            Phase::Tracking(_) | Phase::HandedOver(_) | Phase::Doubted(_) | Phase::Redirected { .. } => Mode::Track,
         }
     }
 
@@ -293,8 +305,16 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         step.clear(Work::None);
         match m {
             Msg::Template(tpl) => self.set_template(tpl.clone()),
-            // An adapting track that coasts restarts where the Peripheral found the target.
-            Msg::Approx(p) if self.phase == Phase::Idle || (self.adapt.is_some() && self.coasting()) => self.start(*p, false, step),
+            // An adapting track that coasts restarts where the Peripheral found the target; one
+            // its first view doubts, after the window in flight.
+            // Not an adapting track's after its motion prior has lapsed ([`PRIOR_SECONDS`]).
+            Msg::Approx(_) if self.adapt.is_some() && self.vouched_at.is_some_and(|v| t - v > PRIOR_SECONDS) => {}
+            Msg::Approx(p) => match self.phase {
+                Phase::Idle => self.start(*p, false, step),
+                _ if self.adapt.is_some() && self.coasting() => self.start(*p, false, step),
+                Phase::Doubted(held) => self.phase = Phase::Redirected { held, to: *p },
+                _ => {}
+            },
             Msg::Follow(p) => {
                 self.phase = Phase::Tracking(*p);
                 step.ask(Some(self.params.foveal_window(*p)));
@@ -457,16 +477,22 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
             }
         }
         match (found.filter(|_| !astray), self.phase) {
+            (_, Phase::Redirected { to, .. }) if !confirmed => self.start(to, false, step),
             (Some(p), _) => {
-                self.phase = Phase::Tracking(p);
+                // A fixed template's track is the thesis's: followed as tracked, vouched or not.
+                let doubted = !confirmed && self.adapt.is_some();
+                self.phase = if doubted { Phase::Doubted(p) } else { Phase::Tracking(p) };
                 if let Some(a) = self.aimed {
                     self.miss = dist(p, a).max(self.miss * MISS_DECAY);
                 }
-                step.ask(Some(self.next_window(p, t))).send(Dest::Peripheral, Msg::Tracked(p));
+                step.ask(Some(self.next_window(p, t))).send(Dest::Peripheral, if doubted { Msg::Doubted(p) } else { Msg::Tracked(p) });
                 let fix = Fix { at: p, source, score, shape: score.and(self.shape) };
+                if confirmed && self.adapt.is_some() {
+                    self.vouched_at = Some(t);
+                }
                 step.outcome = if confirmed { Outcome::Measured(fix) } else { Outcome::Unconfirmed(fix) };
             }
-            (None, Phase::Tracking(last) | Phase::HandedOver(last)) => {
+            (None, Phase::Tracking(last) | Phase::HandedOver(last) | Phase::Doubted(last) | Phase::Redirected { held: last, .. }) => {
                 self.phase = Phase::Idle;
                 // The Peripheral re-detects with the last look the track trusted, too.
                 if let (Some(_), Some(t)) = (&self.adapt, &self.template) {

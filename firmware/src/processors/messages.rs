@@ -22,8 +22,11 @@ pub enum Msg {
     },
     /// Peripheral -> Foveal: the target is approximately here.
     Approx(Point),
-    /// Foveal -> Peripheral: tracked position.
+    /// Foveal -> Peripheral: tracked position (an adapting track's: vouched for).
     Tracked(Point),
+    /// Adapting Foveal -> Peripheral: the track holds this point, but its first view does not
+    /// confirm it; look for the object elsewhere and hand over what is found (issue 38).
+    Doubted(Point),
     /// Foveal -> Peripheral: the target was lost near here.
     Lost(Point),
     /// Adapting COOP master -> Peripheral: nothing measured the target, the track begins to

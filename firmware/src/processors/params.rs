@@ -104,6 +104,22 @@ pub const HOLD_NCC: f32 = super::adapt::CONFIRM;
 /// (`coopwin experiment long-term`, recall of the `ok` 1 rows).
 pub const UNCONFIRMED_RUN: u8 = 8;
 
+/// The motion prior of an adapting track's re-detection (issue 38, FuCoLoT's): the Peripheral
+/// hands over a candidate only within this many pixels of where the track was last vouched
+/// for, the radius growing by [`PRIOR_GROWTH`] a Peripheral window (about a frame) up to
+/// [`PRIOR_MAX`].
+pub const PRIOR_RADIUS: f32 = 24.0;
+
+/// Pixels a Peripheral window the motion prior's radius grows by ([`PRIOR_RADIUS`]).
+pub const PRIOR_GROWTH: f32 = 2.0;
+
+/// The motion prior's largest radius ([`PRIOR_RADIUS`]).
+pub const PRIOR_MAX: f32 = 120.0;
+
+/// Seconds after its last vouched window from which an adapting track takes no location the
+/// Peripheral hands over: the motion prior has lapsed, and the track stays absent.
+pub const PRIOR_SECONDS: f64 = 3.0;
+
 impl Params {
     /// These parameters with the template adapting ([`Params::adapt`]).
     pub fn adaptive(self) -> Params {

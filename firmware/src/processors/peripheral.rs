@@ -10,7 +10,8 @@
 //! are searched by candidates ([`best_match_candidates`]) and get one look a frame, so that no
 //! frame's work exceeds a fraction of the frame period (issue 22).
 use super::messages::{Dest, Msg};
-use super::params::{Params, REDETECT_MIN};
+use super::coop::guard::dist;
+use super::params::{Params, PRIOR_GROWTH, PRIOR_MAX, PRIOR_RADIUS, REDETECT_MIN};
 use super::step::{placements, Mode, Step, Work};
 use super::template::Template;
 use crate::kernels::matching::{best_match, best_match_candidates, Method, CANDIDATES_FROM};
@@ -72,12 +73,17 @@ pub struct Peripheral {
     asked: Option<WindowRequest>,
     /// The window in hand is a wide one's repeat, for its second look (the first template).
     second_look: bool,
+    /// Adapting tracks: where the Foveal track was last vouched for, and this processor's
+    /// windows since: the motion prior of what it hands over ([`Peripheral::admits`]).
+    seen: Option<(Point, u16)>,
+    /// Adapting tracks: the point a doubted Foveal track holds ([`Msg::Doubted`]).
+    held: Option<Point>,
 }
 
 impl Peripheral {
     /// A Peripheral processor, with the template if it is known in advance.
     pub fn new(params: Params, template: Option<Template>) -> Self {
-        Peripheral { template, recent: None, state: State::Idle, params, foveal_waiting: true, asked: None, second_look: false }
+        Peripheral { template, recent: None, state: State::Idle, params, foveal_waiting: true, asked: None, second_look: false, seen: None, held: None }
     }
 
     /// Starts searching at `p` (used when the target is given).
@@ -127,14 +133,31 @@ impl Peripheral {
             // larger window around its prediction, and what it finds is handed over.
             (Msg::Coasting(p), State::Follow { .. } | State::Search { .. } | State::Sweep { .. }) => {
                 self.foveal_waiting = true;
+                // A coasting track holds no point.
+                self.held = None;
                 self.state = State::Search { at: *p, k: 1 };
                 self.ask(&mut step, self.params.window(*p, self.params.peripheral[1], Decimation::Quarter));
             }
             (Msg::Tracked(p), State::Follow { .. } | State::Search { .. } | State::Sweep { .. }) => {
                 self.state = State::Follow { at: *p };
                 self.foveal_waiting = false;
+                if self.params.adapt {
+                    (self.seen, self.held) = (Some((*p, 0)), None);
+                }
             }
-            (Msg::Lost(p), State::Follow { at }) => {
+            // The Foveal track holds a point its first view does not confirm: look for the
+            // object where it was last vouched for (the larger window, then the sweep), and
+            // hand over what is found elsewhere.
+            (Msg::Doubted(p), state) => {
+                self.held = Some(*p);
+                self.foveal_waiting = true;
+                if let State::Follow { .. } = state {
+                    let at = self.seen.map_or(*p, |(at, _)| at);
+                    self.state = State::Search { at, k: 1 };
+                    self.ask(&mut step, self.params.window(at, self.params.peripheral[1], Decimation::Quarter));
+                }
+            }
+            (Msg::Lost(p), State::Follow { at }) if self.admits(at) => {
                 // Hand over the latest location at once (2.3.2); search again from there.
                 self.foveal_waiting = true;
                 self.state = State::Search { at: *p, k: 0 };
@@ -142,12 +165,24 @@ impl Peripheral {
             }
             (Msg::Lost(p), _) => {
                 self.foveal_waiting = true;
-                self.state = State::Search { at: *p, k: 0 };
-                self.ask(&mut step, self.params.window(*p, self.params.peripheral[0], Decimation::Quarter));
+                // Where the motion prior is centred, for an adapting track.
+                let at = self.seen.map_or(*p, |(at, _)| at);
+                self.state = State::Search { at, k: 0 };
+                self.ask(&mut step, self.params.window(at, self.params.peripheral[0], Decimation::Quarter));
             }
             _ => {}
         }
         step
+    }
+
+    /// Whether location `p` may be handed over to the Foveal track (issue 38): for an adapting
+    /// track, within the motion prior around where the track was last vouched for (FuCoLoT's:
+    /// [`PRIOR_RADIUS`] growing by [`PRIOR_GROWTH`] a window up to [`PRIOR_MAX`]), and more
+    /// than half a template from the point a doubted track holds (that one it has).
+    fn admits(&self, p: Point) -> bool {
+        let near = |(at, windows): (Point, u16)| dist(p, at) <= (PRIOR_RADIUS + PRIOR_GROWTH * f32::from(windows)).min(PRIOR_MAX);
+        let elsewhere = |h: Point| dist(p, h) > f32::from(self.params.template) / 2.0;
+        !self.params.adapt || (self.seen.is_none_or(near) && self.held.is_none_or(elsewhere))
     }
 
     /// Asks for window `r` (its first look, if it is wide).
@@ -187,6 +222,9 @@ impl Peripheral {
             self.state = State::Idle;
             return Step::new(Work::None);
         };
+        if let Some((_, windows)) = self.seen.as_mut() {
+            *windows = windows.saturating_add(1);
+        }
         // The better of the first and the last trusted look, and the work of both; but a wide
         // window (a sweep's tile, 64x64) gets one look a frame, so that a frame's work stays
         // bounded: the last trusted look first, then the same window again for the first.
@@ -208,7 +246,8 @@ impl Peripheral {
                 (w, _) => w,
             };
         }
-        let found = found.map(|f| f.0);
+        // Only what may be handed over counts as found while the Foveal track waits for it.
+        let found = found.map(|f| f.0).filter(|p| !self.foveal_waiting || self.admits(*p));
         let mut step = Step::new(work);
         if let (None, true, Some(same)) = (found, again, self.asked) {
             self.second_look = true;
