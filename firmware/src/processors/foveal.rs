@@ -761,4 +761,57 @@ mod tests {
         assert_eq!(s.work, Work::Decision);
         assert_eq!(&s.sends[..], &[(Dest::Peripheral, Msg::Tracked(p)), (Dest::FovealCd, Msg::Follow(p))][..]);
     }
+
+    #[test]
+    fn a_doubted_track_asks_for_a_search_and_takes_a_hand_over_after_the_window_in_flight() {
+        let mut f = Foveal::new(FovealKind::Ncc, params().adaptive(), Some(template()));
+        let req = f.start_at(TARGET).request.unwrap();
+        assert!(f.on_window(&cut(&frame(Some((30, 20))), &req), 0.0).outcome.vouched().is_some());
+        // A point the first template does not vouch for (the corner detector's alone): followed,
+        // unvouched, and the Peripheral told to look elsewhere rather than that it is tracked.
+        let held = Point { x: 33.5, y: 21.5 };
+        let mut step = Step::new(Work::None);
+        f.follow(&mut step, 0.04, Some(held), Source::Cd, None);
+        assert!(matches!(step.outcome, Outcome::Unconfirmed(fix) if fix.at == held));
+        assert_eq!(&step.sends[..], &[(Dest::Peripheral, Msg::Doubted(held))][..]);
+        let in_flight = step.request.unwrap();
+        // The Peripheral finds the object at (11.5, 41.5): nothing is asked yet, as the window
+        // in flight comes first; it shows nothing, and the next window is around the location,
+        // as a re-detection's (GROW_MARGIN a side: columns round(11.5 - 13.5) -> 0).
+        let to = Point { x: 11.5, y: 41.5 };
+        let s = f.on_message(&Msg::Approx(to), 0.05);
+        assert_eq!((s.request, f.phase), (None, Phase::Redirected { held, to }));
+        let s = f.on_window(&cut(&frame(None), &in_flight), 0.08);
+        assert_eq!((s.outcome, s.request), (Outcome::Redetected(to), Some(square(0, 28, 16 + 2 * GROW_MARGIN, Decimation::Full))));
+    }
+
+    #[test]
+    fn a_window_that_confirms_the_object_keeps_the_track_where_it_is() {
+        let mut f = Foveal::new(FovealKind::Ncc, params().adaptive(), Some(template()));
+        let req = f.start_at(TARGET).request.unwrap();
+        f.on_window(&cut(&frame(Some((30, 20))), &req), 0.0);
+        let mut step = Step::new(Work::None);
+        f.follow(&mut step, 0.04, Some(TARGET), Source::Cd, None);
+        f.on_message(&Msg::Approx(Point { x: 11.5, y: 41.5 }), 0.05);
+        // The window in flight shows the object as it was cut: vouched for, and the hand-over
+        // dropped.
+        let s = f.on_window(&cut(&frame(Some((30, 20))), &step.request.unwrap()), 0.08);
+        assert!(s.outcome.vouched().is_some_and(|fix| near(fix.at, TARGET)), "{:?}", s.outcome);
+        assert!(matches!(f.phase, Phase::Tracking(p) if near(p, TARGET)));
+    }
+
+    #[test]
+    fn no_hand_over_is_taken_once_the_motion_prior_has_lapsed() {
+        let lost = |t: f64| {
+            let mut f = Foveal::new(FovealKind::Ncc, params().adaptive(), Some(template()));
+            let req = f.start_at(TARGET).request.unwrap();
+            f.on_window(&cut(&frame(Some((30, 20))), &req), 0.0);
+            f.on_window(&cut(&frame(None), &req), 0.04);
+            assert_eq!(f.mode(), Mode::Watch, "lost");
+            f.on_message(&Msg::Approx(TARGET), t).request
+        };
+        // Vouched for last at 0 s: a location PRIOR_SECONDS (3 s) later is still taken.
+        assert!(lost(PRIOR_SECONDS).is_some());
+        assert_eq!(lost(PRIOR_SECONDS + 0.01), None);
+    }
 }

@@ -46,6 +46,39 @@ fn locate(win: &WindowView<'_>, tpl: &Template, p: &Params) -> (Option<(Point, f
     (found.then(|| (tpl.point_at(m.frame_x, m.frame_y), badness)), work)
 }
 
+/// Where an adapting Foveal track was last vouched for ([`Msg::Tracked`]), its motion, and
+/// this processor's windows since (about one a frame).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Seen {
+    at: Point,
+    /// Pixels a window, between the last two vouched points.
+    velocity: (f32, f32),
+    windows: u16,
+}
+
+impl Seen {
+    /// `at` vouched for, the motion measured from the last vouched point `before`.
+    fn after(before: Option<Seen>, at: Point) -> Seen {
+        let velocity = match before {
+            Some(b) if b.windows > 0 => {
+                let k = f32::from(b.windows);
+                ((at.x - b.at.x) / k, (at.y - b.at.y) / k)
+            }
+            Some(b) => b.velocity,
+            None => (0.0, 0.0),
+        };
+        Seen { at, velocity, windows: 0 }
+    }
+
+    /// Whether `p` lies in the motion prior (FuCoLoT's): within [`PRIOR_RADIUS`], growing by
+    /// [`PRIOR_GROWTH`] a window up to [`PRIOR_MAX`], of where the motion carries the point.
+    fn admits(&self, p: Point) -> bool {
+        let k = f32::from(self.windows);
+        let centre = Point { x: self.at.x + self.velocity.0 * k, y: self.at.y + self.velocity.1 * k };
+        dist(p, centre) <= (PRIOR_RADIUS + PRIOR_GROWTH * k).min(PRIOR_MAX)
+    }
+}
+
 /// Peripheral processor states.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum State {
@@ -73,9 +106,9 @@ pub struct Peripheral {
     asked: Option<WindowRequest>,
     /// The window in hand is a wide one's repeat, for its second look (the first template).
     second_look: bool,
-    /// Adapting tracks: where the Foveal track was last vouched for, and this processor's
-    /// windows since: the motion prior of what it hands over ([`Peripheral::admits`]).
-    seen: Option<(Point, u16)>,
+    /// Adapting tracks: where the Foveal track was last vouched for: the motion prior of what
+    /// it hands over ([`Peripheral::admits`]).
+    seen: Option<Seen>,
     /// Adapting tracks: the point a doubted Foveal track holds ([`Msg::Doubted`]).
     held: Option<Point>,
 }
@@ -142,7 +175,7 @@ impl Peripheral {
                 self.state = State::Follow { at: *p };
                 self.foveal_waiting = false;
                 if self.params.adapt {
-                    (self.seen, self.held) = (Some((*p, 0)), None);
+                    (self.seen, self.held) = (Some(Seen::after(self.seen, *p)), None);
                 }
             }
             // The Foveal track holds a point its first view does not confirm: look for the
@@ -152,7 +185,7 @@ impl Peripheral {
                 self.held = Some(*p);
                 self.foveal_waiting = true;
                 if let State::Follow { .. } = state {
-                    let at = self.seen.map_or(*p, |(at, _)| at);
+                    let at = self.seen.map_or(*p, |s| s.at);
                     self.state = State::Search { at, k: 1 };
                     self.ask(&mut step, self.params.window(at, self.params.peripheral[1], Decimation::Quarter));
                 }
@@ -165,10 +198,8 @@ impl Peripheral {
             }
             (Msg::Lost(p), _) => {
                 self.foveal_waiting = true;
-                // Where the motion prior is centred, for an adapting track.
-                let at = self.seen.map_or(*p, |(at, _)| at);
-                self.state = State::Search { at, k: 0 };
-                self.ask(&mut step, self.params.window(at, self.params.peripheral[0], Decimation::Quarter));
+                self.state = State::Search { at: *p, k: 0 };
+                self.ask(&mut step, self.params.window(*p, self.params.peripheral[0], Decimation::Quarter));
             }
             _ => {}
         }
@@ -176,13 +207,12 @@ impl Peripheral {
     }
 
     /// Whether location `p` may be handed over to the Foveal track (issue 38): for an adapting
-    /// track, within the motion prior around where the track was last vouched for (FuCoLoT's:
-    /// [`PRIOR_RADIUS`] growing by [`PRIOR_GROWTH`] a window up to [`PRIOR_MAX`]), and more
-    /// than half a template from the point a doubted track holds (that one it has).
+    /// track, within the motion prior from where the track was last vouched for
+    /// ([`Seen::admits`]), and more than half a template from the point a doubted track holds
+    /// (that one it has).
     fn admits(&self, p: Point) -> bool {
-        let near = |(at, windows): (Point, u16)| dist(p, at) <= (PRIOR_RADIUS + PRIOR_GROWTH * f32::from(windows)).min(PRIOR_MAX);
         let elsewhere = |h: Point| dist(p, h) > f32::from(self.params.template) / 2.0;
-        !self.params.adapt || (self.seen.is_none_or(near) && self.held.is_none_or(elsewhere))
+        !self.params.adapt || (self.seen.is_none_or(|s| s.admits(p)) && self.held.is_none_or(elsewhere))
     }
 
     /// Asks for window `r` (its first look, if it is wide).
@@ -222,8 +252,8 @@ impl Peripheral {
             self.state = State::Idle;
             return Step::new(Work::None);
         };
-        if let Some((_, windows)) = self.seen.as_mut() {
-            *windows = windows.saturating_add(1);
+        if let Some(s) = self.seen.as_mut() {
+            s.windows = s.windows.saturating_add(1);
         }
         // The better of the first and the last trusted look, and the work of both; but a wide
         // window (a sweep's tile, 64x64) gets one look a frame, so that a frame's work stays
@@ -401,5 +431,32 @@ mod tests {
         p.on_window(&cut(&frame(Some((30, 20))), &near));
         let s = p.on_message(&Msg::Lost(Point { x: 40.0, y: 40.0 }));
         assert_eq!((&s.sends[..], s.request), (&[(Dest::Foveal, Msg::Approx(TARGET))][..], None));
+    }
+
+    #[test]
+    fn a_doubted_track_gets_a_search_and_only_what_the_motion_prior_admits_elsewhere() {
+        let mut p = Peripheral::new(params().adaptive(), Some(template()));
+        let near = square(24, 14, 16, Decimation::Quarter);
+        p.start_at(TARGET);
+        p.on_window(&cut(&frame(Some((30, 20))), &near));
+        p.on_message(&Msg::Tracked(TARGET));
+        // The Foveal track holds the block's place but doubts it: the larger window where the
+        // track was last vouched for (24 px: columns round(31.5 - 11.5) = 20..).
+        let s = p.on_message(&Msg::Doubted(TARGET));
+        let around = square(20, 10, 24, Decimation::Quarter);
+        assert_eq!((s.request, p.mode()), (Some(around), Mode::Detect));
+        // The block there is the held point: not handed back; the sweep follows.
+        let whole = square(0, 0, 64, Decimation::Quarter);
+        let s = p.on_window(&cut(&frame(Some((30, 20))), &around));
+        assert_eq!((s.request, s.sends.len()), (Some(whole), 0));
+        // The block at (50, 44), its point (51.5, 45.5) 31.2 px from the last vouched one: the
+        // prior's radius is 24 + 2 px a window since (PRIOR_RADIUS, PRIOR_GROWTH), 28 and 30 at
+        // the 2nd and 3rd windows (refused), 32 at the 4th (handed over).
+        let far = frame(Some((50, 44)));
+        for _ in 0..2 {
+            assert!(p.on_window(&cut(&far, &whole)).sends.is_empty());
+        }
+        let s = p.on_window(&cut(&far, &whole));
+        assert_eq!(&s.sends[..], &[(Dest::Foveal, Msg::Approx(Point { x: 51.5, y: 45.5 }))][..]);
     }
 }
