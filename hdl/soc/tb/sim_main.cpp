@@ -7,6 +7,8 @@
 //   Vcoopwin_soc +firmware=fw.hex --frames DIR --count N --uart out.bin --log sim.log
 //                [--every 12] [--vblank 80000] [--max-cycles C] [--vcd unit.vcd]
 //
+// (or --frames=DIR and so on, as FuseSoC passes them: hdl/soc/coopwin_soc.core's sim target).
+//
 // --vcd writes the window unit's signals in the layout `coopwin audit` reads (rust-hdl's: scope
 // uut$0, its flags as start.q, strben.q and port.set_*.q), one pixel clock every 125,000 ps.
 // A sample holds the unit's inputs as it sampled them on the edge and its registers after it.
@@ -118,8 +120,12 @@ int main(int argc, char** argv) {
     unsigned long long max_cycles = 2000000000ULL;
     bool have_image = false;
     for (int i = 1; i < argc; i++) {
-        std::string a = argv[i];
-        auto next = [&]() { return i + 1 < argc ? std::string(argv[++i]) : std::string(); };
+        std::string a = argv[i], value;
+        // --name value (scripts/soc.sh) or --name=value (FuseSoC's cmdlinearg parameters).
+        size_t eq = a.find('=');
+        bool joined = a.rfind("--", 0) == 0 && eq != std::string::npos;
+        if (joined) { value = a.substr(eq + 1); a.resize(eq); }
+        auto next = [&]() { return joined ? value : i + 1 < argc ? std::string(argv[++i]) : std::string(); };
         if (a == "--frames") dir = next();
         else if (a == "--count") count = std::atoi(next().c_str());
         else if (a == "--uart") uart_path = next();

@@ -1,7 +1,8 @@
 //! Shared by the tests that call external EDA tools.
 // Each test binary that includes this module uses only part of it.
 #![allow(dead_code)]
-use std::process::Command;
+use std::path::Path;
+use std::process::{Command, Output};
 
 /// True when `tool` runs. When it does not, the test fails, or with
 /// COOPWIN_ALLOW_MISSING_EDA=1 says (visibly) that it is skipped and the caller returns.
@@ -52,4 +53,22 @@ pub fn scratch(name: &str) -> std::path::PathBuf {
 /// The committed Verilog folder.
 pub fn verilog_dir() -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("verilog")
+}
+
+/// `fusesoc run --target=TARGET CORE ARGS..` with `cores` as the only libraries, building under
+/// `work` with an empty configuration (no user library is picked up).
+pub fn fusesoc(work: &Path, cores: &[&Path], target: &str, core: &str, args: &[String]) -> (Output, String) {
+    std::fs::write(work.join("fusesoc.conf"), "").unwrap();
+    let mut cmd = Command::new("fusesoc");
+    cmd.current_dir(work).arg("--config").arg(work.join("fusesoc.conf"));
+    for root in cores {
+        cmd.arg("--cores-root").arg(root);
+    }
+    let out = cmd
+        .args(["run", &format!("--target={target}"), core])
+        .args(args)
+        .output()
+        .expect("run fusesoc");
+    let text = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    (out, text)
 }

@@ -50,7 +50,8 @@ pub fn have_verilator() -> bool {
     found
 }
 
-/// The one rule for a missing EDA tool, shared with the hdl crate's tests.
+/// The hdl crate's test helpers: the one rule for a missing EDA tool, `fusesoc run` and the
+/// scratch folders it builds in.
 #[path = "../../../hdl/tests/common/mod.rs"]
-mod eda;
+pub mod eda;
 pub use eda::missing_tool;
