@@ -19,35 +19,35 @@ use std::path::Path;
 /// (set, measured recall) of the default tracker; every set measured with no wrong `ok` 1 row
 /// and, where the target is ever hidden or gone, a TNR of 1.
 const SYNTHETIC: [(&str, f64); 10] = [
-    ("lookalike-front", 0.7679),
+    ("lookalike-front", 0.9536),
     ("lookalike-behind", 1.0),
-    ("turned-front", 0.2357),
+    ("turned-front", 0.9500),
     ("identical-behind", 1.0),
     ("leaves", 0.9130),
     ("leaves-identical", 0.9130),
-    ("crowd", 0.3424),
-    ("panel", 0.3028),
+    ("crowd", 0.5875),
+    ("panel", 0.9084),
     ("partial", 0.9333),
     ("clutter", 1.0),
 ];
 
 /// (clip, object, measured wrong `ok` 1 rows, measured recall) of the default tracker. The
-/// vtest coat and stripes are patches of a walking person's clothes that the tracker leaves
-/// for another's (issue 38, item 4).
+/// vtest people's 32x32 patches of clothing are vouched for on a few frames only (issue 38,
+/// item 4); the candle's 2 wrong rows are the fixed template's too.
 const CLIPS_MEASURED: [(&str, &str, usize, f64); 15] = [
-    ("vtest", "coat", 85, 0.0821),
-    ("vtest", "jeans", 0, 0.0517),
+    ("vtest", "coat", 0, 0.0672),
+    ("vtest", "jeans", 0, 0.0207),
     ("vtest", "red", 0, 0.0549),
     ("vtest", "blond", 0, 0.0505),
     ("vtest", "hoodie", 0, 0.0),
     ("vtest", "redcoat", 0, 0.0312),
-    ("vtest", "stripes", 10, 0.0),
+    ("vtest", "stripes", 0, 0.0),
     ("Megamind", "eye", 0, 0.0563),
     ("Megamind", "earring", 0, 0.7016),
     ("Megamind", "hinge", 0, 0.4493),
     ("Megamind_bugy", "eye", 0, 0.0496),
     ("Megamind_bugy", "candle", 2, 0.6383),
-    ("Megamind_bugy", "bridge", 1, 0.4400),
+    ("Megamind_bugy", "bridge", 0, 0.4400),
     ("tree", "gap", 0, 0.0167),
     ("tree", "frame", 0, 1.0),
 ];
