@@ -156,6 +156,12 @@ impl Peripheral {
             (Msg::Motion { xmin, xmax, ymin, ymax }, State::Idle | State::Sweep { .. }) => {
                 // The variable window of Table 2.2: the motion area with a template's margin.
                 let at = Point { x: f32::from(*xmin + *xmax) / 2.0, y: f32::from(*ymin + *ymax) / 2.0 };
+                // Outside a lost adapting track's motion prior, motion is another object's: the
+                // sweep goes on (in crowd, a look-alike walking away drew the Peripheral's every
+                // window for 20 frames).
+                if self.seen.is_some_and(|s| !s.admits(at)) {
+                    return step;
+                }
                 let span = (*xmax - *xmin).max(*ymax - *ymin) + self.params.template;
                 let side = span.clamp(self.params.peripheral[0], 128);
                 self.state = State::Search { at, k: 0 };
@@ -458,5 +464,24 @@ mod tests {
         }
         let s = p.on_window(&cut(&far, &whole));
         assert_eq!(&s.sends[..], &[(Dest::Foveal, Msg::Approx(Point { x: 51.5, y: 45.5 }))][..]);
+    }
+
+    #[test]
+    fn motion_outside_a_lost_tracks_motion_prior_does_not_stop_the_sweep() {
+        let mut p = Peripheral::new(params().adaptive(), Some(template()));
+        let near = square(24, 14, 16, Decimation::Quarter);
+        p.start_at(TARGET);
+        p.on_window(&cut(&frame(Some((30, 20))), &near));
+        p.on_message(&Msg::Tracked(TARGET));
+        p.on_message(&Msg::Lost(TARGET));
+        let blank = frame(None);
+        p.on_window(&cut(&blank, &near));
+        let whole = square(0, 0, 64, Decimation::Quarter);
+        assert_eq!(p.on_window(&cut(&blank, &square(20, 10, 24, Decimation::Quarter))).request, Some(whole));
+        // Two windows since the last vouched point: the prior's radius is 28 px. Motion centred
+        // on (61.5, 61.5), 50 px away, is another object's; at (31.5, 21.5) it is where to look.
+        assert_eq!(p.on_message(&Msg::Motion { xmin: 60, xmax: 63, ymin: 60, ymax: 63 }).request, None);
+        assert!(matches!(p.state, State::Sweep { .. }));
+        assert_eq!(p.on_message(&Msg::Motion { xmin: 30, xmax: 33, ymin: 20, ymax: 23 }).request, Some(near));
     }
 }
