@@ -439,13 +439,20 @@ mod tests {
         assert_eq!((&s.sends[..], s.request), (&[(Dest::Foveal, Msg::Approx(TARGET))][..], None));
     }
 
-    #[test]
-    fn a_doubted_track_gets_a_search_and_only_what_the_motion_prior_admits_elsewhere() {
+    /// An adapting Peripheral that has found the block and been told the Foveal track vouches
+    /// for it, and its 16 px window around the block.
+    fn following_a_vouched_track() -> (Peripheral, WindowRequest) {
         let mut p = Peripheral::new(params().adaptive(), Some(template()));
         let near = square(24, 14, 16, Decimation::Quarter);
         p.start_at(TARGET);
         p.on_window(&cut(&frame(Some((30, 20))), &near));
         p.on_message(&Msg::Tracked(TARGET));
+        (p, near)
+    }
+
+    #[test]
+    fn a_doubted_track_gets_a_search_and_only_what_the_motion_prior_admits_elsewhere() {
+        let (mut p, near) = following_a_vouched_track();
         // The Foveal track holds the block's place but doubts it: the larger window where the
         // track was last vouched for (24 px: columns round(31.5 - 11.5) = 20..).
         let s = p.on_message(&Msg::Doubted(TARGET));
@@ -468,11 +475,7 @@ mod tests {
 
     #[test]
     fn motion_outside_a_lost_tracks_motion_prior_does_not_stop_the_sweep() {
-        let mut p = Peripheral::new(params().adaptive(), Some(template()));
-        let near = square(24, 14, 16, Decimation::Quarter);
-        p.start_at(TARGET);
-        p.on_window(&cut(&frame(Some((30, 20))), &near));
-        p.on_message(&Msg::Tracked(TARGET));
+        let (mut p, near) = following_a_vouched_track();
         p.on_message(&Msg::Lost(TARGET));
         let blank = frame(None);
         p.on_window(&cut(&blank, &near));
