@@ -128,11 +128,11 @@ enum Phase {
     /// Peripheral looks for the object elsewhere meanwhile ([`Msg::Doubted`]), and a location
     /// it hands over is taken ([`Phase::Redirected`]).
     Doubted(Point),
-    /// A doubted track the Peripheral found the object for elsewhere, at `to`: the window in
-    /// flight (around `held`) is followed, and unless it confirms the object there, the next
-    /// goes to `to`. Windows come in the order they were asked for: a restart at once would
-    /// take the one in flight for the object's.
-    Redirected { held: Point, to: Point },
+    /// A doubted track the Peripheral found the object for elsewhere, at this point: the
+    /// window in flight is followed, and unless it confirms the object, the next goes there
+    /// (the window's outcome is then a re-detection, never a loss). Windows come in the order
+    /// they were asked for: a restart at once would take the one in flight for the object's.
+    Redirected(Point),
 }
 
 /// A Foveal (Tracking) processor, its corner detector sized for windows (and templates) up
@@ -288,7 +288,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     pub fn mode(&self) -> Mode {
         match self.phase {
             Phase::Idle => Mode::Watch,
-            Phase::Tracking(_) | Phase::HandedOver(_) | Phase::Doubted(_) | Phase::Redirected { .. } => Mode::Track,
+            Phase::Tracking(_) | Phase::HandedOver(_) | Phase::Doubted(_) | Phase::Redirected(_) => Mode::Track,
         }
     }
 
@@ -305,14 +305,15 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         step.clear(Work::None);
         match m {
             Msg::Template(tpl) => self.set_template(tpl.clone()),
+            // No location is taken by an adapting track after its motion prior has lapsed
+            // ([`PRIOR_SECONDS`]: for good, as `vouched_at` is kept).
+            Msg::Approx(_) if self.adapt.is_some() && self.vouched_at.is_some_and(|v| t - v > PRIOR_SECONDS) => {}
             // An adapting track that coasts restarts where the Peripheral found the target; one
             // its first view doubts, after the window in flight.
-            // Not an adapting track's after its motion prior has lapsed ([`PRIOR_SECONDS`]).
-            Msg::Approx(_) if self.adapt.is_some() && self.vouched_at.is_some_and(|v| t - v > PRIOR_SECONDS) => {}
             Msg::Approx(p) => match self.phase {
                 Phase::Idle => self.start(*p, false, step),
                 _ if self.adapt.is_some() && self.coasting() => self.start(*p, false, step),
-                Phase::Doubted(held) => self.phase = Phase::Redirected { held, to: *p },
+                Phase::Doubted(_) => self.phase = Phase::Redirected(*p),
                 _ => {}
             },
             Msg::Follow(p) => {
@@ -477,7 +478,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
             }
         }
         match (found.filter(|_| !astray), self.phase) {
-            (_, Phase::Redirected { to, .. }) if !confirmed => self.start(to, false, step),
+            (_, Phase::Redirected(to)) if !confirmed => self.start(to, false, step),
             (Some(p), _) => {
                 // A fixed template's track is the thesis's: followed as tracked, vouched or not.
                 let doubted = !confirmed && self.adapt.is_some();
@@ -492,7 +493,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
                 }
                 step.outcome = if confirmed { Outcome::Measured(fix) } else { Outcome::Unconfirmed(fix) };
             }
-            (None, Phase::Tracking(last) | Phase::HandedOver(last) | Phase::Doubted(last) | Phase::Redirected { held: last, .. }) => {
+            (None, Phase::Tracking(last) | Phase::HandedOver(last) | Phase::Doubted(last)) => {
                 self.phase = Phase::Idle;
                 // The Peripheral re-detects with the last look the track trusted, too.
                 if let (Some(_), Some(t)) = (&self.adapt, &self.template) {
@@ -501,7 +502,8 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
                 step.send(Dest::Peripheral, Msg::Lost(last));
                 step.outcome = Outcome::Lost(last);
             }
-            (None, Phase::Idle) => {}
+            // A redirected window without a point is unconfirmed: taken by the first arm.
+            (None, Phase::Idle | Phase::Redirected(_)) => {}
         }
     }
 
@@ -780,7 +782,7 @@ mod tests {
         // as a re-detection's (GROW_MARGIN a side: columns round(11.5 - 13.5) -> 0).
         let to = Point { x: 11.5, y: 41.5 };
         let s = f.on_message(&Msg::Approx(to), 0.05);
-        assert_eq!((s.request, f.phase), (None, Phase::Redirected { held, to }));
+        assert_eq!((s.request, f.phase), (None, Phase::Redirected(to)));
         let s = f.on_window(&cut(&frame(None), &in_flight), 0.08);
         assert_eq!((s.outcome, s.request), (Outcome::Redetected(to), Some(square(0, 28, 16 + 2 * GROW_MARGIN, Decimation::Full))));
     }

@@ -120,7 +120,7 @@ pub const PRIOR_GROWTH: f32 = 2.0;
 /// The motion prior's largest radius ([`PRIOR_RADIUS`]): under leaves-identical's 140 px.
 pub const PRIOR_MAX: f32 = 120.0;
 
-/// Seconds after its last vouched window from which an adapting track takes no location the
+/// Seconds after its last vouched window after which an adapting track takes no location the
 /// Peripheral hands over: the prior has lapsed, and the track stays absent. On vtest.avi (10
 /// frames/s) the re-detections 8-27 s after the last vouched window were onto other people's
 /// clothing (78 wrong rows on the coat, 75 on the blond); the long-term sets' right ones came

@@ -8,9 +8,12 @@
 //! windows fail it sweeps the frame at 25 % in [`SWEEP_SIDE`] tiles, one a window, until the
 //! object is found, instead of waiting for motion. Its wide windows (the 64x64 one, the tiles)
 //! are searched by candidates ([`best_match_candidates`]) and get one look a frame, so that no
-//! frame's work exceeds a fraction of the frame period (issue 22).
-use super::messages::{Dest, Msg};
+//! frame's work exceeds a fraction of the frame period (issue 22). Once the track has been
+//! vouched for (issue 38), what it hands over must lie in a motion prior around where the
+//! track was last vouched for ([`Seen`]), and it also searches while the track is doubted
+//! ([`Msg::Doubted`]).
 use super::coop::guard::dist;
+use super::messages::{Dest, Msg};
 use super::params::{Params, PRIOR_GROWTH, PRIOR_MAX, PRIOR_RADIUS, REDETECT_MIN};
 use super::step::{placements, Mode, Step, Work};
 use super::template::Template;
@@ -107,7 +110,7 @@ pub struct Peripheral {
     /// The window in hand is a wide one's repeat, for its second look (the first template).
     second_look: bool,
     /// Adapting tracks: where the Foveal track was last vouched for: the motion prior of what
-    /// it hands over ([`Peripheral::admits`]).
+    /// it hands over ([`Peripheral::may_hand_over`]).
     seen: Option<Seen>,
     /// Adapting tracks: the point a doubted Foveal track holds ([`Msg::Doubted`]).
     held: Option<Point>,
@@ -174,8 +177,7 @@ impl Peripheral {
                 self.foveal_waiting = true;
                 // A coasting track holds no point.
                 self.held = None;
-                self.state = State::Search { at: *p, k: 1 };
-                self.ask(&mut step, self.params.window(*p, self.params.peripheral[1], Decimation::Quarter));
+                self.search_wide(&mut step, *p);
             }
             (Msg::Tracked(p), State::Follow { .. } | State::Search { .. } | State::Sweep { .. }) => {
                 self.state = State::Follow { at: *p };
@@ -191,12 +193,10 @@ impl Peripheral {
                 self.held = Some(*p);
                 self.foveal_waiting = true;
                 if let State::Follow { .. } = state {
-                    let at = self.seen.map_or(*p, |s| s.at);
-                    self.state = State::Search { at, k: 1 };
-                    self.ask(&mut step, self.params.window(at, self.params.peripheral[1], Decimation::Quarter));
+                    self.search_wide(&mut step, self.seen.map_or(*p, |s| s.at));
                 }
             }
-            (Msg::Lost(p), State::Follow { at }) if self.admits(at) => {
+            (Msg::Lost(p), State::Follow { at }) if self.may_hand_over(at) => {
                 // Hand over the latest location at once (2.3.2); search again from there.
                 self.foveal_waiting = true;
                 self.state = State::Search { at: *p, k: 0 };
@@ -216,9 +216,15 @@ impl Peripheral {
     /// track, within the motion prior from where the track was last vouched for
     /// ([`Seen::admits`]), and more than half a template from the point a doubted track holds
     /// (that one it has).
-    fn admits(&self, p: Point) -> bool {
+    fn may_hand_over(&self, p: Point) -> bool {
         let elsewhere = |h: Point| dist(p, h) > f32::from(self.params.template) / 2.0;
         !self.params.adapt || (self.seen.is_none_or(|s| s.admits(p)) && self.held.is_none_or(elsewhere))
+    }
+
+    /// Searches around `at` from the larger of the two windows.
+    fn search_wide(&mut self, step: &mut Step, at: Point) {
+        self.state = State::Search { at, k: 1 };
+        self.ask(step, self.params.window(at, self.params.peripheral[1], Decimation::Quarter));
     }
 
     /// Asks for window `r` (its first look, if it is wide).
@@ -283,7 +289,7 @@ impl Peripheral {
             };
         }
         // Only what may be handed over counts as found while the Foveal track waits for it.
-        let found = found.map(|f| f.0).filter(|p| !self.foveal_waiting || self.admits(*p));
+        let found = found.map(|f| f.0).filter(|p| !self.foveal_waiting || self.may_hand_over(*p));
         let mut step = Step::new(work);
         if let (None, true, Some(same)) = (found, again, self.asked) {
             self.second_look = true;
@@ -452,7 +458,7 @@ mod tests {
 
     #[test]
     fn a_doubted_track_gets_a_search_and_only_what_the_motion_prior_admits_elsewhere() {
-        let (mut p, near) = following_a_vouched_track();
+        let (mut p, _) = following_a_vouched_track();
         // The Foveal track holds the block's place but doubts it: the larger window where the
         // track was last vouched for (24 px: columns round(31.5 - 11.5) = 20..).
         let s = p.on_message(&Msg::Doubted(TARGET));
