@@ -159,10 +159,11 @@ impl Peripheral {
             (Msg::Motion { xmin, xmax, ymin, ymax }, State::Idle | State::Sweep { .. }) => {
                 // The variable window of Table 2.2: the motion area with a template's margin.
                 let at = Point { x: f32::from(*xmin + *xmax) / 2.0, y: f32::from(*ymin + *ymax) / 2.0 };
-                // Outside a lost adapting track's motion prior, motion is another object's: the
-                // sweep goes on (in crowd, a look-alike walking away drew the Peripheral's every
-                // window for 20 frames).
-                if self.seen.is_some_and(|s| !s.admits(at)) {
+                // Once an adapting track has been vouched for, motion where nothing may be handed
+                // over (outside the motion prior, or the doubted point itself) is another
+                // object's: the sweep goes on (in crowd, a look-alike walking away drew the
+                // Peripheral's every window for 20 frames).
+                if self.seen.is_some() && !self.may_hand_over(at) {
                     return step;
                 }
                 let span = (*xmax - *xmin).max(*ymax - *ymin) + self.params.template;
@@ -196,16 +197,20 @@ impl Peripheral {
                     self.search_wide(&mut step, self.seen.map_or(*p, |s| s.at));
                 }
             }
-            (Msg::Lost(p), State::Follow { at }) if self.may_hand_over(at) => {
-                // Hand over the latest location at once (2.3.2); search again from there.
-                self.foveal_waiting = true;
-                self.state = State::Search { at: *p, k: 0 };
-                step.send(Dest::Foveal, Msg::Approx(at));
-            }
-            (Msg::Lost(p), _) => {
-                self.foveal_waiting = true;
-                self.state = State::Search { at: *p, k: 0 };
-                self.ask(&mut step, self.params.window(*p, self.params.peripheral[0], Decimation::Quarter));
+            (Msg::Lost(p), state) => {
+                // A lost track holds no point.
+                (self.foveal_waiting, self.held) = (true, None);
+                match state {
+                    // Hand over the latest location at once (2.3.2); search again from there.
+                    State::Follow { at } if self.may_hand_over(at) => {
+                        self.state = State::Search { at: *p, k: 0 };
+                        step.send(Dest::Foveal, Msg::Approx(at));
+                    }
+                    _ => {
+                        self.state = State::Search { at: *p, k: 0 };
+                        self.ask(&mut step, self.params.window(*p, self.params.peripheral[0], Decimation::Quarter));
+                    }
+                }
             }
             _ => {}
         }
@@ -492,5 +497,16 @@ mod tests {
         assert_eq!(p.on_message(&Msg::Motion { xmin: 60, xmax: 63, ymin: 60, ymax: 63 }).request, None);
         assert!(matches!(p.state, State::Sweep { .. }));
         assert_eq!(p.on_message(&Msg::Motion { xmin: 30, xmax: 33, ymin: 20, ymax: 23 }).request, Some(near));
+    }
+
+    #[test]
+    fn a_lost_track_holds_no_point_and_gets_it_back_where_it_was_doubted() {
+        let (mut p, near) = following_a_vouched_track();
+        p.on_message(&Msg::Doubted(TARGET));
+        // Lost there (the object turned, then hid): the block reappearing in place is handed
+        // over, where a doubted track's own point would not be.
+        assert_eq!(p.on_message(&Msg::Lost(TARGET)).request, Some(near));
+        let s = p.on_window(&cut(&frame(Some((30, 20))), &near));
+        assert_eq!(&s.sends[..], &[(Dest::Foveal, Msg::Approx(TARGET))][..]);
     }
 }
