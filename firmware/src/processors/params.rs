@@ -124,8 +124,8 @@ pub const PRIOR_MAX: f32 = 120.0;
 /// Peripheral hands over: the prior has lapsed, and the track stays absent. On vtest.avi (10
 /// frames/s) the re-detections 8-27 s after the last vouched window were onto other people's
 /// clothing (78 wrong rows on the coat, 75 on the blond); the long-term sets' right ones came
-/// at most 72 windows (under 1 s of their camera's time) after it. The earring of Megamind.avi pays:
-/// recall 0.81 with no lapse, 0.70 with it.
+/// at most 72 frames (under 1 s of their camera's time) after it. The earring of
+/// Megamind.avi pays: recall 0.81 with no lapse, 0.70 with it.
 pub const PRIOR_SECONDS: f64 = 3.0;
 
 impl Params {
