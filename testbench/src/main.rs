@@ -57,11 +57,13 @@ CSV columns (--out), one row a frame:
   measured_frame            the frame the position was measured in
   file                      the frame's file name (a folder of PNG frames)
   box_x, box_y, box_w, box_h  the box around the position (OpenCV's convention)
-  confidence                NCC's score from 0 at its acceptance level to 1; 0.5 for cd alone
-  ok                        1: a position measured at most 2 frames before
+  confidence                the chance the position is the target's: 0.9-1.0 where ok (with
+                            NCC's score), 0.2 where not
+  ok                        1: a position measured at most 2 frames before that the
+                            firmware vouched for (a robot may follow it)
   time_s                    the video's own timestamp, or frame/fps
   damaged                   1: a video frame after missing data, or one the decoder concealed
-  state                     tracking, predicted, searching or lost
+  state                     tracking, unconfirmed, predicted, searching or lost
   scale, angle_deg          the object's size and turn (degrees, clockwise) against lock-on,
                             where the adapting template measured them (the box keeps
                             the last scale measured on rows without one)

@@ -94,7 +94,7 @@ fn on_the_hand_labelled_clips_no_more_wrong_ok_rows_than_measured() {
         for o in labelled(clip_name).expect("fixtures read") {
             let name = o.object.name.clone();
             let (.., wrong, recall) = CLIPS_MEASURED.iter().copied().find(|m| m.0 == clip_name && m.1 == name).expect("a measured figure");
-            let s = score_object(&clip, &o).expect("runs").remove(0);
+            let (s, _) = score_object(&clip, &o).expect("runs").remove(0);
             eprintln!("{clip_name} {name}: {s:?}");
             assert!(s.wrong <= wrong, "{clip_name} {name}: {} wrong ok rows of {}, measured {wrong}", s.wrong, s.vouched);
             assert!(s.recall >= 0.9 * recall, "{clip_name} {name}: recall {:.4}, measured {recall}", s.recall);

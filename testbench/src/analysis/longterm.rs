@@ -26,7 +26,8 @@ pub const RIGHT_PX: f64 = 5.0;
 pub struct Row {
     /// The row's `ok`.
     pub ok: bool,
-    /// Its confidence (ignored when not `ok`).
+    /// Its confidence, -1 without one (the AUROC and the F ignore it where the row is not
+    /// `ok`; the reliability diagram counts every row with one).
     pub confidence: f64,
     /// Its point, when it has one.
     pub point: Option<(f64, f64)>,
@@ -56,8 +57,13 @@ impl Truth {
 
     /// Whether `row` is vouched and right.
     pub fn is_right(&self, row: &Row) -> bool {
-        match (row.ok, row.point, self.on) {
-            (true, Some(p), Some((c, half))) => {
+        row.ok && self.is_on(row)
+    }
+
+    /// Whether `row`'s point, vouched for or not, is where a row is right.
+    pub fn is_on(&self, row: &Row) -> bool {
+        match (row.point, self.on) {
+            (Some(p), Some((c, half))) => {
                 let (dx, dy) = (p.0 - c.0, p.1 - c.1);
                 (dx.abs() <= half.0 && dy.abs() <= half.1) || dx.hypot(dy) <= RIGHT_PX
             }
@@ -148,16 +154,44 @@ pub fn score(rows: &[Row], truth: &[Truth]) -> LongTermScore {
     }
 }
 
-/// A reliability diagram's bins: for each tenth of the confidence range, the vouched rows in it
-/// and the share of them that is right.
-pub fn reliability(rows: &[Row], truth: &[Truth]) -> [(usize, usize); 10] {
-    let mut bins = [(0usize, 0usize); 10];
-    for (r, t) in rows.iter().zip(truth).filter(|(r, _)| r.ok) {
-        let b = ((r.confidence.clamp(0.0, 1.0) * 10.0) as usize).min(9);
-        bins[b].0 += 1;
-        bins[b].1 += usize::from(t.is_right(r));
+/// One tenth of a reliability diagram: its rows, how many of them are right (vouched for or
+/// not, [`Truth::is_on`]) and the sum of their confidences.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Bin {
+    /// Rows with a confidence in this tenth.
+    pub rows: usize,
+    /// Those whose point is the target's.
+    pub right: usize,
+    /// Their confidences, summed.
+    pub confidence: f64,
+}
+
+/// A reliability diagram's bins: every row with a confidence (vouched for or not) by tenth of
+/// the confidence; a calibrated confidence has each bin's share of right rows equal to its mean.
+pub fn reliability(rows: &[Row], truth: &[Truth]) -> [Bin; 10] {
+    let mut bins = [Bin::default(); 10];
+    for (r, t) in rows.iter().zip(truth).filter(|(r, _)| r.confidence >= 0.0) {
+        let b = &mut bins[((r.confidence.min(1.0) * 10.0) as usize).min(9)];
+        b.rows += 1;
+        b.right += usize::from(t.is_on(r));
+        b.confidence += r.confidence;
     }
     bins
+}
+
+/// Adds `more`'s rows into `bins`.
+pub fn pool(bins: &mut [Bin; 10], more: &[Bin; 10]) {
+    for (b, m) in bins.iter_mut().zip(more) {
+        (b.rows, b.right, b.confidence) = (b.rows + m.rows, b.right + m.right, b.confidence + m.confidence);
+    }
+}
+
+/// The expected calibration error: the rows' mean distance between a bin's mean confidence and
+/// its share of right rows, `sum |right_b - confidence_b| / rows` (Naeini et al., 2015);
+/// `None` without rows.
+pub fn calibration_error(bins: &[Bin; 10]) -> Option<f64> {
+    let rows: usize = bins.iter().map(|b| b.rows).sum();
+    (rows > 0).then(|| bins.iter().map(|b| (b.right as f64 - b.confidence).abs()).sum::<f64>() / rows as f64)
 }
 
 #[cfg(test)]
@@ -197,10 +231,20 @@ mod tests {
     }
 
     #[test]
-    fn reliability_bins_by_tenths() {
-        let truth = [Truth::point(Some((0.0, 0.0))); 3];
-        let bins = reliability(&[row(true, 0.95, 0.0), row(true, 0.91, 9.0), row(true, 0.05, 0.0)], &truth);
-        assert_eq!((bins[9], bins[0], bins[5]), ((2, 1), (1, 1), (0, 0)));
+    fn reliability_bins_every_row_with_a_confidence_by_tenths() {
+        let truth = [Truth::point(Some((0.0, 0.0))); 5];
+        // Right at 0.95, wrong by 9 px at 0.91, right unvouched at 0.2 and at 0.0, and a row
+        // without a confidence (-1), which no bin takes.
+        let rows = [row(true, 0.95, 0.0), row(true, 0.91, 9.0), row(false, 0.2, 0.0), row(false, 0.0, 0.0), row(false, -1.0, 0.0)];
+        let bins = reliability(&rows, &truth);
+        assert_eq!((bins[9].rows, bins[9].right, bins[2].rows, bins[2].right, bins[0].rows, bins[5].rows), (2, 1, 1, 1, 1, 0));
+        assert!((bins[9].confidence - 1.86).abs() < 1e-12);
+        // By hand: |1 - 1.86| + |1 - 0.2| + |1 - 0| = 2.66 over 4 rows.
+        assert!((calibration_error(&bins).unwrap() - 2.66 / 4.0).abs() < 1e-12);
+        let mut twice = bins;
+        pool(&mut twice, &bins);
+        assert_eq!((twice[9].rows, twice[2].right), (4, 2));
+        assert_eq!(calibration_error(&[Bin::default(); 10]), None);
     }
 
     #[test]

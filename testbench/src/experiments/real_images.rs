@@ -199,8 +199,8 @@ pub struct Judged {
 }
 
 /// Each visible frame of a run, for [`crate::analysis::metrics::auroc`]: the confidence is the
-/// CSV's (`track`'s `confidence` column, [`csv::confidence`] of NCC's score with acceptance
-/// level `acceptance`, or [`csv::CD_CONFIDENCE`]) for a row with `ok` 1, and -1 for every other
+/// CSV's (`track`'s `confidence` column, [`csv::verdict`] with NCC's acceptance level
+/// `acceptance`) for a row with a fresh position, vouched for or not, and -1 for every other
 /// row (predicted, searching, lost: not trusted); the frame is bad when the row's position is
 /// over `bad_px` from the truth, or it has none.
 pub fn judge_frames(c: &Condition, log: &RunLog, truth: &[Truth], acceptance: f32, bad_px: f64) -> Vec<Judged> {
@@ -210,11 +210,9 @@ pub fn judge_frames(c: &Condition, log: &RunLog, truth: &[Truth], acceptance: f3
         .enumerate()
         .filter(|(k, _)| truth.get(*k).is_some_and(|t| t.visible))
         .map(|(k, r)| {
-            let fresh = r.fresh();
-            let (at, e, confidence) = match (fresh, r.score) {
-                (Some((p, m)), Some(s)) => (Some(p), err(p, m), csv::confidence(s, acceptance)),
-                (Some((p, m)), None) => (Some(p), err(p, m), csv::CD_CONFIDENCE),
-                (None, _) => {
+            let (at, e, confidence) = match (r.fresh(), csv::verdict(r, acceptance).1) {
+                (Some((p, m)), Some(c)) => (Some(p), err(p, m), c),
+                _ => {
                     let p = r.point.or(r.estimate);
                     (p, p.and_then(|p| err(p, k)), -1.0)
                 }

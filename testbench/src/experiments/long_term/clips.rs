@@ -3,7 +3,7 @@
 //! or gone (`fixtures/longterm/`, whose README gives the procedure), tracked from their start
 //! box and scored as `scripts/opencv_longterm.py` scores OpenCV's trackers on them.
 use super::{rows, TRACKERS};
-use crate::analysis::longterm::{self, LongTermScore, Truth};
+use crate::analysis::longterm::{self, Bin, LongTermScore, Truth};
 use crate::experiments::real_footage::{Clip, Object};
 use crate::experiments::ExperimentError;
 use coopwin_firmware::processors::Params;
@@ -122,8 +122,9 @@ pub fn opencv_scores(clip: &str) -> Result<Vec<(String, String, Option<f64>, f64
 }
 
 /// Each tracker of [`TRACKERS`] on `o` in `clip`, scored from the frame after the start box
-/// (the start frame is given, not tracked), as `scripts/opencv_longterm.py` scores.
-pub fn score_object(clip: &Clip, labelled: &Labelled) -> Result<Vec<LongTermScore>, ExperimentError> {
+/// (the start frame is given, not tracked), as `scripts/opencv_longterm.py` scores, with the
+/// reliability diagram's bins of its rows.
+pub fn score_object(clip: &Clip, labelled: &Labelled) -> Result<Vec<(LongTermScore, [Bin; 10])>, ExperimentError> {
     let o = &labelled.object;
     let (first, last) = o.frames;
     TRACKERS
@@ -131,7 +132,8 @@ pub fn score_object(clip: &Clip, labelled: &Labelled) -> Result<Vec<LongTermScor
         .map(|&(_, adapt)| {
             let log = clip.simulate(first..=last, o.centre(), o.side(), adapt)?;
             let rows = rows(&log, Params::default().correlation(adapt).1);
-            Ok(longterm::score(rows.get(1..).unwrap_or(&[]), labelled.truth.get(1..).unwrap_or(&[])))
+            let (rows, truth) = (rows.get(1..).unwrap_or(&[]), labelled.truth.get(1..).unwrap_or(&[]));
+            Ok((longterm::score(rows, truth), longterm::reliability(rows, truth)))
         })
         .collect()
 }

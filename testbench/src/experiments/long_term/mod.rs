@@ -4,7 +4,7 @@
 //! scored as VOT-LT and OxUvA score a tracker ([`crate::analysis::longterm`]): the precision
 //! of the `ok` 1 rows, their recall, and the silence (TNR) while the target is hidden or gone.
 use super::ExperimentError;
-use crate::analysis::longterm::{self, LongTermScore, Row, Truth};
+use crate::analysis::longterm::{self, Bin, LongTermScore, Row, Truth};
 use crate::frames::scene::longterm::{sets, LongTermFrames, LongTermSet, Presence};
 use crate::report::csv;
 use crate::report::plot::{self, Chart, Series};
@@ -53,7 +53,8 @@ pub fn present(frames: &LongTermFrames) -> Vec<Truth> {
 
 /// The hand-labelled objects of [`clips::CLIPS`] (decoded from `clip_dir`), each tracker
 /// beside OpenCV's: writes `long-term-clips.csv` and returns the markdown.
-fn real_clips(dir: &Path, clip_dir: &Path, progress: &mut dyn FnMut(&str)) -> Result<String, ExperimentError> {
+fn real_clips(dir: &Path, clip_dir: &Path, progress: &mut dyn FnMut(&str)) -> Result<(String, Vec<[Bin; 10]>), ExperimentError> {
+    let mut bins = vec![[Bin::default(); 10]; TRACKERS.len()];
     let mut csv = String::from("clip,object,tracker,frames,visible,vouched,wrong,wrong_run,precision,recall,tnr,f\n");
     let mut md = String::from(
         "\n### Real clips, labelled by hand\n\nThe objects of `fixtures/longterm/` (labelled every 5th frame as visible, hidden or gone; \
@@ -74,7 +75,8 @@ fn real_clips(dir: &Path, clip_dir: &Path, progress: &mut dyn FnMut(&str)) -> Re
                 .iter()
                 .map(|(_, file)| opencv.iter().find(|r| r.0 == *file && r.1 == *name).map_or("-".into(), |r| format!("{:.3}", r.3)))
                 .collect();
-            for ((label, _), s) in TRACKERS.iter().zip(clips::score_object(&clip, o)?) {
+            for (((label, _), (s, more)), bins) in TRACKERS.iter().zip(clips::score_object(&clip, o)?).zip(&mut bins) {
+                longterm::pool(bins, &more);
                 let opt = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:.4}"));
                 let _ = writeln!(
                     csv,
@@ -98,7 +100,7 @@ fn real_clips(dir: &Path, clip_dir: &Path, progress: &mut dyn FnMut(&str)) -> Re
     std::fs::create_dir_all(dir).map_err(|source| ExperimentError::Io { action: "create", path: dir.into(), source })?;
     let path = dir.join("long-term-clips.csv");
     std::fs::write(&path, csv).map_err(|source| ExperimentError::Io { action: "write", path, source })?;
-    Ok(md)
+    Ok((md, bins))
 }
 
 /// Every tracker on every set: `table[set][tracker]`, with the rows and truth of each run for
@@ -124,7 +126,7 @@ pub fn run_all(progress: &mut dyn FnMut(&str)) -> Result<(Vec<LongTermSet>, Runs
     Ok((sets, table))
 }
 
-/// The evaluation: writes `long-term.csv`, `.md`, a precision/recall chart and the default's
+/// The evaluation: writes `long-term.csv`, `.md`, a precision/recall chart and the trackers'
 /// reliability diagram into `dir`, and returns the markdown.
 pub fn evaluate(dir: &Path, clip_dir: &Path, progress: &mut dyn FnMut(&str)) -> Result<String, ExperimentError> {
     let (sets, table) = run_all(progress)?;
@@ -178,33 +180,46 @@ pub fn evaluate(dir: &Path, clip_dir: &Path, progress: &mut dyn FnMut(&str)) -> 
         y_range: Some((0.0, 1.0)),
     };
     plot::write(&chart, dir, "long-term")?;
-    // The default's reliability diagram over every set: the share of right rows per tenth of
-    // the confidence, against the diagonal a calibrated confidence would follow.
-    let mut bins = [(0usize, 0usize); 10];
-    for row in &table {
-        let (_, rows, truth) = &row[0];
-        for (b, add) in bins.iter_mut().zip(longterm::reliability(rows, truth)) {
-            (b.0, b.1) = (b.0 + add.0, b.1 + add.1);
+    let (clips_md, clip_bins) = real_clips(dir, clip_dir, progress)?;
+    md.push_str(&clips_md);
+    // Each tracker's reliability on the sets and on the clips: the share of right rows per
+    // tenth of the confidence, against the diagonal a calibrated confidence follows.
+    let mut families = Vec::new();
+    for (k, (label, _)) in TRACKERS.iter().enumerate() {
+        let mut on_sets = [Bin::default(); 10];
+        for row in &table {
+            let (_, rows, truth) = &row[k];
+            longterm::pool(&mut on_sets, &longterm::reliability(rows, truth));
         }
+        families.push((format!("{label}, sets"), on_sets));
+        families.push((format!("{label}, clips"), clip_bins[k]));
     }
     let centre = |b: usize| (b as f64 + 0.5) / 10.0;
+    let share = |b: &Bin| (b.rows > 0).then(|| b.right as f64 / b.rows as f64);
+    // The legend's width: "(default), sets", "fixed-template, clips".
+    let mut series: Vec<Series> = families.iter().map(|(label, bins)| Series { label: label.replace("COOP ", "").replace("--", ""), points: bins.iter().enumerate().map(|(b, bin)| (centre(b), share(bin))).collect() }).collect();
+    series.push(Series { label: "calibrated".into(), points: (0..10).map(|b| (centre(b), Some(centre(b)))).collect() });
     let diagram = Chart {
-        title: "Reliability of the default's confidence (every long-term set)".into(),
+        title: "Reliability of the confidence (long-term sets and labelled clips)".into(),
         x_label: "confidence (bins of 0.1)".into(),
-        y_label: "share of ok=1 rows within 5 px of the visible target".into(),
-        series: vec![
-            Series { label: "COOP (default)".into(), points: bins.iter().enumerate().map(|(b, &(n, r))| (centre(b), (n > 0).then(|| r as f64 / n as f64))).collect() },
-            Series { label: "calibrated".into(), points: (0..10).map(|b| (centre(b), Some(centre(b)))).collect() },
-        ],
+        y_label: "share of rows on the target".into(),
+        series,
         y_range: Some((0.0, 1.0)),
     };
     plot::write(&diagram, dir, "long-term-reliability")?;
-    let _ = writeln!(md, "\nReliability of the default's confidence over every set (`ok` 1 rows per confidence tenth, and the share right):\n");
-    let _ = writeln!(md, "| confidence | {} |", (0..10).map(|b| format!("{:.1}-{:.1}", b as f64 / 10.0, (b + 1) as f64 / 10.0)).collect::<Vec<_>>().join(" | "));
-    let _ = writeln!(md, "|---|{}", "---|".repeat(10));
-    let _ = writeln!(md, "| rows | {} |", bins.iter().map(|b| b.0.to_string()).collect::<Vec<_>>().join(" | "));
-    let _ = writeln!(md, "| right | {} |", bins.iter().map(|&(n, r)| if n > 0 { format!("{:.2}", r as f64 / n as f64) } else { "-".into() }).collect::<Vec<_>>().join(" | "));
-    md.push_str(&real_clips(dir, clip_dir, progress)?);
+    let _ = writeln!(
+        md,
+        "\nReliability of the confidence: every row with one (vouched for or not) by tenth of the confidence, as rows / share on the target \
+         (within 5 px, or inside the labelled box), and the expected calibration error (ECE: the rows' mean distance between a tenth's mean \
+         confidence and its share on the target):\n"
+    );
+    let _ = writeln!(md, "| tracker, sequences | {} | ECE |", (0..10).map(|b| format!("{:.1}-{:.1}", b as f64 / 10.0, (b + 1) as f64 / 10.0)).collect::<Vec<_>>().join(" | "));
+    let _ = writeln!(md, "|---|{}---|", "---|".repeat(10));
+    for (label, bins) in &families {
+        let cells: Vec<String> = bins.iter().map(|b| share(b).map_or("-".into(), |v| format!("{} / {v:.2}", b.rows))).collect();
+        let ece = longterm::calibration_error(bins).map_or("-".into(), |e| format!("{e:.3}"));
+        let _ = writeln!(md, "| {label} | {} | {ece} |", cells.join(" | "));
+    }
     md.push_str("\nFiles: `long-term.csv`, `long-term-clips.csv`, `long-term.svg`/`.png` (precision per set), `long-term-reliability.svg`/`.png`.\n");
     let path = dir.join("long-term.md");
     std::fs::write(&path, &md).map_err(|source| ExperimentError::Io { action: "write", path, source })?;
