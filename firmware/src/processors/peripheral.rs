@@ -485,6 +485,31 @@ mod tests {
     }
 
     #[test]
+    fn the_motion_prior_carries_the_last_vouched_point_at_its_velocity() {
+        let at = |x, y| Point { x, y };
+        // Vouched at (10, 10), then 4 windows later at (18, 14): (2, 1) px a window.
+        let mut first = Seen::after(None, at(10.0, 10.0));
+        assert_eq!(first.velocity, (0.0, 0.0));
+        first.windows = 4;
+        let mut seen = Seen::after(Some(first), at(18.0, 14.0));
+        assert_eq!((seen.velocity, seen.windows), ((2.0, 1.0), 0));
+        // 10 windows on, by hand: the centre (18 + 20, 14 + 10) = (38, 24), the radius
+        // 24 + 2 * 10 = 44 (PRIOR_RADIUS, PRIOR_GROWTH).
+        seen.windows = 10;
+        assert!(seen.admits(at(82.0, 24.0)) && !seen.admits(at(82.5, 24.0)));
+        // 27 px behind the last vouched point, against the motion: 45 px from the centre.
+        assert!(!seen.admits(at(-7.0, 24.0)));
+        // 60 windows on: the radius stops at PRIOR_MAX (120), not 144.
+        seen.windows = 60;
+        let centre = at(18.0 + 120.0, 14.0 + 60.0);
+        assert!(seen.admits(at(centre.x, centre.y + 120.0)) && !seen.admits(at(centre.x, centre.y + 121.0)));
+        // A point vouched for in the same window as the last one (a hand-over's jump) keeps
+        // the measured velocity rather than dividing by no time.
+        seen.windows = 0;
+        assert_eq!(Seen::after(Some(seen), at(100.0, 100.0)).velocity, (2.0, 1.0));
+    }
+
+    #[test]
     fn motion_outside_a_lost_tracks_motion_prior_does_not_stop_the_sweep() {
         let (mut p, near) = following_a_vouched_track();
         p.on_message(&Msg::Lost(TARGET));
