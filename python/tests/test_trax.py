@@ -2,6 +2,8 @@
 as the VOT toolkit starts a tracker: a process on pipes, its stderr merged into its stdout).
 The reference for every reply is `coopwin.Tracker` fed the same frames in this process: its
 row's box and confidence where it is ok, the empty rectangle and 0 where it is not."""
+import os
+import socket
 import subprocess
 import sys
 
@@ -128,6 +130,30 @@ def test_memory_images_give_the_trackers_regions(vtest, session):
     got = replies(s.client, [MemoryImage.create(cv2.cvtColor(f, cv2.COLOR_BGR2RGB)) for f in frames])
     assert got == tracker_replies(frames)
     assert s.close() == 0
+
+
+def test_socket_mode_gives_the_trackers_regions(vtest, tmp_path):
+    # The VOT toolkit's other way: it listens on a local port, names it in TRAX_SOCKET, and
+    # the tracker (libtrax's server) connects there instead of speaking on its pipes.
+    frames = read_frames(vtest, 12)
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as listening:
+        listening.bind(("127.0.0.1", 0))
+        listening.listen(1)
+        env = dict(os.environ, TRAX_SOCKET=str(listening.getsockname()[1]))
+        process = subprocess.Popen([sys.executable, "-m", "coopwin.trax"], cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+        try:
+            client = Client(stream=listening.fileno(), timeout=30, log=lambda _: None)
+            assert client.tracker_name == "coopwin"
+            got = replies(client, [MemoryImage.create(cv2.cvtColor(f, cv2.COLOR_BGR2RGB)) for f in frames])
+            client.quit()
+            assert process.wait(timeout=30) == 0
+        finally:
+            if process.poll() is None:
+                process.kill()
+            output = process.communicate()[0]
+    assert got == tracker_replies(frames)
+    # Nothing went to the pipes: the session was the socket's.
+    assert output == b""
 
 
 def test_fractional_initial_region_is_rounded_to_whole_pixels(vtest, session):
