@@ -95,13 +95,15 @@ def test_track_video_jitters_the_blanking_as_the_cli_does(coopwin_bin, vtest, tm
     assert rows[-1].time_s > steady[-1].time_s
 
 
-def test_track_video_runs_the_clocked_units_as_the_cli_does(coopwin_bin, vtest, tmp_path):
-    # rust-hdl steps every pixel clock: a 128x128 crop around the walker keeps it short.
+@pytest.mark.parametrize("hdl", ["rust-hdl", "verilator"])
+def test_track_video_runs_the_clocked_units_as_the_cli_does(coopwin_bin, vtest, tmp_path, hdl):
+    # The clocked units step every pixel clock (rust-hdl's simulator, or the exported Verilog
+    # built by Verilator): a 128x128 crop around the walker keeps it short.
     crop = [f[150:278, 240:368] for f in read_frames(vtest, 6)]
     folder = write_frames(tmp_path / "crop", crop)
-    options = ("--target-box", "40,30,40,80", "--fps", "10", "--hdl", "rust-hdl", "--pixel-bits", "10")
+    options = ("--target-box", "40,30,40,80", "--fps", "10", "--hdl", hdl, "--pixel-bits", "10")
     expected = cli_rows(coopwin_bin, tmp_path, folder, *options)
-    rows = list(coopwin.track_video(folder, (40, 30, 40, 80), fps=10, hdl="rust-hdl", pixel_bits=10))
+    rows = list(coopwin.track_video(folder, (40, 30, 40, 80), fps=10, hdl=hdl, pixel_bits=10))
     assert rows == [coopwin.Row.parse(line) for line in expected]
     assert sum(r.source == "ncc" for r in rows) >= 3
     # --pixel-bits without clocked units is refused as the CLI refuses it.
