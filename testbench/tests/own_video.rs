@@ -113,7 +113,8 @@ fn a_video_with_a_target_box_is_tracked_with_boxes_confidence_and_an_overlay() {
     assert!(rms < 0.3, "RMS {rms:.3} px against the ground truth through H.264");
     assert!(rows.iter().filter(|r| r.scale.is_finite()).count() * 2 >= rows.len(), "the adapting track measures the object's scale");
     for r in &rows {
-        assert!(r.ok && (0.0..=1.0).contains(&r.confidence));
+        // Every row vouched for, so confident from 0.9 (report/csv.rs, VOUCHED_CONFIDENCE).
+        assert!(r.ok && (0.9..=1.0).contains(&r.confidence), "confidence {}", r.confidence);
         // OpenCV's box convention: columns box_x..box_x+W-1 centred on the point; the box
         // scaled by the object's measured scale (where measured). A swing does not change it:
         // measured within 5.3 % of 1 with this 12-pixel template through H.264 (bound 2x).

@@ -163,8 +163,9 @@ pub struct Foveal<const N: usize = MAX_DIM, const P: usize = INTERIOR> {
     miss: f32,
     /// The object's shape as the last window's alignment measured it (adapting tracks).
     shape: Option<Shape>,
-    /// Adapting tracks: the first template aligned in the last window with a score of at
-    /// least [`CONFIRM_ALIGN`].
+    /// Adapting tracks: the first template vouches for this window's point
+    /// ([`Foveal::first_vouches`]); once the window is followed, whether its row was vouched
+    /// for (what the next window's chain holds to).
     first_seen: bool,
     /// Adapting tracks: windows in a row whose point the first template did not confirm.
     unconfirmed: u8,
@@ -430,6 +431,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
                 step.send(Dest::Peripheral, Msg::Coasting(q));
             }
             step.outcome = Outcome::Predicted(q);
+            self.first_seen = false;
             if let Some(a) = self.adapt.as_mut() {
                 a.discard();
             }
@@ -465,6 +467,9 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     /// the point followed.
     fn follow(&mut self, step: &mut Step, t: f64, found: Option<Point>, source: Source, score: Option<f32>) {
         let confirmed = self.confirms(score);
+        // A COOP report the first template did not measure (the corner detector's) is no link
+        // of the chain, though the template's own match vouched.
+        self.first_seen = confirmed;
         let astray = self.astray(confirmed);
         if let Some(a) = self.adapt.as_mut() {
             match a.take() {
@@ -520,14 +525,14 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     /// of the long-term set `panel` dips the match to 0.85 as it comes over the target.
     fn first_vouches(&self, aligned: Option<f32>, matched: Option<f32>) -> bool {
         let matched = matched.unwrap_or(0.0);
-        let held = self.unconfirmed == 0 && self.first_seen && matched >= HOLD_NCC;
+        let held = self.first_seen && matched >= HOLD_NCC;
         held || aligned.map_or(self.adapt.as_ref().is_some_and(Adaptive::on_first) && matched >= CONFIRM_NCC, |s| s >= CONFIRM_ALIGN)
     }
 
     /// Whether the point followed, with NCC's `score` where NCC vouches for it, is the
-    /// target's (issue 38): an adapting track's where the first template aligned on it in
-    /// this window with a score of at least [`CONFIRM_ALIGN`] ([`Adaptive::align`]: the
-    /// object's first view, turned and scaled, is there); a fixed template's where NCC scores at least [`CONFIRM_NCC`]. The corner
+    /// target's (issue 38): an adapting track's where its first template vouches for the
+    /// template's match in this window ([`Foveal::first_vouches`]) and that match is the point
+    /// followed; a fixed template's where NCC scores at least [`CONFIRM_NCC`]. The corner
     /// detector alone has no model of the target: the thesis's CD tracker is vouched for as the
     /// thesis does, a COOP report of the corner alone is not.
     fn confirms(&self, score: Option<f32>) -> bool {
@@ -544,8 +549,9 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     /// look-alike that passed in front, an occluder it learnt); it is then lost, and the
     /// Peripheral re-detects the object by its first view. A window where the first template
     /// does not align at all (the object looks unlike its first view) neither counts nor
-    /// clears the run: the track holds, unvouched (opencv-doc's hinge and eye: 70 and 26
-    /// measured rows against 40 and 17 when every unconfirmed window counts).
+    /// clears the run: the track holds, vouched for only while the chain holds
+    /// ([`Foveal::first_vouches`]; opencv-doc's hinge and eye: 70 and 26 measured rows
+    /// against 40 and 17 when every unconfirmed window counts).
     fn astray(&mut self, confirmed: bool) -> bool {
         if self.adapt.is_none() {
             return false;
@@ -813,8 +819,11 @@ mod tests {
             assert!(f.first_vouches(aligned, Some(HOLD_NCC)), "{aligned:?}");
             assert!(!f.first_vouches(aligned, Some(HOLD_NCC - 0.01)), "{aligned:?}: a dip under the bar breaks the chain");
         }
+        // A window followed unvouched (the corner detector's point, no NCC score) is no link.
+        let mut step = Step::new(Work::None);
+        f.follow(&mut step, 0.04, Some(TARGET), Source::Cd, None);
+        assert!(matches!(step.outcome, Outcome::Unconfirmed(_)));
         // Once a window was not vouched for, only the first view aligning at CONFIRM_ALIGN vouches.
-        f.first_seen = false;
         assert!(!f.first_vouches(None, Some(0.95)) && !f.first_vouches(Some(0.79), Some(0.95)));
         assert!(f.first_vouches(Some(CONFIRM_ALIGN), None));
     }

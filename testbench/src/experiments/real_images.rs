@@ -190,7 +190,8 @@ pub fn score_log(c: &Condition, log: &RunLog, truth: &[Truth]) -> Score {
 pub struct Judged {
     /// The frame's index.
     pub frame: usize,
-    /// `track`'s `confidence` for a row with `ok` 1, -1 for every other row.
+    /// `track`'s `confidence` for a row with a fresh position (vouched for or not), -1 for
+    /// every other row.
     pub confidence: f64,
     /// The row's position: the measurement, or else the prediction or last position it carries.
     pub at: Option<(f64, f64)>,
