@@ -5,7 +5,7 @@ use super::adapt::Adaptive;
 use super::coop::guard::{dist, Guard, GuardParams, Measured};
 use super::coop::Policy;
 use super::messages::{Dest, Msg};
-use super::params::{Params, COAST_MARGIN, CONFIRM_ALIGN, CONFIRM_NCC, GROW_MARGIN, HOLD_NCC, MAX_MARGIN, MISS_DECAY, PRIOR_SECONDS, REDETECT_MIN, UNCONFIRMED_RUN};
+use super::params::Params;
 use super::step::{placements, Fix, Mode, Outcome, Step, Work};
 use super::template::Template;
 use crate::kernels::corner::{CornerDetector, CornerParams, MAX_DIM};
@@ -159,7 +159,7 @@ pub struct Foveal<const N: usize = MAX_DIM, const P: usize = INTERIOR> {
     /// Adapting tracks: where the last window was aimed (the motion's prediction).
     aimed: Option<Point>,
     /// Adapting tracks: the largest recent distance between where a window was aimed and
-    /// where the point was found, decaying by [`MISS_DECAY`] a window: the motion's surprise.
+    /// where the point was found, decaying by `miss_decay` a window: the motion's surprise.
     miss: f32,
     /// The object's shape as the last window's alignment measured it (adapting tracks).
     shape: Option<Shape>,
@@ -273,7 +273,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         self.coop.begin(p, exact);
         // An adapting track resumed from the Peripheral's approximate location (25 %: +-2 px)
         // looks as widely as when its motion is unknown.
-        let side = self.params.foveal + if self.adapt.is_some() && !exact { 2 * GROW_MARGIN } else { 0 };
+        let side = self.params.foveal + if self.adapt.is_some() && !exact { 2 * self.params.track.grow_margin } else { 0 };
         step.ask(Some(self.params.window(p, side, Decimation::Full)));
         if self.kind == FovealKind::CoopMaster {
             step.send(Dest::FovealCd, Msg::Follow(p));
@@ -307,8 +307,8 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         match m {
             Msg::Template(tpl) => self.set_template(tpl.clone()),
             // No location is taken by an adapting track after its motion prior has lapsed
-            // ([`PRIOR_SECONDS`]: for good, as `vouched_at` is kept).
-            Msg::Approx(_) if self.adapt.is_some() && self.vouched_at.is_some_and(|v| t - v > PRIOR_SECONDS) => {}
+            // (`prior_seconds`: for good, as `vouched_at` is kept).
+            Msg::Approx(_) if self.adapt.is_some() && self.vouched_at.is_some_and(|v| t - v > self.params.track.prior_seconds) => {}
             // An adapting track that coasts restarts where the Peripheral found the target; one
             // its first view doubts, after the window in flight.
             Msg::Approx(p) => match self.phase {
@@ -402,12 +402,12 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
 
     /// The first window of an adapting track the Peripheral handed over: `found`, the better
     /// of the current template's match and the first template's (`by_first`), from
-    /// [`REDETECT_MIN`] (the bar the Peripheral's re-detection cleared), the first template
+    /// [`PeripheralParams::redetect`](super::params::PeripheralParams::redetect) (the bar the Peripheral's re-detection cleared), the first template
     /// taken back where it won and cleared it. The current template is the look the track
     /// lost the object with: on the earring of `Megamind.avi` it scores 0.24-0.49 where the
     /// Peripheral hands the stud over, the first 0.78-0.96, and wrong places 0.44-0.72.
     fn handed_over(&mut self, found: Option<NccFound>, by_first: bool) -> Option<NccFound> {
-        let found = found.filter(|f| f.score >= REDETECT_MIN);
+        let found = found.filter(|f| f.score >= self.params.redetect.redetect);
         // Refused, the track keeps the look it had (the Peripheral's last trusted one).
         if let Some(t) = self.adapt.as_mut().filter(|_| by_first && found.is_some()).map(Adaptive::back_to_first) {
             self.adopt(t);
@@ -426,7 +426,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         let chosen = self.coop.decide(t, Measured { corner: partner, ..own });
         if let Some(q) = chosen.is_none().then(|| self.coop.coast(t)).flatten() {
             // Nothing measured the point: look where it should be next.
-            let side = self.params.foveal + 2 * COAST_MARGIN;
+            let side = self.params.foveal + 2 * self.params.track.coast_margin;
             if self.adapt.is_some() && !coasted {
                 step.send(Dest::Peripheral, Msg::Coasting(q));
             }
@@ -489,7 +489,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
                 let doubted = !confirmed && self.adapt.is_some();
                 self.phase = if doubted { Phase::Doubted(p) } else { Phase::Tracking(p) };
                 if let Some(a) = self.aimed {
-                    self.miss = dist(p, a).max(self.miss * MISS_DECAY);
+                    self.miss = dist(p, a).max(self.miss * self.params.track.miss_decay);
                 }
                 step.ask(Some(self.next_window(p, t))).send(Dest::Peripheral, if doubted { Msg::Doubted(p) } else { Msg::Tracked(p) });
                 let fix = Fix { at: p, source, score, shape: score.and(self.shape) };
@@ -514,36 +514,36 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
 
     /// Whether an adapting track's first template vouches for this window's point (issue 38),
     /// from its aligned score `aligned` ([`Adaptive::align`]) and the current template's
-    /// `matched` score: where it aligns with at least [`CONFIRM_ALIGN`]; where the last window
-    /// was vouched for and the current template still matches with at least [`HOLD_NCC`],
+    /// `matched` score: where it aligns with at least `confirm_align`; where the last window
+    /// was vouched for and the current template still matches with at least `hold_ncc`,
     /// whether the first template aligns or not (a view that changes a little a window: a
     /// tilt under blur dips the aligned score to 0.52 for 29 windows on `centre-combined`; the
     /// hinge of `Megamind.avi` turns until its first view no longer aligns, matched at
     /// 0.96-0.99 a window); and, where it cannot align (a pattern without a gradient across,
     /// the 1080p test's colour bars), where it is itself the current template and matches as
-    /// the thesis's fixed template must ([`CONFIRM_NCC`]). A cover breaks the chain: the panel
+    /// the thesis's fixed template must (`confirm_ncc`). A cover breaks the chain: the panel
     /// of the long-term set `panel` dips the match to 0.85 as it comes over the target.
     fn first_vouches(&self, aligned: Option<f32>, matched: Option<f32>) -> bool {
         let matched = matched.unwrap_or(0.0);
-        let held = self.first_seen && matched >= HOLD_NCC;
-        held || aligned.map_or(self.adapt.as_ref().is_some_and(Adaptive::on_first) && matched >= CONFIRM_NCC, |s| s >= CONFIRM_ALIGN)
+        let held = self.first_seen && matched >= self.params.track.hold_ncc;
+        held || aligned.map_or(self.adapt.as_ref().is_some_and(Adaptive::on_first) && matched >= self.params.track.confirm_ncc, |s| s >= self.params.track.confirm_align)
     }
 
     /// Whether the point followed, with NCC's `score` where NCC vouches for it, is the
     /// target's (issue 38): an adapting track's where its first template vouches for the
     /// template's match in this window ([`Foveal::first_vouches`]) and that match is the point
-    /// followed; a fixed template's where NCC scores at least [`CONFIRM_NCC`]. The corner
+    /// followed; a fixed template's where NCC scores at least `confirm_ncc`. The corner
     /// detector alone has no model of the target: the thesis's CD tracker is vouched for as the
     /// thesis does, a COOP report of the corner alone is not.
     fn confirms(&self, score: Option<f32>) -> bool {
         match (self.kind, &self.adapt) {
             (FovealKind::Cd, _) => true,
             (_, Some(_)) => score.is_some() && self.first_seen,
-            (_, None) => score.is_some_and(|s| s >= CONFIRM_NCC),
+            (_, None) => score.is_some_and(|s| s >= self.params.track.confirm_ncc),
         }
     }
 
-    /// Whether an adapting track has gone astray: more than [`UNCONFIRMED_RUN`] windows not
+    /// Whether an adapting track has gone astray: more than `unconfirmed_run` windows not
     /// `confirmed` since it was last confirmed, counting those where the first
     /// template aligns without confirming (something like the target, but not it: a
     /// look-alike that passed in front, an occluder it learnt); it is then lost, and the
@@ -561,12 +561,12 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
             false if self.shape.is_some() => self.unconfirmed.saturating_add(1),
             false => self.unconfirmed,
         };
-        self.unconfirmed > UNCONFIRMED_RUN
+        self.unconfirmed > self.params.track.unconfirmed_run
     }
 
     /// The Foveal window after following `p` at `t`: with [`Params::adapt`], centred where
     /// the motion puts the point at the next window, widened on each side by half the
-    /// predicted step, or by [`GROW_MARGIN`] after a match on the window's edge or before the
+    /// predicted step, or by `grow_margin` after a match on the window's edge or before the
     /// motion is known; otherwise the thesis's, centred on `p`.
     fn next_window(&mut self, p: Point, t: f64) -> WindowRequest {
         if self.adapt.is_none() {
@@ -580,9 +580,9 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         self.aimed = ahead;
         let extra = match ahead {
             Some(q) if !self.pinned => (dist(p, q) / 2.0).max(self.miss),
-            _ => self.miss.max(f32::from(GROW_MARGIN)),
+            _ => self.miss.max(f32::from(self.params.track.grow_margin)),
         };
-        let extra = (libm::ceilf(extra) as u16).min(MAX_MARGIN);
+        let extra = (libm::ceilf(extra) as u16).min(self.params.track.max_margin);
         self.params.window(ahead.unwrap_or(p), self.params.foveal + 2 * extra, Decimation::Full)
     }
 }
@@ -592,6 +592,7 @@ mod tests {
     use super::*;
     use crate::kernels::matching::Method;
     use crate::processors::partner::CornerPartner;
+    use crate::processors::params::FovealParams;
     use crate::processors::testing::{cut, frame, params, square, template, TARGET};
 
     fn near(p: Point, q: Point) -> bool {
@@ -659,13 +660,13 @@ mod tests {
     fn an_adapting_track_resumed_from_an_approximate_location_looks_wider() {
         // The Peripheral's location is good to its 25 % grid: the thesis's window is the
         // template plus 4 px (16 px, columns round(31.5 - 7.5) = 24..); an adapting track adds
-        // GROW_MARGIN a side: 28 px from round(31.5 - 13.5) = 18, rows from round(21.5 - 13.5) = 8.
+        // `grow_margin` a side: 28 px from round(31.5 - 13.5) = 18, rows from round(21.5 - 13.5) = 8.
         let thesis = Foveal::new(FovealKind::Ncc, params(), Some(template())).on_message(&Msg::Approx(TARGET), 0.0);
         assert_eq!(thesis.request, Some(square(24, 14, 16, Decimation::Full)));
         let mut adapting = Foveal::new(FovealKind::Ncc, params().adaptive(), Some(template()));
         assert!(adapting.adapt.is_some(), "a whole template (no corner support) adapts");
         let s = adapting.on_message(&Msg::Approx(TARGET), 0.0);
-        assert_eq!(s.request, Some(square(18, 8, 16 + 2 * GROW_MARGIN, Decimation::Full)));
+        assert_eq!(s.request, Some(square(18, 8, 16 + 2 * FovealParams::default().grow_margin, Decimation::Full)));
     }
 
     #[test]
@@ -741,7 +742,7 @@ mod tests {
         // one (the wider window, the partner told), no longer coasting.
         let found = Point { x: 41.5, y: 31.5 };
         let s = master.on_message(&Msg::Approx(found), 0.04);
-        assert_eq!(s.request, Some(master.params.window(found, 16 + 2 * GROW_MARGIN, Decimation::Full)));
+        assert_eq!(s.request, Some(master.params.window(found, 16 + 2 * master.params.track.grow_margin, Decimation::Full)));
         assert_eq!(&s.sends[..], &[(Dest::FovealCd, Msg::Follow(found))][..]);
         assert!(!master.coasting() && s.outcome == Outcome::Redetected(found));
     }
@@ -785,12 +786,12 @@ mod tests {
         let in_flight = step.request.unwrap();
         // The Peripheral finds the object at (11.5, 41.5): nothing is asked yet, as the window
         // in flight comes first; it shows nothing, and the next window is around the location,
-        // as a re-detection's (GROW_MARGIN a side: columns round(11.5 - 13.5) -> 0).
+        // as a re-detection's (`grow_margin` a side: columns round(11.5 - 13.5) -> 0).
         let to = Point { x: 11.5, y: 41.5 };
         let s = f.on_message(&Msg::Approx(to), 0.05);
         assert_eq!((s.request, f.phase), (None, Phase::Redirected(to)));
         let s = f.on_window(&cut(&frame(None), &in_flight), 0.08);
-        assert_eq!((s.outcome, s.request), (Outcome::Redetected(to), Some(square(0, 28, 16 + 2 * GROW_MARGIN, Decimation::Full))));
+        assert_eq!((s.outcome, s.request), (Outcome::Redetected(to), Some(square(0, 28, 16 + 2 * FovealParams::default().grow_margin, Decimation::Full))));
     }
 
     #[test]
@@ -813,33 +814,39 @@ mod tests {
         let mut f = Foveal::new(FovealKind::Ncc, params().adaptive(), Some(template()));
         let req = f.start_at(TARGET).request.unwrap();
         assert!(f.on_window(&cut(&frame(Some((30, 20))), &req), 0.0).outcome.vouched().is_some());
-        // The first view no longer aligns (None) or aligns weakly (0.6): held from HOLD_NCC
-        // (under CONFIRM_NCC, from which the first template alone vouches for itself).
+        // The first view no longer aligns (None) or aligns weakly (0.6): held from `hold_ncc`
+        // (under `confirm_ncc`, from which the first template alone vouches for itself).
+        let bars = f.params.track;
         for aligned in [None, Some(0.6)] {
-            assert!(f.first_vouches(aligned, Some(HOLD_NCC)), "{aligned:?}");
-            assert!(!f.first_vouches(aligned, Some(HOLD_NCC - 0.01)), "{aligned:?}: a dip under the bar breaks the chain");
+            assert!(f.first_vouches(aligned, Some(bars.hold_ncc)), "{aligned:?}");
+            assert!(!f.first_vouches(aligned, Some(bars.hold_ncc - 0.01)), "{aligned:?}: a dip under the bar breaks the chain");
         }
         // A window followed unvouched (the corner detector's point, no NCC score) is no link.
         let mut step = Step::new(Work::None);
         f.follow(&mut step, 0.04, Some(TARGET), Source::Cd, None);
         assert!(matches!(step.outcome, Outcome::Unconfirmed(_)));
-        // Once a window was not vouched for, only the first view aligning at CONFIRM_ALIGN vouches.
+        // Once a window was not vouched for, only the first view aligning at `confirm_align` vouches.
         assert!(!f.first_vouches(None, Some(0.95)) && !f.first_vouches(Some(0.79), Some(0.95)));
-        assert!(f.first_vouches(Some(CONFIRM_ALIGN), None));
+        assert!(f.first_vouches(Some(bars.confirm_align), None));
     }
 
     #[test]
     fn no_hand_over_is_taken_once_the_motion_prior_has_lapsed() {
-        let lost = |t: f64| {
-            let mut f = Foveal::new(FovealKind::Ncc, params().adaptive(), Some(template()));
+        let lost = |track: FovealParams, t: f64| {
+            let mut f = Foveal::new(FovealKind::Ncc, Params { track, ..params().adaptive() }, Some(template()));
             let req = f.start_at(TARGET).request.unwrap();
             f.on_window(&cut(&frame(Some((30, 20))), &req), 0.0);
             f.on_window(&cut(&frame(None), &req), 0.04);
             assert_eq!(f.mode(), Mode::Watch, "lost");
             f.on_message(&Msg::Approx(TARGET), t).request
         };
-        // Vouched for last at 0 s: a location PRIOR_SECONDS (3 s) later is still taken.
-        assert!(lost(PRIOR_SECONDS).is_some());
-        assert_eq!(lost(PRIOR_SECONDS + 0.01), None);
+        // Vouched for last at 0 s: a location `prior_seconds` (3 s by default) later is still
+        // taken, not one after; 1 s where that is the lapse.
+        let default = FovealParams::default();
+        assert!(lost(default, 3.0).is_some());
+        assert_eq!(lost(default, 3.01), None);
+        let brief = FovealParams { prior_seconds: 1.0, ..default };
+        assert!(lost(brief, 1.0).is_some());
+        assert_eq!(lost(brief, 1.01), None);
     }
 }

@@ -37,7 +37,7 @@ pub mod watch;
 pub use coop::Policy;
 pub use foveal::{Foveal, FovealKind};
 pub use messages::{Dest, Msg};
-pub use params::{Params, ADAPT_NCC_MIN, COAST_MARGIN, CONFIRM_NCC, GROW_MARGIN};
+pub use params::{FovealParams, Params, PeripheralParams};
 pub use partner::CornerPartner;
 pub use peripheral::Peripheral;
 pub use spmf::Spmf;

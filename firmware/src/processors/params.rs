@@ -3,24 +3,6 @@
 use crate::kernels::matching::Method;
 use crate::types::{Decimation, Point, WindowRequest};
 
-/// Extra pixels on each side of a coasting track's Foveal window, beyond the window's own
-/// +-2 px search: the prediction drifts while nothing is measured.
-pub const COAST_MARGIN: u16 = 6;
-
-/// Extra pixels on each side of an adapting track's Foveal window after a match on the
-/// window's edge (the target moved further than the window's own search), or while its
-/// motion is not known: 6 px a frame is a brisk motion at 25-30 frames/s.
-pub const GROW_MARGIN: u16 = 6;
-
-/// Most extra pixels on each side of an adapting track's Foveal window: a 32x32 template's
-/// window stays within 64x64 (the largest the matcher and the corner detector take).
-pub const MAX_MARGIN: u16 = 14;
-
-/// Factor by which an adapting track's largest recent miss of the motion's prediction
-/// decays a window: a shake widens the next few windows, not all the later ones.
-pub const MISS_DECAY: f32 = 0.8;
-
-
 /// Tuning shared by the processors (thesis Table 2.2 sizes by default).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Params {
@@ -48,6 +30,10 @@ pub struct Params {
     /// with drift correction ([`super::adapt`]) and its window is placed where the motion
     /// predicts the point. Off: the thesis's template cut once, windows on the last point.
     pub adapt: bool,
+    /// The Foveal's tuning for an adapting track.
+    pub track: FovealParams,
+    /// The Peripheral's tuning for an adapting track's re-detection.
+    pub redetect: PeripheralParams,
 }
 
 impl Default for Params {
@@ -64,73 +50,118 @@ impl Default for Params {
             ssd_max: 900.0,
             corner_threshold: 50,
             adapt: false,
+            track: FovealParams::default(),
+            redetect: PeripheralParams::default(),
         }
     }
 }
 
-/// Zero-mean NCC acceptance of an adapting template ([`Params::adapt`]). The template is at
-/// most a few frames old, so a lower score means a changed look (a turn, a zoom, blur) more
-/// often than another object; zero-mean NCC, unlike the thesis's, scores a flat or unrelated
-/// patch near 0 however bright it is (a cut to another scene is not followed), and the
-/// guard's prediction gate keeps a match far from the motion out. 0.4: the gap between
-/// wind-blown leaves of opencv-doc's `tree.avi` (15 frames/s, blocky MPEG) scores 0.42-0.6
-/// frame to frame at the place CSRT puts it; 0.7 lost it in the third frame.
-pub const ADAPT_NCC_MIN: f32 = 0.4;
+/// The Foveal processor's tuning for an adapting track (issue 21's template that follows the
+/// object's look, issue 38's verdict on it): its acceptance, its window, when a row is vouched
+/// for, and when the track gives up. Each default says the measurement behind it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FovealParams {
+    /// Zero-mean NCC from which an adapting template's match is accepted (default 0.4). The
+    /// template is at most a few frames old, so a lower score means a changed look (a turn, a
+    /// zoom, blur) more often than another object; zero-mean NCC, unlike the thesis's, scores a
+    /// flat or unrelated patch near 0 however bright it is (a cut to another scene is not
+    /// followed), and the guard's prediction gate keeps a match far from the motion out. The
+    /// gap between wind-blown leaves of opencv-doc's `tree.avi` (15 frames/s, blocky MPEG)
+    /// scores 0.42-0.6 frame to frame at the place CSRT puts it; 0.7 lost it in the third frame.
+    pub accept: f32,
+    /// NCC from which the thesis's fixed template's match, or an adapting template's while it
+    /// is still the first, vouches for the point (default 0.99, issue 38): on the long-term
+    /// sets (`coopwin experiment long-term`) right rows score 0.990 and more (the best VOT-LT
+    /// thresholds lie at NCC 0.990-0.994), while look-alikes, a panel over the target and the
+    /// background it is lost on score 0.97-0.99 (AUROC 0.99-1.00). The COOP guard trusts NCC
+    /// from the same score ([`super::coop::guard::GuardParams::default`]).
+    pub confirm_ncc: f32,
+    /// The aligned first template's score from which it vouches for an adapting track's point
+    /// (default 0.8, issue 38).
+    pub confirm_align: f32,
+    /// The current template's score from which an adapting track stays vouched for, window
+    /// after window, while its first template aligns under [`FovealParams::confirm_align`] or
+    /// not at all (default 0.9, the drift correction's own acceptance of the first template,
+    /// [`super::adapt::CONFIRM`]). Measured on the long-term sets and clips: at 0.8 the chain
+    /// carried the track onto the panel of `panel` (219 wrong rows; the match dips to 0.846 as
+    /// the panel comes over); at 0.85 no row was wrong and the eye of Megamind.avi gained
+    /// (recall 0.17 against 0.06), but the panel's dip missed the bar by 0.004; at 0.9 no row
+    /// is wrong, and the hinge of `Megamind.avi` is vouched for on all its frames.
+    pub hold_ncc: f32,
+    /// Windows in a row an adapting track may follow a point its first template does not
+    /// confirm before it is taken to have gone astray and lost (default 8, issue 38): a
+    /// look-alike that crossed in front, an occluder the template learnt. Measured on the
+    /// long-term sets (recall of the `ok` 1 rows).
+    pub unconfirmed_run: u8,
+    /// Seconds after its last vouched window after which an adapting track takes no location
+    /// the Peripheral hands over (default 3): the prior has lapsed, and the track stays absent.
+    /// On vtest.avi (10 frames/s) the re-detections 8-27 s after the last vouched window were
+    /// onto other people's clothing (78 wrong rows on the coat, 75 on the blond); the
+    /// long-term sets' right ones came at most 72 frames (under 1 s of their camera's time)
+    /// after it. The earring of Megamind.avi pays: recall 0.81 with no lapse, 0.70 with it.
+    pub prior_seconds: f64,
+    /// Extra pixels on each side of a coasting track's window, beyond the window's own +-2 px
+    /// search (default 6): the prediction drifts while nothing is measured.
+    pub coast_margin: u16,
+    /// Extra pixels on each side of an adapting track's window after a match on the window's
+    /// edge (the target moved further than the window's own search), or while its motion is
+    /// not known (default 6: 6 px a frame is a brisk motion at 25-30 frames/s).
+    pub grow_margin: u16,
+    /// Most extra pixels on each side of an adapting track's window (default 14): a 32x32
+    /// template's window stays within 64x64 (the largest the matcher and the corner detector
+    /// take).
+    pub max_margin: u16,
+    /// Factor by which an adapting track's largest recent miss of the motion's prediction
+    /// decays a window (default 0.8): a shake widens the next few windows, not all the later
+    /// ones.
+    pub miss_decay: f32,
+}
 
-/// Zero-mean NCC from which an adapting track's Peripheral re-detects the object anywhere in
-/// its window: no motion gate checks the match there, so it is the acceptance of the first
-/// lock-on, not [`ADAPT_NCC_MIN`] (at 0.5 it re-locked onto a cheek 60 px from the eye).
-pub const REDETECT_MIN: f32 = 0.7;
+impl Default for FovealParams {
+    fn default() -> Self {
+        FovealParams {
+            accept: 0.4,
+            confirm_ncc: 0.99,
+            confirm_align: 0.8,
+            hold_ncc: super::adapt::CONFIRM,
+            unconfirmed_run: 8,
+            prior_seconds: 3.0,
+            coast_margin: 6,
+            grow_margin: 6,
+            max_margin: 14,
+            miss_decay: 0.8,
+        }
+    }
+}
 
-/// The thesis's NCC from which a fixed template's match confirms the target (issue 38): on
-/// the long-term sets (`coopwin experiment long-term`) its right rows score 0.990 and more
-/// (the best VOT-LT thresholds lie at NCC 0.990-0.994), while look-alikes, a panel over the
-/// target and the background it is lost on score 0.97-0.99 (AUROC 0.99-1.00). The COOP
-/// guard trusts NCC from the same score ([`super::coop::guard::GuardParams::default`]).
-pub const CONFIRM_NCC: f32 = 0.99;
+/// The Peripheral processor's tuning for an adapting track's re-detection (issue 38): what it
+/// takes for the object, and the motion prior (FuCoLoT's) a location must lie in to be handed
+/// over. Each default says the measurement behind it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PeripheralParams {
+    /// Zero-mean NCC from which the Peripheral re-detects the object anywhere in its window
+    /// (default 0.7): no motion gate checks the match there, so it is the acceptance of the
+    /// first lock-on, not [`FovealParams::accept`] (at 0.5 it re-locked onto a cheek 60 px from
+    /// the eye).
+    pub redetect: f32,
+    /// Pixels around where the track's last motion carries its last vouched point within which
+    /// a location is handed over (default 24). With no bound on the distance, leaves-identical's
+    /// copy, which comes in 140 px and more from where the target left the view, is vouched
+    /// for on 63 rows (`coopwin experiment long-term`); with it, none.
+    pub prior_radius: f32,
+    /// Pixels a Peripheral window (about a frame) the prior's radius grows by (default 2): a
+    /// target that turns while it is hidden (the swing of lookalike-front and crowd, at most
+    /// 1.5 px a frame) stays inside it.
+    pub prior_growth: f32,
+    /// The prior's largest radius (default 120): under leaves-identical's 140 px.
+    pub prior_max: f32,
+}
 
-/// The aligned first template's score from which it confirms an adapting track's point as the
-/// target's (issue 38).
-pub const CONFIRM_ALIGN: f32 = 0.8;
-
-/// The current template's score from which an adapting track stays vouched for, window after
-/// window, while its first template aligns under [`CONFIRM_ALIGN`] or not at all (issue 38):
-/// the drift correction's own acceptance of the first template ([`super::adapt::CONFIRM`]).
-/// Measured on the long-term sets and clips (`coopwin experiment long-term`): at 0.8 the
-/// chain carried the track onto the panel of `panel` (219 wrong rows; the match dips to
-/// 0.846 as the panel comes over); at 0.9 no row is wrong, and the hinge of `Megamind.avi`
-/// is vouched for on all its frames.
-pub const HOLD_NCC: f32 = super::adapt::CONFIRM;
-
-/// Windows in a row an adapting track may follow a point its first template does not confirm
-/// before it is taken to have gone astray and lost (issue 38): a look-alike that crossed in
-/// front, an occluder the template learnt. Measured on the long-term sets
-/// (`coopwin experiment long-term`, recall of the `ok` 1 rows).
-pub const UNCONFIRMED_RUN: u8 = 8;
-
-/// The motion prior of an adapting track's re-detection (issue 38, FuCoLoT's): the Peripheral
-/// hands over a location only within this many pixels of where the track's last motion carries
-/// its last vouched point, the radius growing by [`PRIOR_GROWTH`] a Peripheral window (about a
-/// frame) up to [`PRIOR_MAX`]. Measured on the long-term sets (`coopwin experiment
-/// long-term`): with no bound on the distance, leaves-identical's copy, which comes in 140 px
-/// and more from where the target left the view, is vouched for on 63 rows; with it, none.
-pub const PRIOR_RADIUS: f32 = 24.0;
-
-/// Pixels a Peripheral window the motion prior's radius grows by ([`PRIOR_RADIUS`]): a target
-/// that turns while it is hidden (the swing of lookalike-front and crowd, at most 1.5 px a
-/// frame) stays inside it.
-pub const PRIOR_GROWTH: f32 = 2.0;
-
-/// The motion prior's largest radius ([`PRIOR_RADIUS`]): under leaves-identical's 140 px.
-pub const PRIOR_MAX: f32 = 120.0;
-
-/// Seconds after its last vouched window after which an adapting track takes no location the
-/// Peripheral hands over: the prior has lapsed, and the track stays absent. On vtest.avi (10
-/// frames/s) the re-detections 8-27 s after the last vouched window were onto other people's
-/// clothing (78 wrong rows on the coat, 75 on the blond); the long-term sets' right ones came
-/// at most 72 frames (under 1 s of their camera's time) after it. The earring of
-/// Megamind.avi pays: recall 0.81 with no lapse, 0.70 with it.
-pub const PRIOR_SECONDS: f64 = 3.0;
+impl Default for PeripheralParams {
+    fn default() -> Self {
+        PeripheralParams { redetect: 0.7, prior_radius: 24.0, prior_growth: 2.0, prior_max: 120.0 }
+    }
+}
 
 impl Params {
     /// These parameters with the template adapting ([`Params::adapt`]).
@@ -139,10 +170,10 @@ impl Params {
     }
 
     /// The Foveal processor's correlation and its acceptance: the thesis's NCC from
-    /// `ncc_min`, or zero-mean NCC from [`ADAPT_NCC_MIN`] for a template that adapts.
+    /// `ncc_min`, or zero-mean NCC from [`FovealParams::accept`] for a template that adapts.
     pub fn correlation(&self, adapting: bool) -> (Method, f32) {
         if adapting {
-            (Method::Zncc, ADAPT_NCC_MIN)
+            (Method::Zncc, self.track.accept)
         } else {
             (Method::Ncc, self.ncc_min)
         }

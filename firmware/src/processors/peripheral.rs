@@ -14,7 +14,7 @@
 //! ([`Msg::Doubted`]).
 use super::coop::guard::dist;
 use super::messages::{Dest, Msg};
-use super::params::{Params, PRIOR_GROWTH, PRIOR_MAX, PRIOR_RADIUS, REDETECT_MIN};
+use super::params::{Params, PeripheralParams};
 use super::step::{placements, Mode, Step, Work};
 use super::template::Template;
 use crate::kernels::matching::{best_match, best_match_candidates, Method, CANDIDATES_FROM};
@@ -28,7 +28,7 @@ pub const SWEEP_SIDE: u16 = 128;
 
 /// The decimated template over a 25% window: the approximate target and how well it matched
 /// (lower is better), or `None`. SSD as the thesis has it, or, for an adapting track, zero-mean
-/// NCC from [`ADAPT_NCC_MIN`](super::params::ADAPT_NCC_MIN).
+/// NCC from [`PeripheralParams::redetect`].
 fn locate(win: &WindowView<'_>, tpl: &Template, p: &Params) -> (Option<(Point, f32)>, Work) {
     let n = tpl.side();
     let method = if p.adapt { Method::Zncc } else { Method::Ssd };
@@ -40,7 +40,7 @@ fn locate(win: &WindowView<'_>, tpl: &Template, p: &Params) -> (Option<(Point, f
     let searched = if p.adapt { best_match_candidates(win, &dt) } else { best_match(method, win, &dt) };
     let Ok(m) = searched else { return (None, work) };
     let (found, badness) = match method {
-        Method::Zncc => (m.score as f32 >= REDETECT_MIN, -(m.score as f32)),
+        Method::Zncc => (m.score as f32 >= p.redetect.redetect, -(m.score as f32)),
         _ => {
             let per_pixel = m.score as f32 / tn.max(1) as f32;
             (per_pixel <= p.ssd_max, per_pixel)
@@ -73,12 +73,12 @@ impl Seen {
         Seen { at, velocity, windows: 0 }
     }
 
-    /// Whether `p` lies in the motion prior (FuCoLoT's): within [`PRIOR_RADIUS`], growing by
-    /// [`PRIOR_GROWTH`] a window up to [`PRIOR_MAX`], of where the motion carries the point.
-    fn admits(&self, p: Point) -> bool {
+    /// Whether `p` lies in the motion prior (FuCoLoT's): within `prior`'s radius, growing a
+    /// window up to its largest ([`PeripheralParams`]), of where the motion carries the point.
+    fn admits(&self, p: Point, prior: &PeripheralParams) -> bool {
         let k = f32::from(self.windows);
         let centre = Point { x: self.at.x + self.velocity.0 * k, y: self.at.y + self.velocity.1 * k };
-        dist(p, centre) <= (PRIOR_RADIUS + PRIOR_GROWTH * k).min(PRIOR_MAX)
+        dist(p, centre) <= (prior.prior_radius + prior.prior_growth * k).min(prior.prior_max)
     }
 }
 
@@ -223,7 +223,7 @@ impl Peripheral {
     /// (that one it has).
     fn may_hand_over(&self, p: Point) -> bool {
         let elsewhere = |h: Point| dist(p, h) > f32::from(self.params.template) / 2.0;
-        !self.params.adapt || (self.seen.is_none_or(|s| s.admits(p)) && self.held.is_none_or(elsewhere))
+        !self.params.adapt || (self.seen.is_none_or(|s| s.admits(p, &self.params.redetect)) && self.held.is_none_or(elsewhere))
     }
 
     /// Searches around `at` from the larger of the two windows.
@@ -474,7 +474,7 @@ mod tests {
         let s = p.on_window(&cut(&frame(Some((30, 20))), &around));
         assert_eq!((s.request, s.sends.len()), (Some(whole), 0));
         // The block at (50, 44), its point (51.5, 45.5) 31.2 px from the last vouched one: the
-        // prior's radius is 24 + 2 px a window since (PRIOR_RADIUS, PRIOR_GROWTH), 28 and 30 at
+        // prior's radius is 24 + 2 px a window since (`prior_radius`, `prior_growth`), 28 and 30 at
         // the 2nd and 3rd windows (refused), 32 at the 4th (handed over).
         let far = frame(Some((50, 44)));
         for _ in 0..2 {
@@ -494,15 +494,19 @@ mod tests {
         let mut seen = Seen::after(Some(first), at(18.0, 14.0));
         assert_eq!((seen.velocity, seen.windows), ((2.0, 1.0), 0));
         // 10 windows on, by hand: the centre (18 + 20, 14 + 10) = (38, 24), the radius
-        // 24 + 2 * 10 = 44 (PRIOR_RADIUS, PRIOR_GROWTH).
+        // 24 + 2 * 10 = 44 (the default `prior_radius`, `prior_growth`).
+        let prior = PeripheralParams::default();
         seen.windows = 10;
-        assert!(seen.admits(at(82.0, 24.0)) && !seen.admits(at(82.5, 24.0)));
+        assert!(seen.admits(at(82.0, 24.0), &prior) && !seen.admits(at(82.5, 24.0), &prior));
         // 27 px behind the last vouched point, against the motion: 45 px from the centre.
-        assert!(!seen.admits(at(-7.0, 24.0)));
-        // 60 windows on: the radius stops at PRIOR_MAX (120), not 144.
+        assert!(!seen.admits(at(-7.0, 24.0), &prior));
+        // 60 windows on: the radius stops at `prior_max` (120), not 144; at 50 where that is
+        // the largest.
         seen.windows = 60;
         let centre = at(18.0 + 120.0, 14.0 + 60.0);
-        assert!(seen.admits(at(centre.x, centre.y + 120.0)) && !seen.admits(at(centre.x, centre.y + 121.0)));
+        assert!(seen.admits(at(centre.x, centre.y + 120.0), &prior) && !seen.admits(at(centre.x, centre.y + 121.0), &prior));
+        let narrow = PeripheralParams { prior_max: 50.0, ..prior };
+        assert!(seen.admits(at(centre.x, centre.y + 50.0), &narrow) && !seen.admits(at(centre.x, centre.y + 51.0), &narrow));
         // A point vouched for in the same window as the last one (a hand-over's jump) keeps
         // the measured velocity rather than dividing by no time.
         seen.windows = 0;

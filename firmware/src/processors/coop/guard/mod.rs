@@ -96,7 +96,7 @@ impl GuardParams {
     /// elsewhere in the window does not make a fast object's track coast. A coasting track
     /// resumes on a trusted match, or on a weaker one the first template confirms
     /// ([`Measured::confirmed`]): its other weak matches (from the low acceptance of
-    /// [`crate::processors::ADAPT_NCC_MIN`]) followed a neck or a shoulder after a blink.
+    /// [`crate::processors::FovealParams::accept`]) followed a neck or a shoulder after a blink.
     pub fn adapting() -> Self {
         GuardParams { trust: ADAPT_TRUST, resume: ADAPT_TRUST, ..Self::default() }
     }
