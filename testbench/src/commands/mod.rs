@@ -10,8 +10,10 @@ pub mod main_job;
 pub mod matching;
 pub mod motion;
 pub mod output;
+pub mod progress;
 pub mod scene;
 pub mod track;
+pub mod track_files;
 pub mod verilog;
 pub mod waves;
 

@@ -1,20 +1,17 @@
-//! `coopwin track`: its options in, one tracking run ([`crate::tracking`]) out; it writes
-//! the per-frame CSV (and, with rust-hdl units, a VCD and its requests CSV; on request an
-//! overlay GIF or MP4), and prints the summary against `groundtruth.csv` when the folder has
-//! one.
+//! `coopwin track`: its options in, one tracking run ([`crate::tracking`]) out, written to
+//! the files asked for ([`super::track_files`]: the per-frame CSV, a VCD, an overlay), and the
+//! report printed, with the summary against `groundtruth.csv` when the folder has one.
 use super::args::{self, HdlArg, PolicyArg, ProfileArg, StrategyArg, WatchArg};
-use super::output::{self, OutFile};
+use super::progress::progress_line;
+use super::track_files::TrackFiles;
 use super::{interrupt, CliError};
-use crate::analysis::audit::requests;
 use crate::analysis::metrics;
 use crate::frames::folder::FolderFrames;
-use crate::frames::{groundtruth, Interruptible};
-use crate::report::overlay::{OverlayError, OverlayKind, Painter};
+use crate::frames::groundtruth;
+use crate::report::overlay::OverlayError;
 use crate::report::{self, csv};
-use crate::tracking::{self, Target, TrackError, TrackOptions, TrackRun};
-use crate::units::clocked::Trace;
+use crate::tracking::{Target, TrackError, TrackOptions, TrackRun};
 use coopwin_hdl::sim::camera::Jitter;
-use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 
 /// `coopwin track`'s options.
@@ -184,156 +181,28 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
         print!("{}", csv::frame_listing(&FolderFrames::open(&args.frames)?.names()));
         return Ok(());
     }
-    // Outputs are checked before the run, so a bad path costs no tracking time.
-    let out = args.out.as_ref().map(|p| OutFile::check(p, "--out")).transpose()?;
-    let vcd = match &args.vcd {
-        Some(v) if v.as_os_str() == "-" => {
-            return Err(CliError::arg("--vcd -: the VCD needs a file name (its requests CSV is written beside it)"));
-        }
-        Some(v) => Some((OutFile::check(v, "--vcd")?, OutFile::check(&v.with_extension("requests.csv"), "--vcd")?)),
-        None => None,
-    };
-    if matches!(args.hdl, HdlArg::Model) && vcd.is_some() {
-        return Err(CliError::arg("--vcd traces the window units' signals: add --hdl rust-hdl"));
-    }
-    let overlay_out = match &args.overlay {
-        Some(p) => {
-            let kind = OverlayKind::of(p).ok_or_else(|| CliError::arg(format!("--overlay {}: name a .gif or an .mp4 file", p.display())))?;
-            Some((kind, OutFile::check(p, "--overlay")?))
-        }
-        None => None,
-    };
-    let named = [("--out", out.as_ref()), ("--overlay", overlay_out.as_ref().map(|(_, o)| o))]
-        .into_iter()
-        .chain(vcd.iter().flat_map(|(v, r)| [("--vcd", Some(v)), ("--vcd", Some(r))]))
-        .filter_map(|(option, o)| o.map(|o| (option, o)))
-        .collect::<Vec<_>>();
-    output::check_apart(&[("--frames", &args.frames)], &named)?;
-    // With the CSV on standard output, the report goes to standard error.
-    let to_stdout = out.as_ref().is_some_and(OutFile::is_stdout);
+    let files = TrackFiles::check(&args)?;
+    let to_stdout = files.csv_to_stdout();
     let say = |line: String| if to_stdout { eprintln!("{line}") } else { println!("{line}") };
     let mut run = TrackRun::open(&args.frames, &args.options(), &interrupt::requested)?;
     if let Some(damage) = run.input.damage() {
         eprintln!("warning: {}: {damage}", args.frames.display());
     }
     let range = run.range.clone();
-    let started = std::time::Instant::now();
     let truth_path = args.frames.join("groundtruth.csv");
     let truth = if args.frames.is_dir() && truth_path.exists() { Some(groundtruth::read(&truth_path)?) } else { None };
     let truth = truth.map(|t| t.get(range.clone()).unwrap_or_default().to_vec());
-    let shape = run.shape;
-    // The CSV is written a row as each frame ends (into a temporary file, put in place once
-    // every output is written).
-    let mut csv_out = match &out {
-        Some(o) => {
-            let mut stream = o.stream()?;
-            writeln!(stream, "{}", csv::TRACK_HEADER).map_err(|e| super::io_error("write", &o.path, e))?;
-            Some((o, stream, None))
-        }
-        None => None,
-    };
-    // The VCD is shared: the run writes into it, and it is finished here with the others.
-    let vcd_stream = match &vcd {
-        Some((v, _)) => {
-            let frames = args.vcd_frames.clone().unwrap_or(0..range.len());
-            let mb = tracking::vcd_megabytes_a_frame(run.input.size(), run.cfg.strategy.units());
-            if frames.len() > 4 {
-                eprintln!(
-                    "warning: --vcd traces {} frames, about {mb:.0} MB each ({:.1} GB); --vcd-frames FIRST..END traces fewer",
-                    frames.len(),
-                    mb * frames.len() as f64 / 1000.0
-                );
-            }
-            Some((v.stream()?.shared(), frames))
-        }
-        None => None,
-    };
-    let trace = vcd_stream.as_ref().map(|(shared, frames)| Trace { out: Box::new(shared.clone()), frames: frames.clone() });
-    let log = run.track(trace, &interrupt::requested, &mut progress_line(range.len(), "tracking"), &mut |_, row| {
-        if let Some((_, stream, error @ None)) = &mut csv_out {
-            *error = writeln!(stream, "{row}").err();
-        }
-    })?;
-    let summary = truth.as_ref().map(|t| metrics::summarise(&log, t));
-    let tracking_secs = started.elapsed().as_secs_f64();
-    // Every output is completed only once all are written: an interrupted or failed run
-    // replaces none of them.
-    let mut done = Vec::new();
-    if let Some((o, stream, error)) = csv_out {
-        if let Some(e) = error {
-            return Err(super::io_error("write", &o.path, e));
-        }
-        done.push((stream, (!to_stdout).then(|| format!("wrote {}", o.path.display()))));
-    }
-    if let Some((v, req)) = &vcd {
-        let mut stream = req.stream()?;
-        stream.write_all(requests::to_csv(&log).as_bytes()).map_err(|e| super::io_error("write", &req.path, e))?;
-        let line = format!("wrote {} and {} (every unit; check one with `coopwin audit --unit K`)", v.path.display(), req.path.display());
-        done.push((stream, Some(line)));
-    }
-    if let Some((kind, o)) = &overlay_out {
-        let points = truth.as_ref().map(|t| metrics::true_points(&log, t));
-        let painter = Painter::new(&log, points.as_deref(), shape.size).numbered_from(range.start);
-        let mut all = run.input.frames().map_err(TrackError::from)?;
-        let mut frames = tracking::tracked(&mut all, range.clone())?;
-        let (stream, reduced) = kind.write(o.stream()?, &mut Interruptible(&mut frames, &interrupt::requested), painter, run.fps.unwrap_or(1.0 / log.frame_period))?;
-        let reduced = reduced.map(|r| format!(" ({r}, to bound the GIF's size; an .mp4 overlay keeps every frame at full size)")).unwrap_or_default();
-        done.push((stream, Some(format!("wrote {}{reduced}", o.path.display()))));
-    }
-    if interrupt::requested() {
-        return Err(CliError::interrupted());
-    }
-    if let Some((v, _)) = vcd_stream {
-        v.finish()?;
-    }
-    for (stream, line) in done {
-        stream.finish()?;
-        if let Some(l) = line {
-            say(l);
-        }
-    }
-    for line in report::run_lines(&log, started.elapsed().as_secs_f64(), tracking_secs, range.start) {
+    let started = std::time::Instant::now();
+    let done = files.track(&mut run, args.vcd_frames.clone(), truth.as_deref(), &mut progress_line(range.len(), "tracking"))?;
+    let log = done.log;
+    done.written.into_iter().for_each(say);
+    for line in report::run_lines(&log, started.elapsed().as_secs_f64(), done.tracking_secs, range.start) {
         say(line);
     }
-    if let Some(s) = summary {
+    if let Some(t) = &truth {
+        let s = metrics::summarise(&log, t);
         say(report::verdict(&s));
         say(report::summary_table(&[(run.cfg.strategy.name(), s)]));
     }
     Ok(())
-}
-
-/// Seconds between two progress lines when standard error is not a terminal (a log file, a
-/// pipe): a long run shows it is alive without filling the log. `COOPWIN_PROGRESS_SECS`
-/// sets another.
-const LOG_PROGRESS_SECS: f64 = 5.0;
-
-/// A progress line on stderr: frames done, frames/s (wall-clock) and the time left; on a
-/// terminal redrawn in place at most four times a second, elsewhere a line every
-/// [`LOG_PROGRESS_SECS`].
-pub fn progress_line(total: usize, label: &'static str) -> impl FnMut(usize) {
-    let tty = std::io::stderr().is_terminal();
-    let log_secs = std::env::var("COOPWIN_PROGRESS_SECS").ok().and_then(|v| v.parse::<f64>().ok()).filter(|s| s.is_finite() && *s >= 0.0);
-    let every = if tty { 0.25 } else { log_secs.unwrap_or(LOG_PROGRESS_SECS) };
-    let started = std::time::Instant::now();
-    let mut shown = started;
-    move |k: usize| {
-        let now = std::time::Instant::now();
-        let last = k + 1 == total;
-        let due = now.duration_since(shown).as_secs_f64() >= every;
-        if !(due || (last && tty)) {
-            return;
-        }
-        shown = now;
-        let rate = (k + 1) as f64 / now.duration_since(started).as_secs_f64().max(1e-9);
-        let left = (total - k - 1) as f64 / rate.max(1e-9);
-        let line = format!("{label}: frame {}/{total}, {rate:.0} frames/s, ETA {}:{:02}", k + 1, left as u64 / 60, left as u64 % 60);
-        if tty {
-            eprint!("\r{line}   ");
-            if last {
-                eprintln!();
-            }
-        } else {
-            eprintln!("{line}");
-        }
-    }
 }
