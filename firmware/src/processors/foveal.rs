@@ -401,13 +401,13 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     }
 
     /// The first window of an adapting track the Peripheral handed over: `found`, the better
-    /// of the current template's match and the first template's (`by_first`), from
-    /// [`PeripheralParams::redetect`](super::params::PeripheralParams::redetect) (the bar the Peripheral's re-detection cleared), the first template
-    /// taken back where it won and cleared it. The current template is the look the track
+    /// of the current template's match and the first template's (`by_first`), from the bar
+    /// the Peripheral's re-detection cleared ([`super::params::PeripheralParams::accept`]),
+    /// the first template taken back where it won and cleared it. The current template is the look the track
     /// lost the object with: on the earring of `Megamind.avi` it scores 0.24-0.49 where the
     /// Peripheral hands the stud over, the first 0.78-0.96, and wrong places 0.44-0.72.
     fn handed_over(&mut self, found: Option<NccFound>, by_first: bool) -> Option<NccFound> {
-        let found = found.filter(|f| f.score >= self.params.redetect.redetect);
+        let found = found.filter(|f| f.score >= self.params.redetect.accept);
         // Refused, the track keeps the look it had (the Peripheral's last trusted one).
         if let Some(t) = self.adapt.as_mut().filter(|_| by_first && found.is_some()).map(Adaptive::back_to_first) {
             self.adopt(t);

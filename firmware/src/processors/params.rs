@@ -143,7 +143,7 @@ pub struct PeripheralParams {
     /// (default 0.7): no motion gate checks the match there, so it is the acceptance of the
     /// first lock-on, not [`FovealParams::accept`] (at 0.5 it re-locked onto a cheek 60 px from
     /// the eye).
-    pub redetect: f32,
+    pub accept: f32,
     /// Pixels around where the track's last motion carries its last vouched point within which
     /// a location is handed over (default 24). With no bound on the distance, leaves-identical's
     /// copy, which comes in 140 px and more from where the target left the view, is vouched
@@ -159,7 +159,7 @@ pub struct PeripheralParams {
 
 impl Default for PeripheralParams {
     fn default() -> Self {
-        PeripheralParams { redetect: 0.7, prior_radius: 24.0, prior_growth: 2.0, prior_max: 120.0 }
+        PeripheralParams { accept: 0.7, prior_radius: 24.0, prior_growth: 2.0, prior_max: 120.0 }
     }
 }
 

@@ -28,7 +28,7 @@ pub const SWEEP_SIDE: u16 = 128;
 
 /// The decimated template over a 25% window: the approximate target and how well it matched
 /// (lower is better), or `None`. SSD as the thesis has it, or, for an adapting track, zero-mean
-/// NCC from [`PeripheralParams::redetect`].
+/// NCC from [`PeripheralParams::accept`].
 fn locate(win: &WindowView<'_>, tpl: &Template, p: &Params) -> (Option<(Point, f32)>, Work) {
     let n = tpl.side();
     let method = if p.adapt { Method::Zncc } else { Method::Ssd };
@@ -40,7 +40,7 @@ fn locate(win: &WindowView<'_>, tpl: &Template, p: &Params) -> (Option<(Point, f
     let searched = if p.adapt { best_match_candidates(win, &dt) } else { best_match(method, win, &dt) };
     let Ok(m) = searched else { return (None, work) };
     let (found, badness) = match method {
-        Method::Zncc => (m.score as f32 >= p.redetect.redetect, -(m.score as f32)),
+        Method::Zncc => (m.score as f32 >= p.redetect.accept, -(m.score as f32)),
         _ => {
             let per_pixel = m.score as f32 / tn.max(1) as f32;
             (per_pixel <= p.ssd_max, per_pixel)
