@@ -519,14 +519,17 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     /// whether the first template aligns or not (a view that changes a little a window: a
     /// tilt under blur dips the aligned score to 0.52 for 29 windows on `centre-combined`; the
     /// hinge of `Megamind.avi` turns until its first view no longer aligns, matched at
-    /// 0.96-0.99 a window); and, where it cannot align (a pattern without a gradient across,
+    /// 0.96-0.99 a window), or with at least `hold_ncc_aligned` where the first template still
+    /// aligns at `hold_align` (a walking person's legs, an eye as the head turns); and, where it cannot align (a pattern without a gradient across,
     /// the 1080p test's colour bars), where it is itself the current template and matches as
     /// the thesis's fixed template must (`confirm_ncc`). A cover breaks the chain: the panel
     /// of the long-term set `panel` dips the match to 0.85 as it comes over the target.
     fn first_vouches(&self, aligned: Option<f32>, matched: Option<f32>) -> bool {
         let matched = matched.unwrap_or(0.0);
-        let held = self.first_seen && matched >= self.params.track.hold_ncc;
-        held || aligned.map_or(self.adapt.as_ref().is_some_and(Adaptive::on_first) && matched >= self.params.track.confirm_ncc, |s| s >= self.params.track.confirm_align)
+        let bars = &self.params.track;
+        let corroborated = aligned.is_some_and(|s| s >= bars.hold_align) && matched >= bars.hold_ncc_aligned;
+        let held = self.first_seen && (matched >= bars.hold_ncc || corroborated);
+        held || aligned.map_or(self.adapt.as_ref().is_some_and(Adaptive::on_first) && matched >= bars.confirm_ncc, |s| s >= bars.confirm_align)
     }
 
     /// Whether the point followed, with NCC's `score` where NCC vouches for it, is the
@@ -814,12 +817,18 @@ mod tests {
         let mut f = Foveal::new(FovealKind::Ncc, params().adaptive(), Some(template()));
         let req = f.start_at(TARGET).request.unwrap();
         assert!(f.on_window(&cut(&frame(Some((30, 20))), &req), 0.0).outcome.vouched().is_some());
-        // The first view no longer aligns (None) or aligns weakly (0.6): held from `hold_ncc`
-        // (under `confirm_ncc`, from which the first template alone vouches for itself).
+        // The first view no longer aligns (None) or aligns under `hold_align`: held from
+        // `hold_ncc` (under `confirm_ncc`, from which the first template alone vouches for
+        // itself).
         let bars = f.params.track;
-        for aligned in [None, Some(0.6)] {
+        for aligned in [None, Some(bars.hold_align - 0.01)] {
             assert!(f.first_vouches(aligned, Some(bars.hold_ncc)), "{aligned:?}");
             assert!(!f.first_vouches(aligned, Some(bars.hold_ncc - 0.01)), "{aligned:?}: a dip under the bar breaks the chain");
+        }
+        // Where it still aligns at `hold_align` (under `confirm_align`), from `hold_ncc_aligned`.
+        for aligned in [bars.hold_align, bars.confirm_align - 0.01] {
+            assert!(f.first_vouches(Some(aligned), Some(bars.hold_ncc_aligned)), "{aligned}");
+            assert!(!f.first_vouches(Some(aligned), Some(bars.hold_ncc_aligned - 0.01)), "{aligned}: under both bars");
         }
         // A window followed unvouched (the corner detector's point, no NCC score) is no link.
         let mut step = Step::new(Work::None);

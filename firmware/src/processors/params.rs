@@ -88,6 +88,20 @@ pub struct FovealParams {
     /// (recall 0.17 against 0.06), but the panel's dip missed the bar by 0.004; at 0.9 no row
     /// is wrong, and the hinge of `Megamind.avi` is vouched for on all its frames.
     pub hold_ncc: f32,
+    /// The current template's score from which an adapting track stays vouched for, window
+    /// after window, where its first template still aligns at [`FovealParams::hold_align`] or
+    /// more (default 0.8, stop 48): a view that changes from window to window, as a walking
+    /// person's legs or an eye as the head turns, whose first view still corroborates the
+    /// place. Measured on the long-term sets and clips: the crowd's recall 0.611 -> 0.704,
+    /// Megamind's eyes 0.056 -> 0.169 and 0.050 -> 0.163, vtest's redcoat 0.047 -> 0.144, no
+    /// row wrong; at 0.7 none either (crowd 0.724), at 0.6 one on turned-front and on the
+    /// crowd, three on vtest's jeans: 0.8 keeps twice that margin.
+    pub hold_ncc_aligned: f32,
+    /// The aligned first template's score from which [`FovealParams::hold_ncc_aligned`] holds
+    /// the chain (default 0.5). Any score from 0 to 0.5 vouched for the same rows; at 0.65 the
+    /// eyes lost what the lower bar gained (0.063). A first view that does not align at all (a
+    /// panel the template learnt) holds only at [`FovealParams::hold_ncc`].
+    pub hold_align: f32,
     /// Windows in a row an adapting track may follow a point its first template does not
     /// confirm before it is taken to have gone astray and lost (default 8, issue 38): a
     /// look-alike that crossed in front, an occluder the template learnt. Measured on the
@@ -124,6 +138,8 @@ impl Default for FovealParams {
             confirm_ncc: 0.99,
             confirm_align: 0.8,
             hold_ncc: super::adapt::CONFIRM,
+            hold_ncc_aligned: 0.8,
+            hold_align: 0.5,
             unconfirmed_run: 8,
             prior_seconds: 3.0,
             coast_margin: 6,
