@@ -213,7 +213,7 @@ class Tracker:
 
     @property
     def confidence(self) -> Optional[float]:
-        """The chance the position is the target's: 0.9-1.0 where ``ok``, 0.2 where not; None without a measured position."""
+        """The chance the position is the target's: 0.9-1.0 where ``ok``, 0.6 where not; None without a measured position."""
         return self.row.confidence
 
     @property

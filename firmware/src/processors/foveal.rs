@@ -478,7 +478,9 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
                     let first = a.back_to_first();
                     self.adopt(first);
                 }
-                Some(next) if score.is_some() => self.adopt(next),
+                // A track in doubt learns only from a window whose match holds (issue 38 item
+                // 1): a look-alike or a cover coming over the object drops it.
+                Some(next) if score.is_some_and(|s| confirmed || s >= self.params.track.learn_in_doubt) => self.adopt(next),
                 _ => {}
             }
         }
@@ -596,7 +598,7 @@ mod tests {
     use crate::kernels::matching::Method;
     use crate::processors::partner::CornerPartner;
     use crate::processors::params::FovealParams;
-    use crate::processors::testing::{cut, frame, params, square, template, TARGET};
+    use crate::processors::testing::{cut, frame, params, square, template, SIDE, TARGET};
 
     fn near(p: Point, q: Point) -> bool {
         (p.x - q.x).abs() < 0.01 && (p.y - q.y).abs() < 0.01
@@ -837,6 +839,27 @@ mod tests {
         // Once a window was not vouched for, only the first view aligning at `confirm_align` vouches.
         assert!(!f.first_vouches(None, Some(0.95)) && !f.first_vouches(Some(0.79), Some(0.95)));
         assert!(f.first_vouches(Some(bars.confirm_align), None));
+    }
+
+    #[test]
+    fn a_track_in_doubt_learns_only_from_a_window_whose_match_holds() {
+        // The block grown to 4x8: a look its first view does not confirm, so the window
+        // proposes a template cut from it.
+        let mut grown = frame(Some((30, 20)));
+        for y in 24..28 {
+            grown[y * SIDE + 30..y * SIDE + 34].fill(200);
+        }
+        let bar = FovealParams::default().learn_in_doubt;
+        for (score, learns) in [(bar, true), (bar - 0.01, false)] {
+            let mut f = Foveal::new(FovealKind::Ncc, params().adaptive(), Some(template()));
+            let req = f.start_at(TARGET).request.unwrap();
+            f.adapt.as_mut().unwrap().propose(&cut(&grown, &req), TARGET, score, 8, false);
+            let before = f.template.clone();
+            let mut step = Step::new(Work::None);
+            f.follow(&mut step, 0.04, Some(TARGET), Source::Ncc, Some(score));
+            assert!(matches!(step.outcome, Outcome::Unconfirmed(_)), "not vouched for: {:?}", step.outcome);
+            assert_eq!(f.template != before, learns, "match {score}: learns {learns}");
+        }
     }
 
     #[test]
