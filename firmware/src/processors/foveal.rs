@@ -522,10 +522,12 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     /// tilt under blur dips the aligned score to 0.52 for 29 windows on `centre-combined`; the
     /// hinge of `Megamind.avi` turns until its first view no longer aligns, matched at
     /// 0.96-0.99 a window), or with at least `hold_ncc_aligned` where the first template still
-    /// aligns at `hold_align` (a walking person's legs, an eye as the head turns); and, where it cannot align (a pattern without a gradient across,
-    /// the 1080p test's colour bars), where it is itself the current template and matches as
-    /// the thesis's fixed template must (`confirm_ncc`). A cover breaks the chain: the panel
-    /// of the long-term set `panel` dips the match to 0.85 as it comes over the target.
+    /// aligns at `hold_align` (a walking person's legs, an eye as the head turns); and, where
+    /// it cannot align (a pattern without a gradient across, the 1080p test's colour bars),
+    /// where it is itself the current template and matches as the thesis's fixed template
+    /// must (`confirm_ncc`). A cover breaks the chain: the panel of the long-term set `panel`
+    /// dips the match to 0.85 as it comes over the target, and a panel the template learnt
+    /// does not align at all.
     fn first_vouches(&self, aligned: Option<f32>, matched: Option<f32>) -> bool {
         let matched = matched.unwrap_or(0.0);
         let bars = &self.params.track;
