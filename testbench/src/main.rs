@@ -58,7 +58,7 @@ CSV columns (--out), one row a frame:
   file                      the frame's file name (a folder of PNG frames)
   box_x, box_y, box_w, box_h  the box around the position (OpenCV's convention)
   confidence                the chance the position is the target's: 0.9-1.0 where ok (with
-                            NCC's score), 0.2 where not
+                            NCC's score), 0.6 where not
   ok                        1: a position measured at most 2 frames before that the
                             firmware vouched for (a robot may follow it)
   time_s                    the video's own timestamp, or frame/fps

@@ -24,8 +24,9 @@
 //!    at `p_n`: drift can accumulate only while the object looks unlike its first view, and
 //!    is removed as soon as it looks like it again.
 //!
-//! The proposal is taken only if the track then follows NCC's own measurement
-//! ([`Adaptive::take`]); a frame in which the COOP decision followed something else discards it.
+//! The proposal is taken only if the track then follows NCC's own measurement, and is vouched
+//! for or still matches at [`super::params::FovealParams::learn_in_doubt`]
+//! ([`Adaptive::take`]); otherwise it is discarded ([`Adaptive::discard`]).
 use super::coop::guard::dist;
 use super::template::Template;
 use crate::kernels::matching::{best_match_near, score_at, Method};
@@ -55,14 +56,23 @@ pub const RECLAIM: f32 = 0.95;
 /// drift that a turn away from the first view and back accumulates stays under it.
 pub const RECLAIM_REACH: usize = 3;
 
+/// What a window proposes as the next template.
+enum Proposal {
+    /// The first template, taken back.
+    First,
+    /// A template cut from the window.
+    Cut(Template),
+}
+
 /// The first template, prepared for alignment for up to `P` used pixels (as its tracker's
 /// [`crate::kernels::refine::LkTemplate`]: `(n - 2)²` for an `n x n` template), and the
 /// template proposed by the last window.
 pub struct Adaptive<const P: usize = INTERIOR> {
     first: Template,
     first_sim: SimilarityTemplate<P>,
-    pending: Option<Template>,
-    /// The template proposed last is the first one.
+    pending: Option<Proposal>,
+    /// The current template is the first one: set when a proposal is taken, not when it is
+    /// made (a proposal may be discarded).
     on_first: bool,
     /// The first template's turn and scale in the last window it aligned in (`(a, b)` of
     /// its [`Pose`]): the next alignment starts from them.
@@ -150,16 +160,14 @@ impl<const P: usize> Adaptive<P> {
             // The object looks as it did at lock-on: the first template itself, unchanged.
             Some((_, s)) if s >= RECLAIM => {
                 if !self.on_first {
-                    self.pending = Some(self.first.clone());
-                    self.on_first = true;
+                    self.pending = Some(Proposal::First);
                 }
                 return;
             }
             Some((p, _)) if dist(p, at) <= DRIFT => p,
             _ => at,
         };
-        self.pending = Template::capture(win, cut_at, n);
-        self.on_first = false;
+        self.pending = Template::capture(win, cut_at, n).map(Proposal::Cut);
     }
 
     /// The placement of the first template in `win` that puts its anchor nearest `at`.
@@ -195,9 +203,15 @@ impl<const P: usize> Adaptive<P> {
         Some((self.first.point_at(x, y), score))
     }
 
-    /// The proposed template, if the last window proposed one (taken: proposed once).
+    /// The proposed template, if the last window proposed one, as the current template from
+    /// now on (taken: proposed once).
     pub fn take(&mut self) -> Option<Template> {
-        self.pending.take()
+        let taken = self.pending.take()?;
+        self.on_first = matches!(taken, Proposal::First);
+        Some(match taken {
+            Proposal::First => self.first.clone(),
+            Proposal::Cut(t) => t,
+        })
     }
 
     /// Forgets the proposal: the track did not follow its measurement.

@@ -464,24 +464,22 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     /// Follows `found` (measured by `source`, with NCC's `score` when NCC vouches for it) at
     /// time `t`: the next window, the Peripheral told, the outcome: the point, vouched for or
     /// not, or the loss. An adapting template takes the window's proposal when NCC measured
-    /// the point followed.
+    /// the point followed, and the row is vouched for or its match reaches `learn_in_doubt`.
     fn follow(&mut self, step: &mut Step, t: f64, found: Option<Point>, source: Source, score: Option<f32>) {
         let confirmed = self.confirms(score);
         // A COOP report the first template did not measure (the corner detector's) is no link
         // of the chain, though the template's own match vouched.
         self.first_seen = confirmed;
         let astray = self.astray(confirmed);
+        // A track in doubt learns only from a window whose match holds (issue 38 item 1): a
+        // look-alike or a cover coming over the object drops it.
+        let learns = score.is_some_and(|s| confirmed || s >= self.params.track.learn_in_doubt);
         if let Some(a) = self.adapt.as_mut() {
-            match a.take() {
-                // A track that has gone astray starts again from the object's first view.
-                _ if astray => {
-                    let first = a.back_to_first();
-                    self.adopt(first);
-                }
-                // A track in doubt learns only from a window whose match holds (issue 38 item
-                // 1): a look-alike or a cover coming over the object drops it.
-                Some(next) if score.is_some_and(|s| confirmed || s >= self.params.track.learn_in_doubt) => self.adopt(next),
-                _ => {}
+            // A track that has gone astray starts again from the object's first view.
+            let next = if astray { Some(a.back_to_first()) } else if learns { a.take() } else { None };
+            a.discard();
+            if let Some(next) = next {
+                self.adopt(next);
             }
         }
         match (found.filter(|_| !astray), self.phase) {
@@ -517,12 +515,12 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     /// Whether an adapting track's first template vouches for this window's point (issue 38),
     /// from its aligned score `aligned` ([`Adaptive::align`]) and the current template's
     /// `matched` score: where it aligns with at least `confirm_align`; where the last window
-    /// was vouched for and the current template still matches with at least `hold_ncc`,
-    /// whether the first template aligns or not (a view that changes a little a window: a
-    /// tilt under blur dips the aligned score to 0.52 for 29 windows on `centre-combined`; the
-    /// hinge of `Megamind.avi` turns until its first view no longer aligns, matched at
-    /// 0.96-0.99 a window), or with at least `hold_ncc_aligned` where the first template still
-    /// aligns at `hold_align` (a walking person's legs, an eye as the head turns); and, where
+    /// was vouched for and the current template still matches with at least `hold_ncc_aligned`
+    /// where the first template aligns under `confirm_align` (a view that changes a little a
+    /// window: a tilt under blur dips the aligned score to 0.52 for 29 windows on
+    /// `centre-combined`; a walking person's legs, an eye as the head turns), or with at least
+    /// `hold_ncc` where it does not align at all (the hinge of `Megamind.avi` turns until its
+    /// first view no longer aligns, matched at 0.96-0.99 a window); and, where
     /// it cannot align (a pattern without a gradient across, the 1080p test's colour bars),
     /// where it is itself the current template and matches as the thesis's fixed template
     /// must (`confirm_ncc`). A cover breaks the chain: the panel of the long-term set `panel`
@@ -531,8 +529,8 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     fn first_vouches(&self, aligned: Option<f32>, matched: Option<f32>) -> bool {
         let matched = matched.unwrap_or(0.0);
         let bars = &self.params.track;
-        let corroborated = aligned.is_some_and(|s| s >= bars.hold_align) && matched >= bars.hold_ncc_aligned;
-        let held = self.first_seen && (matched >= bars.hold_ncc || corroborated);
+        let hold = if aligned.is_some() { bars.hold_ncc_aligned } else { bars.hold_ncc };
+        let held = self.first_seen && matched >= hold;
         held || aligned.map_or(self.adapt.as_ref().is_some_and(Adaptive::on_first) && matched >= bars.confirm_ncc, |s| s >= bars.confirm_align)
     }
 
@@ -821,16 +819,13 @@ mod tests {
         let mut f = Foveal::new(FovealKind::Ncc, params().adaptive(), Some(template()));
         let req = f.start_at(TARGET).request.unwrap();
         assert!(f.on_window(&cut(&frame(Some((30, 20))), &req), 0.0).outcome.vouched().is_some());
-        // The first view no longer aligns (None) or aligns under `hold_align`: held from
-        // `hold_ncc` (under `confirm_ncc`, from which the first template alone vouches for
-        // itself).
+        // The first view no longer aligns: held from `hold_ncc` (under `confirm_ncc`, from
+        // which the first template alone vouches for itself).
         let bars = f.params.track;
-        for aligned in [None, Some(bars.hold_align - 0.01)] {
-            assert!(f.first_vouches(aligned, Some(bars.hold_ncc)), "{aligned:?}");
-            assert!(!f.first_vouches(aligned, Some(bars.hold_ncc - 0.01)), "{aligned:?}: a dip under the bar breaks the chain");
-        }
-        // Where it still aligns at `hold_align` (under `confirm_align`), from `hold_ncc_aligned`.
-        for aligned in [bars.hold_align, bars.confirm_align - 0.01] {
+        assert!(f.first_vouches(None, Some(bars.hold_ncc)));
+        assert!(!f.first_vouches(None, Some(bars.hold_ncc - 0.01)), "a dip under the bar breaks the chain");
+        // Where it still aligns (from `ALIGN`, under `confirm_align`), from `hold_ncc_aligned`.
+        for aligned in [crate::processors::adapt::ALIGN, bars.confirm_align - 0.01] {
             assert!(f.first_vouches(Some(aligned), Some(bars.hold_ncc_aligned)), "{aligned}");
             assert!(!f.first_vouches(Some(aligned), Some(bars.hold_ncc_aligned - 0.01)), "{aligned}: under both bars");
         }
@@ -852,15 +847,19 @@ mod tests {
             grown[y * SIDE + 30..y * SIDE + 34].fill(200);
         }
         let bar = FovealParams::default().learn_in_doubt;
-        for (score, learns) in [(bar, true), (bar - 0.01, false)] {
+        // (vouched for, match, learns): a vouched row learns whatever its match.
+        for (vouched, score, learns) in [(false, bar, true), (false, bar - 0.01, false), (true, bar - 0.01, true)] {
             let mut f = Foveal::new(FovealKind::Ncc, params().adaptive(), Some(template()));
             let req = f.start_at(TARGET).request.unwrap();
             f.adapt.as_mut().unwrap().propose(&cut(&grown, &req), TARGET, score, 8, false);
+            f.first_seen = vouched;
             let before = f.template.clone();
             let mut step = Step::new(Work::None);
             f.follow(&mut step, 0.04, Some(TARGET), Source::Ncc, Some(score));
-            assert!(matches!(step.outcome, Outcome::Unconfirmed(_)), "not vouched for: {:?}", step.outcome);
+            assert_eq!(step.outcome.vouched().is_some(), vouched, "{:?}", step.outcome);
             assert_eq!(f.template != before, learns, "match {score}: learns {learns}");
+            // A template refused leaves the track on its first one, as it says.
+            assert_eq!(f.adapt.as_ref().unwrap().on_first(), !learns);
         }
     }
 
