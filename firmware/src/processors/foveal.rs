@@ -520,7 +520,8 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     /// window: a tilt under blur dips the aligned score to 0.52 for 29 windows on
     /// `centre-combined`; a walking person's legs, an eye as the head turns), or with at least
     /// `hold_ncc` where it does not align at all (the hinge of `Megamind.avi` turns until its
-    /// first view no longer aligns, matched at 0.96-0.99 a window); and, where
+    /// first view no longer aligns, matched at 0.96-0.99 a window); out of the chain, where the
+    /// first template aligns and the current one matches with at least `rejoin_ncc`; and, where
     /// it cannot align (a pattern without a gradient across, the 1080p test's colour bars),
     /// where it is itself the current template and matches as the thesis's fixed template
     /// must (`confirm_ncc`). A cover breaks the chain: the panel of the long-term set `panel`
@@ -531,7 +532,8 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         let bars = &self.params.track;
         let hold = if aligned.is_some() { bars.hold_ncc_aligned } else { bars.hold_ncc };
         let held = self.first_seen && matched >= hold;
-        held || aligned.map_or(self.adapt.as_ref().is_some_and(Adaptive::on_first) && matched >= bars.confirm_ncc, |s| s >= bars.confirm_align)
+        let rejoined = aligned.is_some() && matched >= bars.rejoin_ncc;
+        held || rejoined || aligned.map_or(self.adapt.as_ref().is_some_and(Adaptive::on_first) && matched >= bars.confirm_ncc, |s| s >= bars.confirm_align)
     }
 
     /// Whether the point followed, with NCC's `score` where NCC vouches for it, is the
@@ -833,8 +835,15 @@ mod tests {
         let mut step = Step::new(Work::None);
         f.follow(&mut step, 0.04, Some(TARGET), Source::Cd, None);
         assert!(matches!(step.outcome, Outcome::Unconfirmed(_)));
-        // Once a window was not vouched for, only the first view aligning at `confirm_align` vouches.
-        assert!(!f.first_vouches(None, Some(0.95)) && !f.first_vouches(Some(0.79), Some(0.95)));
+        // Out of the chain, a first view that aligns (under `confirm_align`) and a match at
+        // `rejoin_ncc` vouch again; the chain's own bar does not.
+        let weak = bars.confirm_align - 0.01;
+        assert!(f.first_vouches(Some(weak), Some(bars.rejoin_ncc)));
+        assert!(!f.first_vouches(Some(weak), Some(bars.rejoin_ncc - 0.01)) && !f.first_vouches(Some(weak), Some(bars.hold_ncc_aligned)));
+        // A first view that does not align vouches for nothing out of the chain (but for the
+        // first template itself at `confirm_ncc`); one that aligns at `confirm_align`, whatever
+        // the match.
+        assert!(!f.first_vouches(None, Some(0.95)));
         assert!(f.first_vouches(Some(bars.confirm_align), None));
     }
 
