@@ -206,12 +206,12 @@ impl<const P: usize> Adaptive<P> {
     /// The proposed template, if the last window proposed one, as the current template from
     /// now on (taken: proposed once).
     pub fn take(&mut self) -> Option<Template> {
-        let taken = self.pending.take()?;
-        self.on_first = matches!(taken, Proposal::First);
-        Some(match taken {
-            Proposal::First => self.first.clone(),
-            Proposal::Cut(t) => t,
-        })
+        let (template, on_first) = match self.pending.take()? {
+            Proposal::First => (self.first.clone(), true),
+            Proposal::Cut(t) => (t, false),
+        };
+        self.on_first = on_first;
+        Some(template)
     }
 
     /// Forgets the proposal: the track did not follow its measurement.

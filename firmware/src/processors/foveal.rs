@@ -476,8 +476,14 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         let learns = score.is_some_and(|s| confirmed || s >= self.params.track.learn_in_doubt);
         if let Some(a) = self.adapt.as_mut() {
             // A track that has gone astray starts again from the object's first view.
-            let next = if astray { Some(a.back_to_first()) } else if learns { a.take() } else { None };
-            a.discard();
+            let next = match (astray, learns) {
+                (true, _) => Some(a.back_to_first()),
+                (false, true) => a.take(),
+                (false, false) => {
+                    a.discard();
+                    None
+                }
+            };
             if let Some(next) = next {
                 self.adopt(next);
             }
@@ -530,10 +536,10 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     fn first_vouches(&self, aligned: Option<f32>, matched: Option<f32>) -> bool {
         let matched = matched.unwrap_or(0.0);
         let bars = &self.params.track;
-        let hold = if aligned.is_some() { bars.hold_ncc_aligned } else { bars.hold_ncc };
-        let held = self.first_seen && matched >= hold;
-        let rejoined = aligned.is_some() && matched >= bars.rejoin_ncc;
-        held || rejoined || aligned.map_or(self.adapt.as_ref().is_some_and(Adaptive::on_first) && matched >= bars.confirm_ncc, |s| s >= bars.confirm_align)
+        match aligned {
+            Some(s) => s >= bars.confirm_align || matched >= if self.first_seen { bars.hold_ncc_aligned } else { bars.rejoin_ncc },
+            None => (self.first_seen && matched >= bars.hold_ncc) || (self.adapt.as_ref().is_some_and(Adaptive::on_first) && matched >= bars.confirm_ncc),
+        }
     }
 
     /// Whether the point followed, with NCC's `score` where NCC vouches for it, is the

@@ -112,8 +112,8 @@ pub const VOUCHED_CONFIDENCE: f64 = 0.9;
 /// vouched row may be): the share of such rows on the target, measured as
 /// [`VOUCHED_CONFIDENCE`] was, is 0.67 for the default (0.46 of 140 on the long-term sets,
 /// where many follow a look-alike or an occluder; 0.86 of 155 on the clips, where most follow
-/// a changed look). It was 0.64 when this value was read, and 0.6 and 0.7 have the same
-/// calibration error within 2 rows; 0.22 of 1,281 before a track in doubt stopped learning
+/// a changed look). It was 0.64 when this value was read; 0.7 has the same calibration error
+/// within 3 of 3,269 rows; 0.22 of 1,281 before a track in doubt stopped learning
 /// (stop 48). NCC's score did not tell the right ones when last looked at (stop 45: on the
 /// sets the best-matching tenth was right least often). `--fixed-template`'s are 0.01 of 662
 /// on the sets and 0.99 of 94 on the clips (the thesis's NCC 0.97-0.99 on real footage): no
