@@ -3,9 +3,22 @@
 
     python3 scripts/opencv_longterm.py [--clip CLIP [--only OBJECT]]
         [--data /usr/share/doc/opencv-doc/examples/data] [--out fixtures/longterm/opencv]
+    python3 scripts/opencv_longterm.py --sets [--coopwin target/release/coopwin]
+        [--out fixtures/longterm/opencv]
 
 Without --clip it runs every clip that has fixtures/longterm/<clip>/objects.csv (vtest,
 Megamind, Megamind_bugy, tree; about 10 minutes on one core, TLD taking most of it).
+
+With --sets it runs the semi-synthetic long-term sets instead (`coopwin experiment
+long-term`'s, rendered by `coopwin scene --set NAME` into a temporary folder: frames, truth.csv
+and fingerprint.txt), each from the target's box on frame 0 as `track --target-box` starts
+(truth.csv's box rounded half up, as the testbench's start_box), to frame 299, into
+--out/sets/: <tracker>_<set>.csv, <set>.fingerprint (the frames' fingerprint, which the
+testbench compares with the frames it renders now: a stale fixture fails its test) and
+summary.csv. They are scored as the testbench scores its own runs on them
+(analysis/longterm.rs): a row with ok=1 is right only on a visible frame and within 5 px of
+the target's centre (no "inside the box", and a hidden frame's row is wrong), over every
+frame, the start frame's given box included; the rest as below. About 3 minutes on one core.
 
 The objects are fixtures/longterm/<clip>/objects.csv (object,first,last,x,y,w,h) and their
 hand labels fixtures/longterm/<clip>/<object>.csv (keyframes, interpolated by
@@ -59,7 +72,9 @@ import concurrent.futures
 import csv
 import math
 import multiprocessing
+import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -71,6 +86,10 @@ from longterm_annotate import interpolate, read_labels
 REPO = Path(__file__).resolve().parent.parent
 DATA = Path("/usr/share/doc/opencv-doc/examples/data")
 TRACKERS = ("csrt", "kcf", "mosse", "tld")
+# The long-term sets (testbench/src/frames/scene/longterm.rs); the testbench's test fails on a
+# set with no fixture here.
+SETS = ("lookalike-front", "lookalike-behind", "turned-front", "identical-behind", "leaves",
+        "leaves-identical", "crowd", "panel", "partial", "clutter")
 NEAR_PX = 5.0
 # OpenCV's legacy MOSSE (mosseTracker.cpp): its constants.
 MOSSE_EPS = 0.00001
@@ -177,7 +196,11 @@ class Mosse:
 
 
 def read_clip(path: Path) -> list[np.ndarray]:
-    """Every decodable frame as gray replicated to 3-channel BGR."""
+    """Every decodable frame as gray replicated to 3-channel BGR: a video's, or a folder's
+    frame_*.png in order (`coopwin scene`'s)."""
+    if path.is_dir():
+        return [cv2.cvtColor(cv2.imread(str(f), cv2.IMREAD_GRAYSCALE), cv2.COLOR_GRAY2BGR)
+                for f in sorted(path.glob("frame_*.png"))]
     cap = cv2.VideoCapture(str(path))
     if not cap.isOpened():
         sys.exit(f"{path}: cv2.VideoCapture cannot open it (apt-get install opencv-doc)")
@@ -237,41 +260,85 @@ def write_rows(path: Path, rows) -> None:
                         "" if s is None else f"{s:.4f}"])
 
 
-def right(box, label) -> bool:
-    """Is a reported box's centre on the labelled object (inside its box or within 5 px)?"""
+def right(box, label, inside_counts: bool = True) -> bool:
+    """Is a reported box's centre on the labelled object (inside its box, where
+    `inside_counts`, or within 5 px of its centre)?"""
     lb, state = label
     if lb is None or state == "gone":
         return False
     cx, cy = box[0] + (box[2] - 1) / 2, box[1] + (box[3] - 1) / 2
     lx, ly = lb[0] + (lb[2] - 1) / 2, lb[1] + (lb[3] - 1) / 2
     inside = lb[0] <= cx <= lb[0] + lb[2] - 1 and lb[1] <= cy <= lb[1] + lb[3] - 1
-    return inside or math.hypot(cx - lx, cy - ly) <= NEAR_PX
+    return (inside_counts and inside) or math.hypot(cx - lx, cy - ly) <= NEAR_PX
 
 
-def score(rows, labels) -> dict:
-    rows = [r for r in rows[1:] if r[0] in labels]
+def score(rows, labels, inside_counts: bool = True, given_counts: bool = False) -> dict:
+    """VOT-LT's and OxUvA's figures of `rows` against `labels`, from the frame after the
+    given start box (or from it, where `given_counts`)."""
+    right_ = lambda box, label: right(box, label, inside_counts)
+    rows = [r for r in rows[0 if given_counts else 1:] if r[0] in labels]
     visible = sum(1 for r in rows if labels[r[0]][1] == "visible")
     absent = [r for r in rows if labels[r[0]][1] != "visible"]
     thresholds = sorted({r[3] for r in rows if r[1] and r[3] is not None}) or [None]
     best = None
     for t in thresholds:
-        pred = [r for r in rows if r[1] and (t is None or r[3] >= t)]
-        good = [r for r in pred if right(r[2], labels[r[0]])]
+        # The given start box has no score: it is predicted at every threshold.
+        pred = [r for r in rows if r[1] and (t is None or r[3] is None or r[3] >= t)]
+        good = [r for r in pred if right_(r[2], labels[r[0]])]
         p = len(good) / len(pred) if pred else None
         rc = sum(1 for r in good if labels[r[0]][1] == "visible") / visible if visible else 0.0
         f = 2 * p * rc / (p + rc) if p and p + rc else 0.0
         if best is None or f > best["F"]:
             best = {"threshold": t, "precision": p, "recall": rc, "F": f, "rows": len(pred), "wrong": len(pred) - len(good)}
     ok_rows = [r for r in rows if r[1]]
-    tpr = sum(1 for r in ok_rows if labels[r[0]][1] == "visible" and right(r[2], labels[r[0]])) / visible if visible else float("nan")
+    tpr = sum(1 for r in ok_rows if labels[r[0]][1] == "visible" and right_(r[2], labels[r[0]])) / visible if visible else float("nan")
     tnr = sum(1 for r in absent if not r[1]) / len(absent) if absent else float("nan")
     return {**best, "frames": len(rows), "visible": visible, "absent": len(absent), "TPR": tpr, "TNR": tnr,
-            "ok_rows": len(ok_rows), "ok_wrong": sum(1 for r in ok_rows if not right(r[2], labels[r[0]]))}
+            "ok_rows": len(ok_rows), "ok_wrong": sum(1 for r in ok_rows if not right_(r[2], labels[r[0]]))}
 
 
 def out_dir(base: Path, clip: str) -> Path:
     """vtest's fixtures sit in --out itself, every other clip's in a folder of its name."""
     return base if clip == "vtest" else base / clip
+
+
+COLUMNS = ["tracker", "object", "frames", "visible", "absent", "ok_rows", "ok_wrong", "threshold",
+           "precision", "recall", "F", "TPR", "TNR"]
+
+
+def summary(table) -> list[str]:
+    """summary.csv's lines: COLUMNS, then a row per (tracker, object, score)."""
+    fmt = lambda v: "" if v is None or v != v else f"{v:.3f}" if isinstance(v, float) else str(v)
+    return [",".join(COLUMNS)] + [",".join([n, o] + [fmt(s[c]) for c in COLUMNS[2:]]) for n, o, s in table]
+
+
+def run_sets(coopwin: Path, out: Path) -> None:
+    """Every long-term set, rendered by `coopwin scene --set`, through every tracker."""
+    out.mkdir(parents=True, exist_ok=True)
+    table = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for name in SETS:
+            seq = Path(tmp) / name
+            subprocess.run([str(coopwin), "scene", "--set", name, "--out", str(seq)], check=True, stdout=subprocess.DEVNULL)
+            with (seq / "truth.csv").open() as fh:
+                truth = list(csv.DictReader(fh))
+            # Only a visible target can be right (a row on a hidden one is wrong).
+            labels = {int(r["frame"]): ((float(r["x"]), float(r["y"]), float(r["w"]), float(r["h"])) if r["state"] == "visible" else None,
+                                        r["state"]) for r in truth}
+            t0 = truth[0]
+            box = tuple(math.floor(float(t0[k]) + 0.5) for k in ("x", "y")) + (int(t0["w"]), int(t0["h"]))
+            frames = read_clip(seq)
+            last = len(frames) - 1
+            for tracker in TRACKERS:
+                rows = run_fresh(tracker, seq, 0, last, box) if tracker == "tld" else run(tracker, frames, 0, last, box)
+                write_rows(out / f"{tracker}_{name}.csv", rows)
+                table.append((tracker, name, score(rows, labels, inside_counts=False, given_counts=True)))
+            (out / f"{name}.fingerprint").write_text((seq / "fingerprint.txt").read_text())
+            print(f"  {name}: {last + 1} frames", file=sys.stderr)
+    lines = summary(table)
+    (out / "summary.csv").write_text("\n".join(lines) + "\n")
+    print("# long-term sets")
+    print("\n".join(lines))
 
 
 def main() -> None:
@@ -280,16 +347,23 @@ def main() -> None:
     ap.add_argument("--data", type=Path, default=DATA, help="folder of the clips (default: %(default)s)")
     ap.add_argument("--out", type=Path, default=REPO / "fixtures" / "longterm" / "opencv")
     ap.add_argument("--only", help="one object of --clip (no summary.csv is written)")
+    ap.add_argument("--sets", action="store_true", help="the semi-synthetic long-term sets instead of the clips, into --out/sets")
+    ap.add_argument("--coopwin", type=Path, default=REPO / "target" / "release" / "coopwin",
+                    help="the coopwin binary that renders the sets (default: %(default)s; cargo build --release)")
     a = ap.parse_args()
     if a.only and not a.clip:
         ap.error("--only needs --clip")
+    if a.sets and a.clip:
+        ap.error("--sets runs the synthetic sets, --clip a clip: give one")
     cv2.setNumThreads(1)
+    print(f"OpenCV {cv2.__version__}, numpy {np.__version__}", file=sys.stderr)
+    if a.sets:
+        if not a.coopwin.is_file():
+            sys.exit(f"{a.coopwin}: no such binary (cargo build --release, or give --coopwin)")
+        run_sets(a.coopwin, a.out / "sets")
+        return
     base = REPO / "fixtures" / "longterm"
     clips = [a.clip] if a.clip else sorted(p.parent.name for p in base.glob("*/objects.csv"))
-    print(f"OpenCV {cv2.__version__}, numpy {np.__version__}", file=sys.stderr)
-    cols = ["tracker", "object", "frames", "visible", "absent", "ok_rows", "ok_wrong", "threshold",
-            "precision", "recall", "F", "TPR", "TNR"]
-    fmt = lambda v: "" if v is None or v != v else f"{v:.3f}" if isinstance(v, float) else str(v)
     for clip in clips:
         root = base / clip
         if not (root / "objects.csv").exists():
@@ -315,7 +389,7 @@ def main() -> None:
                 write_rows(out / f"{name}_{obj}.csv", rows)
                 table.append((name, obj, score(rows, labels)))
                 print(f"  {name:5s} {obj:8s} {last - first} frames in {time.perf_counter() - t0:.1f} s", file=sys.stderr)
-        lines = [",".join(cols)] + [",".join([n, o] + [fmt(s[c]) for c in cols[2:]]) for n, o, s in table]
+        lines = summary(table)
         if not a.only:
             (out / "summary.csv").write_text("\n".join(lines) + "\n")
         print(f"# {clip}")

@@ -84,7 +84,7 @@ pub fn write_scene_files(args: SceneArgs) -> Result<(), CliError> {
     if let Some(name) = &args.set {
         if let Some(set) = longterm::sets().into_iter().find(|s| s.name == name.as_str()) {
             let n = write_long_term(&set, &args.out, args.force)?;
-            println!("wrote {n} frames of {name} ({} frames/s), groundtruth.csv and truth.csv to {}", longterm::FPS, args.out.display());
+            println!("wrote {n} frames of {name} ({} frames/s), groundtruth.csv, truth.csv and fingerprint.txt to {}", longterm::FPS, args.out.display());
             return Ok(());
         }
         let sets: Vec<_> = appearance::conditions().into_iter().chain(real_images::conditions()).collect();
@@ -192,7 +192,9 @@ fn prepare_folder(out: &Path, frames: usize, force: bool) -> Result<(), CliError
 /// Writes a long-term set's frames into `out` as [`write_scene`] does, its `groundtruth.csv`
 /// (the target's centre, `visible` 0 where it is hidden or gone) and `truth.csv`
 /// (`frame,x,y,w,h,state`: the target's box as OpenCV's `x,y,w,h` and `visible`, `hidden` or
-/// `gone`, the columns of the hand-labelled clips in `fixtures/longterm/`).
+/// `gone`, the columns of the hand-labelled clips in `fixtures/longterm/`), and
+/// `fingerprint.txt` (the frames' fingerprint, which `scripts/opencv_longterm.py --sets` keeps
+/// beside OpenCV's results on them).
 pub fn write_long_term(set: &longterm::LongTermSet, out: &Path, force: bool) -> Result<usize, CliError> {
     prepare_folder(out, longterm::FRAMES, force)?;
     let frames = set.render_all();
@@ -211,6 +213,7 @@ pub fn write_long_term(set: &longterm::LongTermSet, out: &Path, force: bool) -> 
     }
     OutFile::check(&out.join("groundtruth.csv"), "--out")?.write(groundtruth::to_csv(truth).as_bytes())?;
     OutFile::check(&out.join("truth.csv"), "--out")?.write(boxes.as_bytes())?;
+    OutFile::check(&out.join("fingerprint.txt"), "--out")?.write((frames.fingerprint() + "\n").as_bytes())?;
     Ok(frames.truth.len())
 }
 

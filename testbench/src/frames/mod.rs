@@ -138,6 +138,14 @@ impl FrameCache {
 /// FNV-1a's 64-bit prime, the fingerprint's multiplier.
 const FNV_PRIME: u64 = 0x0100_0000_01b3;
 
+/// A fingerprint of a sequence's frames, as hex (each frame's [`fingerprint`], folded in
+/// order): the same frames give the same text. The OpenCV fixtures store it, to tell that they
+/// were made from the frames the renderer makes now.
+pub fn frames_fingerprint<'a>(frames: impl IntoIterator<Item = &'a [u8]>) -> String {
+    let per_frame: Vec<u8> = frames.into_iter().flat_map(|f| fingerprint(f).to_le_bytes()).collect();
+    format!("{:016x}", fingerprint(&per_frame))
+}
+
 /// One 8-byte word into a fingerprint chain: a bijection of `h` for every word, so a changed
 /// word changes the chain's end.
 fn mix(h: u64, word: u64) -> u64 {

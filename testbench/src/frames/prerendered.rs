@@ -2,7 +2,7 @@
 //! several times (the real-image evaluation, the pipeline benchmark).
 use super::groundtruth::Truth;
 use super::scene::{Scene, SceneConfig};
-use super::{fingerprint, FrameError, FrameSource};
+use super::{frames_fingerprint, FrameError, FrameSource};
 
 /// Every frame of a scene, rendered ahead.
 pub struct Prerendered {
@@ -22,8 +22,7 @@ impl Prerendered {
 
     /// A fingerprint of every frame's pixels, as hex: the same frames give the same text.
     pub fn fingerprint(&self) -> String {
-        let per_frame: Vec<u8> = self.frames.iter().flat_map(|f| fingerprint(f).to_le_bytes()).collect();
-        format!("{:016x}", fingerprint(&per_frame))
+        frames_fingerprint(self.frames.iter().map(Vec::as_slice))
     }
 }
 

@@ -106,14 +106,28 @@ pub fn labelled(clip: &'static str) -> Result<Vec<Labelled>, ExperimentError> {
 }
 
 /// OpenCV's scores on `clip`'s objects from the fixtures' `summary.csv`: (tracker file part,
-/// object, precision (`None`: no `ok` row), F, wrong rows of `ok` rows).
+/// object, precision (`None`: no `ok` row), F).
 pub fn opencv_scores(clip: &str) -> Result<Vec<(String, String, Option<f64>, f64)>, ExperimentError> {
     let dir = if clip == "vtest" { folder().join("opencv") } else { folder().join("opencv").join(clip) };
-    let path = dir.join("summary.csv");
-    lines(&path)?
+    summary_scores(&dir.join("summary.csv"))
+}
+
+/// Where `scripts/opencv_longterm.py --sets` keeps OpenCV's runs on the long-term sets.
+pub fn opencv_sets_folder() -> PathBuf {
+    folder().join("opencv").join("sets")
+}
+
+/// OpenCV's scores on the long-term sets, as [`opencv_scores`] (the object is the set).
+pub fn opencv_set_scores() -> Result<Vec<(String, String, Option<f64>, f64)>, ExperimentError> {
+    summary_scores(&opencv_sets_folder().join("summary.csv"))
+}
+
+/// The rows of a `summary.csv` that `scripts/opencv_longterm.py` writes.
+fn summary_scores(path: &Path) -> Result<Vec<(String, String, Option<f64>, f64)>, ExperimentError> {
+    lines(path)?
         .into_iter()
         .map(|(line, f)| {
-            let bad = || ExperimentError::Fixture { path: path.clone(), line };
+            let bad = || ExperimentError::Fixture { path: path.into(), line };
             let f_score = f.get(10).and_then(|v| v.parse::<f64>().ok()).ok_or_else(bad)?;
             let precision = f.get(8).and_then(|v| v.parse::<f64>().ok());
             Ok((f.first().cloned().ok_or_else(bad)?, f.get(1).cloned().ok_or_else(bad)?, precision, f_score))

@@ -71,10 +71,7 @@ fn real_clips(dir: &Path, clip_dir: &Path, progress: &mut dyn FnMut(&str)) -> Re
         for o in &objects {
             let name = &o.object.name;
             progress(&format!("{clip_name} {name}"));
-            let theirs: Vec<String> = clips::OPENCV
-                .iter()
-                .map(|(_, file)| opencv.iter().find(|r| r.0 == *file && r.1 == *name).map_or("-".into(), |r| format!("{:.3}", r.3)))
-                .collect();
+            let theirs = opencv_f(&opencv, name);
             for (((label, _), (s, more)), bins) in TRACKERS.iter().zip(clips::score_object(&clip, o)?).zip(&mut bins) {
                 longterm::pool(bins, &more);
                 let opt = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:.4}"));
@@ -92,7 +89,7 @@ fn real_clips(dir: &Path, clip_dir: &Path, progress: &mut dyn FnMut(&str)) -> Re
                     s.wrong,
                     s.vouched,
                     s.wrong_run,
-                    theirs.join(" | ")
+                    theirs
                 );
             }
         }
@@ -101,6 +98,13 @@ fn real_clips(dir: &Path, clip_dir: &Path, progress: &mut dyn FnMut(&str)) -> Re
     let path = dir.join("long-term-clips.csv");
     std::fs::write(&path, csv).map_err(|source| ExperimentError::Io { action: "write", path, source })?;
     Ok((md, bins))
+}
+
+/// OpenCV's F on `object` (a set, or a clip's object) as the tables' cells, in
+/// [`clips::OPENCV`]'s order (`-` where the fixture has none).
+fn opencv_f(opencv: &[(String, String, Option<f64>, f64)], object: &str) -> String {
+    let cell = |file: &str| opencv.iter().find(|r| r.0 == file && r.1 == object).map_or("-".into(), |r| format!("{:.3}", r.3));
+    clips::OPENCV.map(|(_, file)| cell(file)).join(" | ")
 }
 
 /// Every tracker on every set: `table[set][tracker]`, with the rows and truth of each run for
@@ -135,12 +139,15 @@ pub fn evaluate(dir: &Path, clip_dir: &Path, progress: &mut dyn FnMut(&str)) -> 
         "## long-term (native profile)\n\nThe target among look-alikes, behind occluders and out of the view (`frames/scene/longterm.rs`), \
          tracked from its box on frame 0 as `track --target-box` does. Precision of the `ok` 1 rows (within 5 px of the visible \
          target), OxUvA's TPR (recall) and TNR (silence while the target is hidden or gone), VOT-LT's F at the best confidence \
-         threshold, wrong `ok` 1 rows of all vouched, and the confidence's AUROC.\n\n",
+         threshold, wrong `ok` 1 rows of all vouched, and the confidence's AUROC; OpenCV's F on the same frames, scored alike \
+         (`fixtures/longterm/opencv/sets/`, `scripts/opencv_longterm.py --sets`).\n\n",
     );
-    let _ = writeln!(md, "| set | what happens | tracker | precision | recall | TNR | F | wrong / vouched | AUROC |");
-    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|");
+    let _ = writeln!(md, "| set | what happens | tracker | precision | recall | TNR | F | wrong / vouched | AUROC | {} |", clips::OPENCV.map(|o| format!("F {}", o.0)).join(" | "));
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|{}", "---|".repeat(clips::OPENCV.len()));
     let opt = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.2}"));
+    let opencv = clips::opencv_set_scores()?;
     for (set, row) in sets.iter().zip(&table) {
+        let theirs = opencv_f(&opencv, set.name);
         for ((label, _), (s, _, _)) in TRACKERS.iter().zip(row) {
             let _ = writeln!(
                 csv,
@@ -159,7 +166,7 @@ pub fn evaluate(dir: &Path, clip_dir: &Path, progress: &mut dyn FnMut(&str)) -> 
             );
             let _ = writeln!(
                 md,
-                "| {} | {} | {label} | {:.3} | {:.3} | {} | {:.3} | {} / {} | {} |",
+                "| {} | {} | {label} | {:.3} | {:.3} | {} | {:.3} | {} / {} | {} | {theirs} |",
                 set.name, set.about, s.precision, s.recall, opt(s.tnr), s.f, s.wrong, s.vouched, opt(s.auroc)
             );
         }

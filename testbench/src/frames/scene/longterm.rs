@@ -363,6 +363,11 @@ impl LongTermFrames {
     pub fn pixels(&self, k: usize) -> Option<&[u8]> {
         self.frames.get(k).map(Vec::as_slice)
     }
+
+    /// A fingerprint of every frame's pixels ([`crate::frames::frames_fingerprint`]).
+    pub fn fingerprint(&self) -> String {
+        crate::frames::frames_fingerprint(self.frames.iter().map(Vec::as_slice))
+    }
 }
 
 impl FrameSource for LongTermFrames {
