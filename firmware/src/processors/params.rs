@@ -197,6 +197,15 @@ impl Default for PeripheralParams {
 }
 
 impl Params {
+    /// The thesis's parameters for an `n`x`n` template searched `search` pixels a side: the
+    /// Foveal window is `n + 2 search` (`track`'s `--template` and `--search`). The
+    /// Peripheral's windows stay Table 2.2's whatever `n`: scaled with a 32x32 template (to 64
+    /// and 102) they moved no figure of `coopwin experiment long-term` by more than a row
+    /// (stop 49).
+    pub fn sized(n: u16, search: u16) -> Params {
+        Params { template: n, foveal: n + 2 * search, ..Params::default() }
+    }
+
     /// These parameters with the template adapting ([`Params::adapt`]).
     pub fn adaptive(self) -> Params {
         Params { adapt: true, ..self }

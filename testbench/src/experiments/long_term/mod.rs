@@ -28,7 +28,7 @@ pub fn run(set: &LongTermSet, frames: &mut LongTermFrames, adapt: bool) -> Resul
     let (x, y, w, h) = set.start_box();
     let n = w.min(h).min(32) as u16;
     let centre = (f64::from(x) + (f64::from(w) - 1.0) / 2.0, f64::from(y) + (f64::from(h) - 1.0) / 2.0);
-    let params = Params { template: n, foveal: n + 2 * SEARCH, ..Default::default() };
+    let params = Params::sized(n, SEARCH);
     let params = if adapt { params.adaptive() } else { params };
     let cfg = SystemConfig { params, policy: CoopPolicy::Guarded, ..SystemConfig::thesis(Strategy::Coop, CostModel::NATIVE, Some(centre)) };
     let log = system::simulate(&cfg, frames, &mut |_| {})?;
