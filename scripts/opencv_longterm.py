@@ -316,10 +316,16 @@ def run_sets(coopwin: Path, out: Path) -> None:
     """Every long-term set, rendered by `coopwin scene --set`, through every tracker."""
     out.mkdir(parents=True, exist_ok=True)
     table = []
-    with tempfile.TemporaryDirectory() as tmp:
-        for name in SETS:
+    for name in SETS:
+        with tempfile.TemporaryDirectory() as tmp:
             seq = Path(tmp) / name
-            subprocess.run([str(coopwin), "scene", "--set", name, "--out", str(seq)], check=True, stdout=subprocess.DEVNULL)
+            done = subprocess.run([str(coopwin), "scene", "--set", name, "--out", str(seq)],
+                                  stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+            if done.returncode != 0:
+                sys.exit(f"{coopwin} scene --set {name}: {done.stderr.strip()} (a set not in this binary: "
+                         "rebuild it, or update SETS)")
+            if not (seq / "fingerprint.txt").exists():
+                sys.exit(f"{coopwin} wrote no fingerprint.txt: an older binary (cargo build --release)")
             with (seq / "truth.csv").open() as fh:
                 truth = list(csv.DictReader(fh))
             # Only a visible target can be right (a row on a hidden one is wrong).

@@ -165,7 +165,7 @@ impl TrackOptions {
     /// deciders weigh positions measured against the first template's look.
     fn params(&self) -> Params {
         let n = self.template_side();
-        let p = Params::sized(n, self.search);
+        let p = Params { target_boxed: matches!(self.target, Target::Box(..)), ..Params::sized(n, self.search) };
         if self.fixed_template || self.policy != CoopPolicy::Guarded {
             p
         } else {

@@ -8,7 +8,7 @@
 mod common;
 
 use coopwin_testbench::analysis::longterm;
-use coopwin_testbench::experiments::long_term::clips::{labelled, opencv_set_scores, opencv_sets_folder, score_object, CLIPS};
+use coopwin_testbench::experiments::long_term::clips::{labelled, opencv_set_scores, opencv_sets_folder, score_object, CLIPS, OPENCV};
 use coopwin_testbench::experiments::long_term::{present, rows, run};
 use coopwin_testbench::experiments::real_footage::{Clip, DEFAULT_CLIPS};
 use coopwin_testbench::frames::scene::longterm::sets;
@@ -67,7 +67,12 @@ fn the_default_never_vouches_for_a_look_alike_an_occluder_or_an_empty_place() {
         let mut frames = set.render_all();
         // OpenCV's runs in the fixtures were made from these very frames.
         let stored = std::fs::read_to_string(opencv_sets_folder().join(format!("{}.fingerprint", set.name))).unwrap_or_default();
-        assert_eq!(stored.trim(), frames.fingerprint(), "{}: OpenCV's fixtures are stale: python3 scripts/opencv_longterm.py --sets", set.name);
+        assert_eq!(
+            stored.trim(),
+            frames.fingerprint(),
+            "{}: OpenCV's fixtures are missing or stale: python3 scripts/opencv_longterm.py --sets (a new set goes into its SETS first)",
+            set.name
+        );
         let truth = present(&frames);
         let (log, acceptance) = run(&set, &mut frames, true).expect("runs");
         common::assert_rows_are_honest(set.name, &log);
@@ -82,7 +87,7 @@ fn the_default_never_vouches_for_a_look_alike_an_occluder_or_an_empty_place() {
         assert_eq!(s.wrong, 0, "{}: {} of {} ok rows wrong", set.name, s.wrong, s.vouched);
         assert!(s.tnr.is_none_or(|t| t == 1.0), "{}: TNR {:?}", set.name, s.tnr);
         assert!(s.recall >= 0.9 * recall, "{}: recall {:.4}, measured {recall}", set.name, s.recall);
-        assert_eq!(opencv.iter().filter(|r| r.1 == set.name).count(), 4, "{}: OpenCV's four trackers in the fixtures", set.name);
+        assert_eq!(opencv.iter().filter(|r| r.1 == set.name).count(), OPENCV.len(), "{}: OpenCV's trackers in the fixtures", set.name);
     }
     assert!(unvouched > 0, "the sets have reports the firmware did not vouch for, which the link leaves out");
 }

@@ -213,19 +213,19 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         }
     }
 
-    /// Takes `tpl` as the template; the thesis's fixed template with its support when it is
-    /// centred on a corner (as the Watch's `Template` message does). Never inlined: its
+    /// Takes `tpl` as the template, with its support when it is centred on a corner of an
+    /// object given as a point (as the Watch's `Template` message does). Never inlined: its
     /// temporaries (the adaptation's first template prepared, 13 KB) stay off the stack of the
     /// frames that take messages.
     #[inline(never)]
     pub fn set_template(&mut self, tpl: Template) {
         let a = tpl.anchor();
-        // A support is the object's part of a corner's template, where the background behind
-        // the corner changes (the thesis's corner targets). An adapting template is matched
-        // whole, as the first view that vouches for it is aligned: with a support it did not
-        // adapt, and vtest.avi's hoodie (a corner at his box's centre) was lost in its second
-        // frame (issue 38, stop 49: recall 0 -> 0.177; the candle's 0.652 -> 0.667).
-        self.support = tpl.view().filter(|_| !self.params.adapt).and_then(|v| {
+        // A box around the object says an adapting template is all object, a corner at its
+        // centre the object's own: vtest.avi's hoodie, whose support kept his template from
+        // adapting, was lost in his second frame (issue 38, stop 49). The fixed template keeps
+        // its support, which holds Megamind_bugy's candle (92 frames vouched for; 4 without).
+        let whole = self.params.target_boxed && self.params.adapt;
+        self.support = tpl.view().filter(|_| !whole).and_then(|v| {
             Support::of_template(&v, (a.x, a.y), &mut self.detector, &CornerParams::new(self.params.corner_threshold))
         });
         // Prepared now (outside the frames), over the support that NCC tries first.
@@ -233,7 +233,9 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         if let Some(v) = tpl.view() {
             self.lk.prepared(&v, self.support.as_ref());
         }
-        let adapts = self.params.adapt && matches!(self.kind, FovealKind::Ncc | FovealKind::CoopMaster);
+        // A corner template's support is the object's part of it: the corner detector, not
+        // the template, follows such an object's changes.
+        let adapts = self.params.adapt && self.support.is_none() && matches!(self.kind, FovealKind::Ncc | FovealKind::CoopMaster);
         self.adapt = adapts.then(|| Adaptive::new(&tpl));
         self.template = Some(tpl);
     }
@@ -687,10 +689,11 @@ mod tests {
     }
 
     #[test]
-    fn a_corner_template_keeps_its_support_only_where_it_is_fixed() {
+    fn a_corner_template_keeps_its_support_unless_a_box_gives_the_object() {
         // A 20x20 template centred on the corner of a textured quadrant (columns 30.., rows
-        // 20..) over a flat background: the thesis's fixed template is matched over the
-        // corner's support; an adapting one whole, and it adapts.
+        // 20..) over a flat background. Given as a point, it is matched over the corner's
+        // support, fixed or not, and does not adapt; given inside a box around the object,
+        // an adapting one is matched whole and adapts, a fixed one keeps its support.
         let mut f = std::vec![40u8; SIDE * SIDE];
         for y in 20..SIDE {
             for x in 30..SIDE {
@@ -698,11 +701,16 @@ mod tests {
             }
         }
         let corner = Template::capture(&WindowView::packed(&f, SIDE, SIDE).unwrap(), Point { x: 30.5, y: 20.5 }, 20).unwrap();
-        let sized = Params { template: 20, foveal: 24, ..params() };
-        let fixed = Foveal::new(FovealKind::Ncc, sized, Some(corner.clone()));
-        assert!(fixed.support.is_some() && fixed.adapt.is_none());
-        let adapting = Foveal::new(FovealKind::Ncc, sized.adaptive(), Some(corner));
-        assert!(adapting.support.is_none() && adapting.adapt.is_some());
+        let p20 = Params { template: 20, foveal: 24, ..params() };
+        for (p, supported, adapts) in [
+            (p20, true, false),
+            (p20.adaptive(), true, false),
+            (Params { target_boxed: true, ..p20 }, true, false),
+            (Params { target_boxed: true, ..p20.adaptive() }, false, true),
+        ] {
+            let tracker = Foveal::new(FovealKind::Ncc, p, Some(corner.clone()));
+            assert_eq!((tracker.support.is_some(), tracker.adapt.is_some()), (supported, adapts), "{p:?}");
+        }
     }
 
     #[test]

@@ -30,6 +30,11 @@ pub struct Params {
     /// with drift correction ([`super::adapt`]) and its window is placed where the motion
     /// predicts the point. Off: the thesis's template cut once, windows on the last point.
     pub adapt: bool,
+    /// The target was given as a box around the object (`track --target-box`): an adapting
+    /// template, cut inside the box, is all object, and no corner support is cut from it
+    /// ([`crate::kernels::support`], for a corner given as a point, whose template holds the
+    /// background beyond its edges).
+    pub target_boxed: bool,
     /// The Foveal's tuning for an adapting track.
     pub track: FovealParams,
     /// The Peripheral's tuning for an adapting track's re-detection.
@@ -50,6 +55,7 @@ impl Default for Params {
             ssd_max: 900.0,
             corner_threshold: 50,
             adapt: false,
+            target_boxed: false,
             track: FovealParams::default(),
             redetect: PeripheralParams::default(),
         }

@@ -171,11 +171,12 @@ impl Clip {
         Ok(Clip { frames, size: scan.size, fps: scan.fps.unwrap_or(30.0) })
     }
 
-    /// `track`'s run on `frames` (indices into the clip) from `start`, with a template of
-    /// `side`, adapting (the default) or fixed (`--fixed-template`), as its log.
+    /// `track --target-box`'s run on `frames` (indices into the clip) from the box centred on
+    /// `start`, with a template of `side`, adapting (the default) or fixed
+    /// (`--fixed-template`), as its log.
     pub fn simulate(&self, frames: impl Iterator<Item = usize>, start: (f64, f64), side: u16, adapt: bool) -> Result<RunLog, ExperimentError> {
         let mut source = Frames { frames: frames.filter_map(|k| self.frames.get(k).map(Vec::as_slice)).collect(), size: self.size };
-        let params = Params { adapt, ..Params::sized(side, 2) };
+        let params = Params { adapt, target_boxed: true, ..Params::sized(side, 2) };
         let mut cfg = SystemConfig { params, target: Some(start), ..SystemConfig::thesis(Strategy::Coop, CostModel::NATIVE, None) };
         cfg.pixel_clock_hz = Clocks::camera_timing(self.size).frame_clocks() as f64 * self.fps;
         system::simulate(&cfg, &mut source, &mut |_| {}).map_err(ExperimentError::Run)

@@ -28,7 +28,7 @@ pub fn run(set: &LongTermSet, frames: &mut LongTermFrames, adapt: bool) -> Resul
     let (x, y, w, h) = set.start_box();
     let n = w.min(h).min(32) as u16;
     let centre = (f64::from(x) + (f64::from(w) - 1.0) / 2.0, f64::from(y) + (f64::from(h) - 1.0) / 2.0);
-    let params = Params::sized(n, SEARCH);
+    let params = Params { target_boxed: true, ..Params::sized(n, SEARCH) };
     let params = if adapt { params.adaptive() } else { params };
     let cfg = SystemConfig { params, policy: CoopPolicy::Guarded, ..SystemConfig::thesis(Strategy::Coop, CostModel::NATIVE, Some(centre)) };
     let log = system::simulate(&cfg, frames, &mut |_| {})?;
@@ -133,6 +133,8 @@ pub fn run_all(progress: &mut dyn FnMut(&str)) -> Result<(Vec<LongTermSet>, Runs
 /// The evaluation: writes `long-term.csv`, `.md`, a precision/recall chart and the trackers'
 /// reliability diagram into `dir`, and returns the markdown.
 pub fn evaluate(dir: &Path, clip_dir: &Path, progress: &mut dyn FnMut(&str)) -> Result<String, ExperimentError> {
+    // Read first: a missing fixture fails before the runs.
+    let opencv = clips::opencv_set_scores()?;
     let (sets, table) = run_all(progress)?;
     let mut csv = String::from("set,tracker,frames,visible,vouched,wrong,precision,recall,tnr,f,tau,auroc\n");
     let mut md = String::from(
@@ -145,7 +147,6 @@ pub fn evaluate(dir: &Path, clip_dir: &Path, progress: &mut dyn FnMut(&str)) -> 
     let _ = writeln!(md, "| set | what happens | tracker | precision | recall | TNR | F | wrong / vouched | AUROC | {} |", clips::OPENCV.map(|o| format!("F {}", o.0)).join(" | "));
     let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|{}", "---|".repeat(clips::OPENCV.len()));
     let opt = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.2}"));
-    let opencv = clips::opencv_set_scores()?;
     for (set, row) in sets.iter().zip(&table) {
         let theirs = opencv_f(&opencv, set.name);
         for ((label, _), (s, _, _)) in TRACKERS.iter().zip(row) {
