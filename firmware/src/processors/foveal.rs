@@ -9,7 +9,7 @@ use super::params::Params;
 use super::step::{placements, Fix, Mode, Outcome, Step, Work};
 use super::template::Template;
 use crate::kernels::corner::{CornerDetector, CornerParams, MAX_DIM};
-use crate::kernels::matching::{best_match_full, best_match_pyramid};
+use crate::kernels::matching::{best_match_full, best_match_pyramid, blocks_matching};
 use crate::kernels::refine::{LkTemplate, INTERIOR};
 use crate::kernels::support::{best_match_on, Support};
 use crate::kernels::view::WindowView;
@@ -113,6 +113,24 @@ pub enum FovealKind {
     CoopMaster,
 }
 
+/// What an adapting track's model of the object says of a window's point (issue 38); once
+/// the window is followed, what it said of the row (the chain the next window holds to).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Sighting {
+    /// Not the object, as far as its model can tell (or the row was not vouched for).
+    Unseen,
+    /// The object: its first template vouches for the point ([`Foveal::first_vouches`]).
+    Seen,
+    /// The object partly covered: the window's whole match breaks the chain, but at least
+    /// half its template still matches, block by block ([`Foveal::partly_covered`]). Vouched
+    /// for; the window teaches the template nothing (the cover is not the object).
+    PartlyCovered,
+}
+
+/// Side of the grid of blocks a partly covered template is scored in
+/// ([`Foveal::partly_covered`]): 8x8-pixel blocks for a 32x32 template, 5x5 for 20x20.
+const COVER_GRID: usize = 4;
+
 /// What a Foveal processor is doing (a COOP master's coasting is its guard's,
 /// [`Guard::coasting`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -163,10 +181,9 @@ pub struct Foveal<const N: usize = MAX_DIM, const P: usize = INTERIOR> {
     miss: f32,
     /// The object's shape as the last window's alignment measured it (adapting tracks).
     shape: Option<Shape>,
-    /// Adapting tracks: the first template vouches for this window's point
-    /// ([`Foveal::first_vouches`]); once the window is followed, whether its row was vouched
-    /// for (what the next window's chain holds to).
-    first_seen: bool,
+    /// Adapting tracks: what the object's model says of this window's point; once the window
+    /// is followed, of its row.
+    sighting: Sighting,
     /// Adapting tracks: windows in a row whose point the first template did not confirm.
     unconfirmed: u8,
     /// Adapting tracks: when a window was last vouched for, in seconds.
@@ -207,7 +224,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
             aimed: None,
             miss: 0.0,
             shape: None,
-            first_seen: false,
+            sighting: Sighting::Unseen,
             unconfirmed: 0,
             vouched_at: None,
         }
@@ -272,7 +289,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     /// Peripheral's approximate location.
     fn start(&mut self, p: Point, exact: bool, step: &mut Step) {
         self.phase = if !exact && self.adapt.is_some() { Phase::HandedOver(p) } else { Phase::Tracking(p) };
-        (self.aimed, self.miss, self.unconfirmed, self.first_seen) = (None, 0.0, 0, false);
+        (self.aimed, self.miss, self.unconfirmed, self.sighting) = (None, 0.0, 0, Sighting::Unseen);
         if !exact {
             step.outcome = Outcome::Redetected(p);
         }
@@ -384,7 +401,11 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
                 // match refined by Lucas-Kanade, as a fixed template's.
                 let aligned = self.adapt.as_mut().zip(found).and_then(|(a, f)| a.align(win, f.point));
                 self.shape = aligned.map(|(_, pose, _)| Shape { scale: pose.scale(), angle_deg: pose.angle().to_degrees() });
-                self.first_seen = self.first_vouches(aligned.map(|(_, _, s)| s), found.map(|f| f.score));
+                self.sighting = match found {
+                    _ if self.first_vouches(aligned.map(|(_, _, s)| s), found.map(|f| f.score)) => Sighting::Seen,
+                    Some(f) if self.sighting != Sighting::Unseen && self.partly_covered(win, f.sub) => Sighting::PartlyCovered,
+                    _ => Sighting::Unseen,
+                };
                 let found = match (found, aligned, self.template.as_ref()) {
                     (Some(f), Some((point, _, _)), _) => Some(NccFound { point, ..f }),
                     (Some(f), None, Some(tpl)) if self.adapt.is_some() => Some(f.refine(win, tpl, self.support.as_ref(), &mut self.lk)),
@@ -437,7 +458,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
                 step.send(Dest::Peripheral, Msg::Coasting(q));
             }
             step.outcome = Outcome::Predicted(q);
-            self.first_seen = false;
+            self.sighting = Sighting::Unseen;
             if let Some(a) = self.adapt.as_mut() {
                 a.discard();
             }
@@ -475,11 +496,14 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         let confirmed = self.confirms(score);
         // A COOP report the first template did not measure (the corner detector's) is no link
         // of the chain, though the template's own match vouched.
-        self.first_seen = confirmed;
+        if !confirmed {
+            self.sighting = Sighting::Unseen;
+        }
         let astray = self.astray(confirmed);
-        // A track in doubt learns only from a window whose match holds (issue 38 item 1): a
-        // look-alike or a cover coming over the object drops it.
-        let learns = score.is_some_and(|s| confirmed || s >= self.params.track.learn_in_doubt);
+        // A track in doubt learns only from a window whose match holds, and none learns from a
+        // partly covered object (issue 38 item 1): a look-alike or a cover coming over the
+        // object drops the match.
+        let learns = self.sighting != Sighting::PartlyCovered && score.is_some_and(|s| confirmed || s >= self.params.track.learn_in_doubt);
         if let Some(a) = self.adapt.as_mut() {
             // A track that has gone astray starts again from the object's first view.
             let next = match (astray, learns) {
@@ -542,10 +566,28 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     fn first_vouches(&self, aligned: Option<f32>, matched: Option<f32>) -> bool {
         let matched = matched.unwrap_or(0.0);
         let bars = &self.params.track;
+        let chain = self.sighting != Sighting::Unseen;
         match aligned {
-            Some(s) => s >= bars.confirm_align || matched >= if self.first_seen { bars.hold_ncc_aligned } else { bars.rejoin_ncc },
-            None => (self.first_seen && matched >= bars.hold_ncc) || (self.adapt.as_ref().is_some_and(Adaptive::on_first) && matched >= bars.confirm_ncc),
+            Some(s) => s >= bars.confirm_align || matched >= if chain { bars.hold_ncc_aligned } else { bars.rejoin_ncc },
+            None => (chain && matched >= bars.hold_ncc) || (self.adapt.as_ref().is_some_and(Adaptive::on_first) && matched >= bars.confirm_ncc),
         }
+    }
+
+    /// Whether an adapting track's object is under the window's match partly covered (issue 38
+    /// item 1): at least [`FovealParams::cover_seen`] of the current template's blocks (a
+    /// [`COVER_GRID`]-square grid) each still match by zero-mean NCC at `hold_ncc`, the chain's
+    /// own bar, at the placement `sub` (window pixels) where the whole template matched.
+    /// Under a panel over a third of `partial`'s target the whole template matches at 0.46,
+    /// while its 8 uncovered blocks score 0.94-0.99, those under the panel's edge 0.67-0.83
+    /// and those covered -0.43-0.00.
+    ///
+    /// [`FovealParams::cover_seen`]: super::params::FovealParams::cover_seen
+    fn partly_covered(&self, win: &WindowView<'_>, sub: (f32, f32)) -> bool {
+        let (Some(tv), Some(_)) = (self.template.as_ref().and_then(Template::view), &self.adapt) else { return false };
+        let at = (libm::roundf(sub.0).max(0.0) as usize, libm::roundf(sub.1).max(0.0) as usize);
+        let bars = &self.params.track;
+        let (matching, _) = blocks_matching(win, &tv, at, COVER_GRID, bars.hold_ncc);
+        f32::from(matching) >= bars.cover_seen * (COVER_GRID * COVER_GRID) as f32
     }
 
     /// Whether the point followed, with NCC's `score` where NCC vouches for it, is the
@@ -557,7 +599,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     fn confirms(&self, score: Option<f32>) -> bool {
         match (self.kind, &self.adapt) {
             (FovealKind::Cd, _) => true,
-            (_, Some(_)) => score.is_some() && self.first_seen,
+            (_, Some(_)) => score.is_some() && self.sighting != Sighting::Unseen,
             (_, None) => score.is_some_and(|s| s >= self.params.track.confirm_ncc),
         }
     }
@@ -898,7 +940,7 @@ mod tests {
             let mut f = Foveal::new(FovealKind::Ncc, params().adaptive(), Some(template()));
             let req = f.start_at(TARGET).request.unwrap();
             f.adapt.as_mut().unwrap().propose(&cut(&grown, &req), TARGET, score, 8, false);
-            f.first_seen = vouched;
+            f.sighting = if vouched { Sighting::Seen } else { Sighting::Unseen };
             let before = f.template.clone();
             let mut step = Step::new(Work::None);
             f.follow(&mut step, 0.04, Some(TARGET), Source::Ncc, Some(score));
@@ -907,6 +949,53 @@ mod tests {
             // A template refused leaves the track on its first one, as it says.
             assert_eq!(f.adapt.as_ref().unwrap().on_first(), !learns);
         }
+    }
+
+    #[test]
+    fn a_partly_covered_object_is_vouched_for_while_half_its_blocks_match_and_teaches_nothing() {
+        // A 16x16 template of random texture at the frame's centre; covers of other random
+        // texture over its left 6 and 10 columns (of 16): the 4x4 grid of 4x4 blocks keeps
+        // its two right block columns (8 of 16 blocks, half) and one (4).
+        let mut px = 0x2545_f491u32;
+        let mut texture = || {
+            px = px.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            60 + (px >> 24) as u8 / 2
+        };
+        let scene: std::vec::Vec<u8> = (0..SIDE * SIDE).map(|_| texture()).collect();
+        let cover: std::vec::Vec<u8> = (0..SIDE * SIDE).map(|_| texture()).collect();
+        let covered = |cols: usize| {
+            let mut f = scene.clone();
+            for y in 24..40 {
+                f[y * SIDE + 24..y * SIDE + 24 + cols].copy_from_slice(&cover[y * SIDE + 24..y * SIDE + 24 + cols]);
+            }
+            f
+        };
+        let at = Point { x: 31.5, y: 31.5 };
+        let tpl = Template::capture(&WindowView::packed(&scene, SIDE, SIDE).unwrap(), at, 16).unwrap();
+        let p = Params { template: 16, foveal: 24, ..params() }.adaptive();
+        let mut f = Foveal::new(FovealKind::Ncc, p, Some(tpl.clone()));
+        let mut req = f.start_at(at).request.unwrap();
+        let mut run = |f: &mut Foveal, img: &[u8], t: f64| {
+            let s = f.on_window(&cut(img, &req), t);
+            req = s.request.unwrap_or(req);
+            s.outcome
+        };
+        assert!(run(&mut f, &scene, 0.0).vouched().is_some(), "uncovered");
+        // A third covered: the whole match breaks the chain, half the blocks hold it. The point
+        // is the object's (within half a pixel: the cover pulls the first view's alignment,
+        // here by 0.29 px), and the template learns nothing from the cover.
+        let third = covered(6);
+        let out = run(&mut f, &third, 0.04);
+        assert_eq!(f.sighting, Sighting::PartlyCovered);
+        assert!(out.vouched().is_some_and(|fix| dist(fix.at, at) < 0.5), "{out:?}");
+        assert!(f.template == Some(tpl.clone()) && f.adapt.as_ref().is_some_and(Adaptive::on_first));
+        // Still a third covered: the chain holds, window after window.
+        assert!(run(&mut f, &third, 0.08).vouched().is_some());
+        // Covered further, a quarter of the blocks left: not vouched for.
+        let out = run(&mut f, &covered(10), 0.12);
+        assert!(out.vouched().is_none() && f.sighting == Sighting::Unseen, "{out:?}");
+        // Out of the chain, a third covered is not vouched for: it only holds a chain.
+        assert!(run(&mut f, &third, 0.16).vouched().is_none());
     }
 
     #[test]

@@ -24,6 +24,7 @@
 //! searches of bounded cost: [`best_match_pyramid`] around a tracker's prediction, and
 //! [`best_match_candidates`] (`candidates.rs`) where the object may be anywhere.
 
+mod blocks;
 mod candidates;
 mod dot;
 mod elimination;
@@ -34,6 +35,7 @@ mod tests;
 
 use crate::kernels::view::WindowView;
 use heapless::Vec;
+pub use blocks::blocks_matching;
 pub use candidates::{best_match_candidates, CANDIDATES, CANDIDATES_FROM};
 use elimination::search;
 use scores::{for_each_score, placements, sums_at, Ranked, Scorer, Sums};
