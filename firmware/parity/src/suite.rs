@@ -8,7 +8,7 @@ use coopwin_firmware::kernels::confidence::{ConfidencePolicy, KalmanCoop, SseCoo
 use coopwin_firmware::kernels::corner::{CornerDetector, CornerParams};
 use coopwin_firmware::kernels::fmath::sqrtf;
 use coopwin_firmware::kernels::info::{corner_information, edge_information, edge_information_with_prior};
-use coopwin_firmware::kernels::matching::{best_match, best_match_decimated, Match, MatchError, Method};
+use coopwin_firmware::kernels::matching::{best_match, best_match_decimated, blocks_matching, Match, MatchError, Method};
 use coopwin_firmware::kernels::motion::{detect_motion, MotionArea, MotionError};
 use coopwin_firmware::processors::{watch, CornerPartner, Dest, Foveal, FovealKind, Fix, Msg, Outcome, Params, Peripheral, Step, Template, Work};
 use coopwin_firmware::kernels::view::WindowView;
@@ -138,6 +138,10 @@ fn kernels<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteEr
     let fw = image("foveal_window", inputs::FOVEAL_WINDOW)?;
     let ft = image("foveal_template", inputs::FOVEAL_TEMPLATE)?;
     matches(out, meter, &fw, &ft, [("foveal_ncc_20in24", Method::Ncc), ("foveal_zncc_20in24", Method::Zncc)])?;
+    // An adapting track's check of a partly covered object (issue 38): the template's 16
+    // blocks at its best placement, (2, 2).
+    let (matching, textured) = meter.kernel("foveal_blocks_20in24", &mut || blocks_matching(&fw, &ft, (2, 2), 4, 0.9));
+    writeln!(out, "foveal_blocks_20in24 matching={matching} textured={textured}")?;
     peripheral_kernels(out, meter)?;
     peripheral_steps(out, meter)?;
     watch_strips(out, meter)?;

@@ -33,6 +33,29 @@ fn expected_txt_is_what_the_host_computes() {
 }
 
 #[test]
+fn the_blocks_line_is_the_zero_mean_ncc_formula_block_by_block() {
+    // Reference: each 5x5 block of the 20x20 template against the 24x24 window's pixels
+    // under it at (2, 2), zero-mean NCC summed in f64 here.
+    let w = coopwin_parity::pgm::parse(suite::inputs::FOVEAL_WINDOW).unwrap();
+    let t = coopwin_parity::pgm::parse(suite::inputs::FOVEAL_TEMPLATE).unwrap();
+    let (mut matching, mut textured) = (0, 0);
+    for b in 0..16 {
+        let (bx, by) = (b % 4 * 5, b / 4 * 5);
+        let px = |y: usize, x: usize| (f64::from(t.pixels[(by + y) * 20 + bx + x]), f64::from(w.pixels[(2 + by + y) * 24 + 2 + bx + x]));
+        let pairs: Vec<(f64, f64)> = (0..25).map(|i| px(i / 5, i % 5)).collect();
+        let (mt, mw) = (pairs.iter().map(|p| p.0).sum::<f64>() / 25.0, pairs.iter().map(|p| p.1).sum::<f64>() / 25.0);
+        let cov: f64 = pairs.iter().map(|(a, b)| (a - mt) * (b - mw)).sum();
+        let (vt, vw): (f64, f64) = (pairs.iter().map(|p| (p.0 - mt).powi(2)).sum(), pairs.iter().map(|p| (p.1 - mw).powi(2)).sum());
+        if vt > 0.0 {
+            textured += 1;
+            matching += usize::from(vw > 0.0 && cov / (vt * vw).sqrt() >= 0.9);
+        }
+    }
+    let t = lines();
+    assert_eq!((field(&t, "foveal_blocks_20in24", "matching"), field(&t, "foveal_blocks_20in24", "textured")), (matching.to_string().as_str(), textured.to_string().as_str()));
+}
+
+#[test]
 fn kernel_lines_agree_with_opencv() {
     let t = lines();
     // TM_CCORR_NORMED maxLoc (2,2), maxVal 0.99964.

@@ -403,7 +403,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
                 self.shape = aligned.map(|(_, pose, _)| Shape { scale: pose.scale(), angle_deg: pose.angle().to_degrees() });
                 self.sighting = match found {
                     _ if self.first_vouches(aligned.map(|(_, _, s)| s), found.map(|f| f.score)) => Sighting::Seen,
-                    Some(f) if self.sighting != Sighting::Unseen && self.partly_covered(win, f.sub) => Sighting::PartlyCovered,
+                    Some(f) if self.in_doubt_breaks_the_chain(f.score) && self.partly_covered(win, f.sub) => Sighting::PartlyCovered,
                     _ => Sighting::Unseen,
                 };
                 let found = match (found, aligned, self.template.as_ref()) {
@@ -412,9 +412,16 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
                     (f, _, _) => f,
                 };
                 self.pinned = found.is_some_and(|f| f.pinned);
-                if let (Some(a), Some(f), Some(tpl)) = (self.adapt.as_mut(), found, self.template.as_ref()) {
-                    a.matched(tpl, f.point, f.score);
-                    a.propose(win, f.point, f.score, tpl.side(), aligned.is_some());
+                // A window that cannot teach the template proposes nothing (`follow`'s rule): its
+                // search for the first template pays for the partly covered check.
+                let teaches = |f: &NccFound| self.sighting == Sighting::Seen || (self.sighting == Sighting::Unseen && f.score >= self.params.track.learn_in_doubt);
+                match (self.adapt.as_mut(), found, self.template.as_ref()) {
+                    (Some(a), Some(f), Some(tpl)) if teaches(&f) => {
+                        a.matched(tpl, f.point, f.score);
+                        a.propose(win, f.point, f.score, tpl.side(), aligned.is_some());
+                    }
+                    (Some(a), _, _) => a.discard(),
+                    _ => {}
                 }
                 let own = found.map(|f| (f.point, f.score));
                 if self.kind == FovealKind::CoopMaster {
@@ -571,6 +578,14 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
             Some(s) => s >= bars.confirm_align || matched >= if chain { bars.hold_ncc_aligned } else { bars.rejoin_ncc },
             None => (chain && matched >= bars.hold_ncc) || (self.adapt.as_ref().is_some_and(Adaptive::on_first) && matched >= bars.confirm_ncc),
         }
+    }
+
+    /// Whether an adapting window whose match scored `score` breaks the chain of vouched rows
+    /// in doubt: the chain held, and the match is under `learn_in_doubt`, so the window
+    /// teaches the template nothing either way (where it reaches that bar the window learns in
+    /// doubt, unvouched, as before; checking those too moved no figure).
+    fn in_doubt_breaks_the_chain(&self, score: f32) -> bool {
+        self.sighting != Sighting::Unseen && score < self.params.track.learn_in_doubt
     }
 
     /// Whether an adapting track's object is under the window's match partly covered (issue 38

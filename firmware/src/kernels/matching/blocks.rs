@@ -1,33 +1,51 @@
 //! How much of a template still matches at one placement (issue 38, item 1): a cover over
 //! part of the object drops the whole template's score, while the parts it leaves uncovered
 //! score as they did. The template is cut into a `g x g` grid of blocks, each scored on its
-//! own by zero-mean NCC against the window's pixels under it.
-use super::{score_at, Method};
+//! own by zero-mean NCC against the window's pixels under it,
+//! `(nΣRI - ΣRΣI) / sqrt((nΣR² - (ΣR)²)(nΣI² - (ΣI)²))` over its `n` pixels (as
+//! [`super::Method::Zncc`]), from integer sums and one `f32` square root a block: a
+//! search's exact scores cost a 64-bit floating-point library call a block on the M4F.
+use crate::kernels::fmath::sqrtf;
 use crate::kernels::view::WindowView;
 
-/// Of the `g x g` blocks of `tpl` (each `side / g` pixels square; rows and columns past the
-/// last whole block are left out) placed with its top-left pixel at `(px, py)` in `win`,
-/// how many have texture (a block with no variance has no score), and how many of those
-/// score at least `bar` by zero-mean NCC on their own: `(matching, textured)`. `(0, 0)`
-/// where the template does not fit there or `g` is 0.
+/// Largest block side: `n` times a sum of `n` products of pixels stays within `i32`
+/// (169² x 255² < 2³¹), so the M4F converts the terms to `f32` in hardware.
+const MAX_BLOCK: usize = 13;
+
+/// Of the `g x g` blocks of `tpl` (each `side / g` pixels square, 2 to 13; rows and columns
+/// past the last whole block are left out) placed with its top-left pixel at `(px, py)` in
+/// `win`, how many have texture (a block with no variance has no score), and how many of those
+/// score at least `bar` by zero-mean NCC (a flat patch of the window under one scores 0, as a
+/// search scores it): `(matching, textured)`. `(0, 0)` where the template does not fit there,
+/// a view is strided, or the blocks would be under 2 or over 13 pixels a side.
 pub fn blocks_matching(win: &WindowView<'_>, tpl: &WindowView<'_>, (px, py): (usize, usize), g: usize, bar: f32) -> (u8, u8) {
     let b = if g == 0 { 0 } else { tpl.width().min(tpl.height()) / g };
-    let (mut matching, mut textured) = (0u8, 0u8);
-    if b < 2 || px + tpl.width() > win.width() || py + tpl.height() > win.height() {
+    let (Some((t, ts)), Some((w, ws))) = (tpl.raw(), win.raw()) else { return (0, 0) };
+    if !(2..=MAX_BLOCK).contains(&b) || px + g * b > win.width() || py + g * b > win.height() {
         return (0, 0);
     }
+    let n = (b * b) as i32;
+    let (mut matching, mut textured) = (0u8, 0u8);
     for j in 0..g {
         for i in 0..g {
-            let (Some(t), Some(w)) = (tpl.sub(i * b, j * b, b, b), win.sub(px + i * b, py + j * b, b, b)) else { continue };
-            match score_at(Method::Zncc, &w, &t, (0, 0)) {
-                Ok(s) => {
-                    textured = textured.saturating_add(1);
-                    matching = matching.saturating_add(u8::from(s as f32 >= bar));
+            let (mut st, mut stt, mut sw, mut sww, mut stw) = (0i32, 0i32, 0i32, 0i32, 0i32);
+            for v in j * b..(j + 1) * b {
+                let t = t.get(v * ts + i * b..).and_then(|r| r.get(..b));
+                let w = w.get((py + v) * ws + px + i * b..).and_then(|r| r.get(..b));
+                let (Some(t), Some(w)) = (t, w) else { return (0, 0) };
+                for (&t, &w) in t.iter().zip(w) {
+                    let (t, w) = (i32::from(t), i32::from(w));
+                    (st, stt, sw, sww, stw) = (st + t, stt + t * t, sw + w, sww + w * w, stw + t * w);
                 }
-                // A flat window patch under a textured block scores 0, as a search scores it.
-                Err(super::MatchError::NoMatch) => textured = textured.saturating_add(1),
-                Err(_) => {}
             }
+            let (vt, vw) = (n * stt - st * st, n * sww - sw * sw);
+            if vt == 0 {
+                continue;
+            }
+            textured = textured.saturating_add(1);
+            let cov = (n * stw - st * sw) as f32;
+            let score_at_least = if vw == 0 { 0.0 >= bar } else { cov >= bar * sqrtf(vt as f32 * vw as f32) };
+            matching = matching.saturating_add(u8::from(score_at_least));
         }
     }
     (matching, textured)
@@ -64,7 +82,8 @@ mod tests {
         }
         let win = WindowView::packed(&w, 10, 11).unwrap();
         assert_eq!(blocks_matching(&win, &tpl, (1, 2), 2, 0.9), (2, 4));
-        assert_eq!(blocks_matching(&win, &tpl, (1, 2), 2, -1.0), (3, 4), "a flat patch matches at no bar");
+        assert_eq!(blocks_matching(&win, &tpl, (1, 2), 2, -1.0), (4, 4), "every block scores at least -1, a flat patch 0");
+        assert_eq!(blocks_matching(&win, &tpl, (1, 2), 2, 0.0), (3, 4), "the negated block scores -1");
         // A flat template block has no score and is not counted.
         let mut flat = t.clone();
         for y in 0..4 {
@@ -75,5 +94,12 @@ mod tests {
         assert_eq!(blocks_matching(&win, &tpl, (3, 2), 2, 0.9), (0, 0));
         assert_eq!(blocks_matching(&win, &tpl, (1, 2), 0, 0.9), (0, 0));
         assert_eq!(blocks_matching(&win, &tpl, (1, 2), 5, 0.9), (0, 0), "blocks of a pixel have no score");
+        let big = std::vec![9u8; 34 * 34];
+        let big = WindowView::packed(&big, 34, 34).unwrap();
+        assert_eq!(blocks_matching(&big, &big, (0, 0), 2, 0.9), (0, 0), "blocks over 13 pixels a side are refused");
+        // A decimated view of a 16x16 ramp (8x8, every other pixel) has no rows of its own.
+        let wide: std::vec::Vec<u8> = (0..256).map(|i| (i % 16 * 3 + i / 16 * 5) as u8).collect();
+        let decimated = WindowView::packed(&wide, 16, 16).unwrap().decimated();
+        assert_eq!(blocks_matching(&win, &decimated, (1, 2), 2, -1.0), (0, 0), "a strided view is refused");
     }
 }
