@@ -140,9 +140,12 @@ images=(partner peripheral watch master)
 # 168 MHz, at one instruction a cycle (QEMU counts instructions; docs/firmware-target.md
 # gives the cycles too).
 limit=$((8800 * 168 / 5))
+worst_of() {
+  awk -v id="$2" '$1 == "#" && $2 == "icount" && $3 == id { if ($4 + 0 > m) m = $4 + 0 } END { print m + 0 }' "$1"
+}
 margin() {
   local run=$1 id=$2 worst
-  worst=$(awk -v id="$id" '$1 == "#" && $2 == "icount" && $3 == id { if ($4 + 0 > m) m = $4 + 0 } END { print m + 0 }' "$run")
+  worst=$(worst_of "$run" "$id")
   if [ "$worst" = 0 ] || [ "$worst" -gt "$limit" ]; then
     echo "board.sh: the worst \`$id\` frame ($worst instructions, $run) is not within 5x of the 8.8 ms frame at 168 MHz ($limit)" >&2
     exit 1
@@ -153,6 +156,12 @@ margin "$stm/run.txt" coop_frame_adaptive
 margin "$root/target/board-master/run.txt" master_frame_adaptive
 margin "$root/target/board-partner/run.txt" partner_frame
 margin "$root/target/board-peripheral/run.txt" peripheral_sweep
+# The covered replay (issue 38): the adapting pair in doubt, its object partly covered. Its
+# worst frame is measured and reported, not held to the margin: it is outside it
+# (docs/firmware-target.md).
+covered=$(worst_of "$stm/run.txt" coop_frame_covered)
+[ "$covered" != 0 ] || { echo "board.sh: no \`coop_frame_covered\` frame in $stm/run.txt" >&2; exit 1; }
+echo "board.sh: worst coop_frame_covered frame $covered instructions (an object in doubt: measured, not held to 5x)"
 
 if [ "$figures" = 1 ]; then
   arm-none-eabi-size -A "$elf" >"$out/size.txt"

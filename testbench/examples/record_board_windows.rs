@@ -1,6 +1,7 @@
-//! Writes `fixtures/board/windows.bin` and `windows_adaptive.bin`, the COOP window streams the
+//! Writes `fixtures/board/windows.bin`, `windows_adaptive.bin` and `windows_covered.bin`, the
+//! COOP window streams the
 //! Cortex-M4 board replays (thesis 4.2; see `coopwin_testbench::board_stream`).
-use coopwin_testbench::board_stream::{adaptive, record, thesis, RecordError};
+use coopwin_testbench::board_stream::{adaptive, covered, record, thesis, RecordError};
 
 /// The fixtures' directory.
 const DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../fixtures/board");
@@ -24,7 +25,7 @@ impl std::fmt::Debug for Failure {
 }
 
 fn main() -> Result<(), Failure> {
-    for (file, rec) in [("windows.bin", thesis()), ("windows_adaptive.bin", adaptive())] {
+    for (file, rec) in [("windows.bin", thesis()), ("windows_adaptive.bin", adaptive()), ("windows_covered.bin", covered())] {
         let bytes = record(&rec).map_err(Failure::Record)?;
         let path = format!("{DIR}/{file}");
         std::fs::write(&path, &bytes).map_err(|e| Failure::Write(path.clone(), e))?;

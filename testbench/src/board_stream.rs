@@ -1,9 +1,10 @@
 //! Records the COOP Foveal pair's window streams (thesis 4.2) for the Cortex-M4 replay
 //! (`firmware/board`): the testbench's scene is rendered frame by frame, the pair's
 //! requested window is cut from it, and the pair runs on it to choose the next window.
-//! The files are `fixtures/board/windows.bin` (the thesis's pair, [`thesis`]) and
-//! `windows_adaptive.bin` (the adapting pair, [`adaptive`]); `tests/board_windows.rs` checks
-//! they are current.
+//! The files are `fixtures/board/windows.bin` (the thesis's pair, [`thesis`]),
+//! `windows_adaptive.bin` (the adapting pair, [`adaptive`]) and `windows_covered.bin` (the
+//! adapting pair with a cover over part of the object, [`covered`]); `tests/board_windows.rs`
+//! checks they are current.
 use crate::experiments::appearance;
 use crate::frames::scene::{PathKind, Scene, SceneConfig};
 use crate::units::window_of;
@@ -25,7 +26,22 @@ pub struct Recording {
     pub adapt: bool,
     /// Frames recorded (from the first).
     pub frames: usize,
+    /// A cover over part of the object for some of the frames.
+    pub cover: Option<Cover>,
 }
+
+/// A flat gray cover over the left of the tracked point, 80 px tall, from 40 px left of it
+/// to `right` px left of it (issue 38: an object partly covered), over `frames`.
+#[derive(Clone, Debug)]
+pub struct Cover {
+    /// The frames covered.
+    pub frames: std::ops::Range<usize>,
+    /// How far left of the tracked point the cover's right edge stands, in pixels.
+    pub right: f64,
+}
+
+/// The cover's gray level (the appearance sets' full cover's).
+const COVER_GRAY: u8 = 90;
 
 impl Recording {
     /// The tracked point's truth in frame `k`.
@@ -44,7 +60,7 @@ impl Recording {
 /// lamp's middle third) within 48 frames.
 pub fn thesis() -> Recording {
     let scene = SceneConfig { path: PathKind::Triangle, speed: 150.0, frames: 48, lighting_ramp: true, noise: 2.0, seed: 7, ..SceneConfig::default() };
-    Recording { scene, centre: false, adapt: false, frames: 48 }
+    Recording { scene, centre: false, adapt: false, frames: 48, cover: None }
 }
 
 /// `windows_adaptive.bin`: the adapting pair (`track`'s default) on the first 60 frames of the
@@ -53,7 +69,14 @@ pub fn thesis() -> Recording {
 /// appearance`), so its template is replaced and its window grows with the motion.
 pub fn adaptive() -> Recording {
     let scene = appearance::conditions().into_iter().find(|c| c.name == "centre-combined").map(|c| c.scene).unwrap_or_default();
-    Recording { scene, centre: true, adapt: true, frames: 60 }
+    Recording { scene, centre: true, adapt: true, frames: 60, cover: None }
+}
+
+/// `windows_covered.bin`: the adapting pair as [`adaptive`], its object's left third (of the
+/// 20x20 template) covered over frames 30-44, so its chain of vouched rows breaks and the
+/// partly covered check runs (issue 38). The first 45 frames: its cost is in the covered ones.
+pub fn covered() -> Recording {
+    Recording { frames: 45, cover: Some(Cover { frames: 30..45, right: 7.0 }), ..adaptive() }
 }
 
 /// Why the stream cannot be recorded.
@@ -111,7 +134,14 @@ pub fn record(rec: &Recording) -> Result<Vec<u8>, RecordError> {
     let mut windows: Vec<(f64, WindowRequest, Vec<u8>)> = Vec::new();
     for k in 0..rec.frames.min(cfg.frames) {
         let Some(r) = pair.want() else { break };
-        let img = if k == 0 { frame0.clone() } else { scene.render(k).0 };
+        let mut img = if k == 0 { frame0.clone() } else { scene.render(k).0 };
+        if let Some(c) = rec.cover.as_ref().filter(|c| c.frames.contains(&k)) {
+            let (x, y) = rec.truth(&scene, k);
+            let clamp = |v: f64, hi: usize| (v.round().max(0.0) as usize).min(hi);
+            for row in clamp(y - 40.0, h)..clamp(y + 40.0, h) {
+                img[row * w + clamp(x - 40.0, w)..row * w + clamp(x - c.right, w)].fill(COVER_GRAY);
+            }
+        }
         let (x0, y0, ww, wh) = (usize::from(r.x0), usize::from(r.y0), usize::from(r.width), usize::from(r.height));
         if ww == 0 || wh == 0 || x0 + ww > w || y0 + wh > h {
             return Err(RecordError::WindowOutside { frame: k, req: r });

@@ -37,6 +37,8 @@ pub mod inputs {
     pub const WINDOWS: &[u8] = include_bytes!("../../../fixtures/board/windows.bin");
     /// The adapting COOP pair's windows, recorded alike (`fixtures/board/README.md`).
     pub const WINDOWS_ADAPTIVE: &[u8] = include_bytes!("../../../fixtures/board/windows_adaptive.bin");
+    /// The adapting pair's windows with its object partly covered (`fixtures/board/README.md`).
+    pub const WINDOWS_COVERED: &[u8] = include_bytes!("../../../fixtures/board/windows_covered.bin");
 }
 
 /// Brackets each measured piece of work. The board counts instructions; the host runs it.
@@ -123,7 +125,8 @@ fn match_line(out: &mut dyn Write, id: &str, m: Result<Match, MatchError>) -> fm
 pub fn run<W: Write, M: Meter>(out: &mut W, meter: &mut M) -> Result<(), SuiteError> {
     run_kernels(out, meter)?;
     tracker(out, meter, &Replay::THESIS)?;
-    tracker(out, meter, &Replay::ADAPTIVE)
+    tracker(out, meter, &Replay::ADAPTIVE)?;
+    tracker(out, meter, &Replay::COVERED)
 }
 
 /// The suite before the COOP pair's replay (the lines before the first `tracker` line): every
@@ -659,6 +662,10 @@ impl Replay<'static> {
     /// `windows_adaptive.bin`.
     pub const ADAPTIVE: Replay<'static> =
         Replay { name: "adaptive", meter: "coop_frame_adaptive", master_meter: "master_frame_adaptive", adapt: true, windows: inputs::WINDOWS_ADAPTIVE };
+    /// The adapting pair on `windows_covered.bin`, its object partly covered (issue 38):
+    /// replayed on the whole suite's images only.
+    pub const COVERED: Replay<'static> =
+        Replay { name: "covered", meter: "coop_frame_covered", master_meter: "master_frame_covered", adapt: true, windows: inputs::WINDOWS_COVERED };
 }
 
 /// Replays `replay`'s stream through a [`CoopPair`]. Each frame the master must ask for the
