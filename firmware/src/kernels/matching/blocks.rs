@@ -19,7 +19,7 @@ const MAX_BLOCK: usize = 13;
 /// search scores it): `(matching, textured)`. `(0, 0)` where the template does not fit there,
 /// a view is strided, or the blocks would be under 2 or over 13 pixels a side.
 pub fn blocks_matching(win: &WindowView<'_>, tpl: &WindowView<'_>, (px, py): (usize, usize), g: usize, bar: f32) -> (u8, u8) {
-    let b = if g == 0 { 0 } else { tpl.width().min(tpl.height()) / g };
+    let b = tpl.width().min(tpl.height()).checked_div(g).unwrap_or(0);
     let (Some((t, ts)), Some((w, ws))) = (tpl.raw(), win.raw()) else { return (0, 0) };
     if !(2..=MAX_BLOCK).contains(&b) || px + g * b > win.width() || py + g * b > win.height() {
         return (0, 0);
