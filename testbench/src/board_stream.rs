@@ -72,9 +72,10 @@ pub fn adaptive() -> Recording {
     Recording { scene, centre: true, adapt: true, frames: 60, cover: None }
 }
 
-/// `windows_covered.bin`: the adapting pair as [`adaptive`], its object's left third (of the
-/// 20x20 template) covered over frames 30-44, so its chain of vouched rows breaks and the
-/// partly covered check runs (issue 38). The first 45 frames: its cost is in the covered ones.
+/// `windows_covered.bin`: the adapting pair as [`adaptive`], a flat cover over its object's
+/// left part (the 20x20 template's first 3 columns, and 37 px beyond) over frames 30-44, so
+/// its chain of vouched rows breaks and the partly covered check runs (issue 38): the frames
+/// of an object in doubt, measured on the board.
 pub fn covered() -> Recording {
     Recording { frames: 45, cover: Some(Cover { frames: 30..45, right: 7.0 }), ..adaptive() }
 }

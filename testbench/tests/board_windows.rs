@@ -80,7 +80,7 @@ fn the_adaptive_replay_follows_the_turning_object() {
 }
 
 #[test]
-fn the_covered_replay_vouches_only_for_the_true_centre() {
+fn the_covered_replay_is_the_adaptive_one_until_the_cover_and_vouches_for_no_row_off_the_centre() {
     // The adapting pair with a flat cover over its object's left part from frame 30 (issue
     // 38): every vouched row is near the renderer's true centre (the independent reference),
     // those before the cover included.

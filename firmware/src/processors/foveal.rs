@@ -41,6 +41,8 @@ struct NccFound {
     point: Point,
     score: f32,
     pinned: bool,
+    /// The best placement (window pixels), where the template's blocks are scored.
+    placement: (usize, usize),
     /// The parabola's placement (window pixels), where Lucas-Kanade starts.
     sub: (f32, f32),
 }
@@ -85,7 +87,7 @@ fn ncc_track<const P: usize>(win: &WindowView<'_>, tpl: &Template, support: Opti
         return (None, work);
     }
     let pinned = m.x == 0 || m.y == 0 || m.x + n >= win.width() || m.y + n >= win.height();
-    let found = NccFound { point: tpl.point_at(m.frame_x, m.frame_y), score, pinned, sub: (m.sub_x, m.sub_y) };
+    let found = NccFound { point: tpl.point_at(m.frame_x, m.frame_y), score, pinned, placement: (m.x, m.y), sub: (m.sub_x, m.sub_y) };
     (Some(if adapting { found } else { found.refine(win, tpl, support, lk) }), work)
 }
 
@@ -403,7 +405,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
                 self.shape = aligned.map(|(_, pose, _)| Shape { scale: pose.scale(), angle_deg: pose.angle().to_degrees() });
                 self.sighting = match found {
                     _ if self.first_vouches(aligned.map(|(_, _, s)| s), found.map(|f| f.score)) => Sighting::Seen,
-                    Some(f) if self.in_doubt_breaks_the_chain(f.score) && self.partly_covered(win, f.sub) => Sighting::PartlyCovered,
+                    Some(f) if self.in_doubt_breaks_the_chain(f.score) && self.partly_covered(win, f.placement) => Sighting::PartlyCovered,
                     _ => Sighting::Unseen,
                 };
                 let found = match (found, aligned, self.template.as_ref()) {
@@ -412,11 +414,11 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
                     (f, _, _) => f,
                 };
                 self.pinned = found.is_some_and(|f| f.pinned);
-                // A window that cannot teach the template proposes nothing (`follow`'s rule): its
-                // search for the first template pays for the partly covered check.
-                let teaches = |f: &NccFound| self.sighting == Sighting::Seen || (self.sighting == Sighting::Unseen && f.score >= self.params.track.learn_in_doubt);
+                // A window that cannot teach the template proposes nothing: its search for the
+                // first template pays for the partly covered check.
+                let teaches = found.is_some_and(|f| self.teaches(f.score));
                 match (self.adapt.as_mut(), found, self.template.as_ref()) {
-                    (Some(a), Some(f), Some(tpl)) if teaches(&f) => {
+                    (Some(a), Some(f), Some(tpl)) if teaches => {
                         a.matched(tpl, f.point, f.score);
                         a.propose(win, f.point, f.score, tpl.side(), aligned.is_some());
                     }
@@ -498,7 +500,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     /// Follows `found` (measured by `source`, with NCC's `score` when NCC vouches for it) at
     /// time `t`: the next window, the Peripheral told, the outcome: the point, vouched for or
     /// not, or the loss. An adapting template takes the window's proposal when NCC measured
-    /// the point followed, and the row is vouched for or its match reaches `learn_in_doubt`.
+    /// the point followed and the window teaches it ([`Foveal::teaches`]).
     fn follow(&mut self, step: &mut Step, t: f64, found: Option<Point>, source: Source, score: Option<f32>) {
         let confirmed = self.confirms(score);
         // A COOP report the first template did not measure (the corner detector's) is no link
@@ -507,10 +509,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
             self.sighting = Sighting::Unseen;
         }
         let astray = self.astray(confirmed);
-        // A track in doubt learns only from a window whose match holds, and none learns from a
-        // partly covered object (issue 38 item 1): a look-alike or a cover coming over the
-        // object drops the match.
-        let learns = self.sighting != Sighting::PartlyCovered && score.is_some_and(|s| confirmed || s >= self.params.track.learn_in_doubt);
+        let learns = score.is_some_and(|s| self.teaches(s));
         if let Some(a) = self.adapt.as_mut() {
             // A track that has gone astray starts again from the object's first view.
             let next = match (astray, learns) {
@@ -580,6 +579,18 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         }
     }
 
+    /// Whether a window whose template matched with `score` teaches the template its look: one
+    /// vouched for whole, or one in doubt whose match still holds at `learn_in_doubt` (issue 38
+    /// item 1: a look-alike or a cover coming over the object drops the match); never one of a
+    /// partly covered object.
+    fn teaches(&self, score: f32) -> bool {
+        match self.sighting {
+            Sighting::Seen => true,
+            Sighting::PartlyCovered => false,
+            Sighting::Unseen => score >= self.params.track.learn_in_doubt,
+        }
+    }
+
     /// Whether an adapting window whose match scored `score` breaks the chain of vouched rows
     /// in doubt: the chain held, and the match is under `learn_in_doubt`, so the window
     /// teaches the template nothing either way (where it reaches that bar the window learns in
@@ -591,15 +602,14 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     /// Whether an adapting track's object is under the window's match partly covered (issue 38
     /// item 1): at least [`FovealParams::cover_seen`] of the current template's blocks (a
     /// [`COVER_GRID`]-square grid) each still match by zero-mean NCC at `hold_ncc`, the chain's
-    /// own bar, at the placement `sub` (window pixels) where the whole template matched.
+    /// own bar, at the placement `at` (window pixels) where the whole template matched best.
     /// Under a panel over a third of `partial`'s target the whole template matches at 0.46,
     /// while its 8 uncovered blocks score 0.94-0.99, those under the panel's edge 0.67-0.83
     /// and those covered -0.43-0.00.
     ///
     /// [`FovealParams::cover_seen`]: super::params::FovealParams::cover_seen
-    fn partly_covered(&self, win: &WindowView<'_>, sub: (f32, f32)) -> bool {
+    fn partly_covered(&self, win: &WindowView<'_>, at: (usize, usize)) -> bool {
         let (Some(tv), Some(_)) = (self.template.as_ref().and_then(Template::view), &self.adapt) else { return false };
-        let at = (libm::roundf(sub.0).max(0.0) as usize, libm::roundf(sub.1).max(0.0) as usize);
         let bars = &self.params.track;
         let (matching, _) = blocks_matching(win, &tv, at, COVER_GRID, bars.hold_ncc);
         f32::from(matching) >= bars.cover_seen * (COVER_GRID * COVER_GRID) as f32
@@ -607,8 +617,9 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
 
     /// Whether the point followed, with NCC's `score` where NCC vouches for it, is the
     /// target's (issue 38): an adapting track's where its first template vouches for the
-    /// template's match in this window ([`Foveal::first_vouches`]) and that match is the point
-    /// followed; a fixed template's where NCC scores at least `confirm_ncc`. The corner
+    /// template's match in this window ([`Foveal::first_vouches`]), or enough of the template
+    /// does where the object is partly covered ([`Foveal::partly_covered`]), and that match is
+    /// the point followed; a fixed template's where NCC scores at least `confirm_ncc`. The corner
     /// detector alone has no model of the target: the thesis's CD tracker is vouched for as the
     /// thesis does, a COOP report of the corner alone is not.
     fn confirms(&self, score: Option<f32>) -> bool {

@@ -130,7 +130,7 @@ pub struct FovealParams {
     /// calls a target visible). Measured with `coopwin experiment long-term`: `partial`'s
     /// recall 0.933 -> 1.000 (its 20 frames under the panel), lookalike-front 0.971 -> 0.979,
     /// turned-front 0.964 -> 0.971, the crowd 0.875 -> 0.895, Megamind_bugy's eye 0.163 ->
-    /// 0.170, no row wrong and no other figure moved; at 0.375 none wrong either
+    /// 0.170, no row wrong and no other set's or clip's precision or recall moved; at 0.375 none wrong either
     /// (lookalike-front 0.982), nor at 0.5 with the blocks' bar at 0.8; at 0.375 with the bar
     /// at 0.8 one on lookalike-front, at 0.25 with 0.7 eight on four sets.
     pub cover_seen: f32,

@@ -12,16 +12,18 @@ use crate::kernels::view::WindowView;
 /// (169² x 255² < 2³¹), so the M4F converts the terms to `f32` in hardware.
 const MAX_BLOCK: usize = 13;
 
-/// Of the `g x g` blocks of `tpl` (each `side / g` pixels square, 2 to 13; rows and columns
+/// Of the `g x g` blocks of `tpl` (each `side / g` pixels square, at most 13; rows and columns
 /// past the last whole block are left out) placed with its top-left pixel at `(px, py)` in
 /// `win`, how many have texture (a block with no variance has no score), and how many of those
 /// score at least `bar` by zero-mean NCC (a flat patch of the window under one scores 0, as a
 /// search scores it): `(matching, textured)`. `(0, 0)` where the template does not fit there,
-/// a view is strided, or the blocks would be under 2 or over 13 pixels a side.
+/// a view is strided, or the blocks would be over 13 pixels a side (a block of a pixel has no
+/// variance, so none has texture).
 pub fn blocks_matching(win: &WindowView<'_>, tpl: &WindowView<'_>, (px, py): (usize, usize), g: usize, bar: f32) -> (u8, u8) {
     let b = tpl.width().min(tpl.height()).checked_div(g).unwrap_or(0);
     let (Some((t, ts)), Some((w, ws))) = (tpl.raw(), win.raw()) else { return (0, 0) };
-    if !(2..=MAX_BLOCK).contains(&b) || px + g * b > win.width() || py + g * b > win.height() {
+    let fits = |p: usize, len: usize| p.checked_add(g * b).is_some_and(|end| end <= len);
+    if b > MAX_BLOCK || !fits(px, win.width()) || !fits(py, win.height()) {
         return (0, 0);
     }
     let n = (b * b) as i32;
@@ -93,10 +95,13 @@ mod tests {
         // Nowhere to place it, or no grid: nothing.
         assert_eq!(blocks_matching(&win, &tpl, (3, 2), 2, 0.9), (0, 0));
         assert_eq!(blocks_matching(&win, &tpl, (1, 2), 0, 0.9), (0, 0));
-        assert_eq!(blocks_matching(&win, &tpl, (1, 2), 5, 0.9), (0, 0), "blocks of a pixel have no score");
-        let big = std::vec![9u8; 34 * 34];
-        let big = WindowView::packed(&big, 34, 34).unwrap();
-        assert_eq!(blocks_matching(&big, &big, (0, 0), 2, 0.9), (0, 0), "blocks over 13 pixels a side are refused");
+        assert_eq!(blocks_matching(&win, &tpl, (usize::MAX, 2), 2, 0.9), (0, 0), "a placement past any window");
+        // 26x26 of texture: 13x13 blocks are scored, 14x14 ones (28x28) would overflow the sums.
+        let ramp = |side: usize| -> std::vec::Vec<u8> { (0..side * side).map(|i| (i % side * 7 + i / side * 3) as u8).collect() };
+        let (r26, r28) = (ramp(26), ramp(28));
+        let (r26, r28) = (WindowView::packed(&r26, 26, 26).unwrap(), WindowView::packed(&r28, 28, 28).unwrap());
+        assert_eq!(blocks_matching(&r26, &r26, (0, 0), 2, 0.9), (4, 4));
+        assert_eq!(blocks_matching(&r28, &r28, (0, 0), 2, 0.9), (0, 0), "blocks over 13 pixels a side are refused");
         // A decimated view of a 16x16 ramp (8x8, every other pixel) has no rows of its own.
         let wide: std::vec::Vec<u8> = (0..256).map(|i| (i % 16 * 3 + i / 16 * 5) as u8).collect();
         let decimated = WindowView::packed(&wide, 16, 16).unwrap().decimated();
