@@ -1,6 +1,6 @@
 //! Writes `fixtures/board/windows.bin`, `windows_adaptive.bin` and `windows_covered.bin`, the
-//! COOP window streams the
-//! Cortex-M4 board replays (thesis 4.2; see `coopwin_testbench::board_stream`).
+//! COOP window streams the Cortex-M4 board replays (thesis 4.2; see
+//! `coopwin_testbench::board_stream`).
 use coopwin_testbench::board_stream::{adaptive, covered, record, thesis, RecordError};
 
 /// The fixtures' directory.
