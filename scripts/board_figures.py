@@ -607,7 +607,7 @@ def coop_frames(p, counts, prof, extra, run):
             p("took 501,000 instructions on average and up to 674,000, all 15 over the line: an iteration")
             p("partly outside the window spilled its 28 sums to the stack at every pixel, and a walk")
             p("sliding off the covered object ran all its iterations, where it now ends, refused, once")
-            p("it has lost 0.1 of its best score (`warp::MAX_LOSS`); 339,000 on average since.")
+            p(f"it has lost 0.1 of its best score (`warp::MAX_LOSS`); {sum(cv[cover_at:]) / max(len(cv) - cover_at, 1):,.0f} on average since.")
             p("`scripts/board.sh` reports this replay's worst frame but does not hold it to the margin.")
             if "foveal_blocks_20in24" in counts:
                 bc = max(counts["foveal_blocks_20in24"])

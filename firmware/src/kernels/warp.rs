@@ -40,13 +40,17 @@ pub const MAX_WALK: f32 = 3.0;
 pub const MAX_SCALE: f32 = 2.0;
 /// An iteration whose zero-mean NCC is more than this under the best of the earlier ones
 /// ends the alignment, refused as divergence: Gauss-Newton's steps climb towards a match,
-/// and a walk that has lost this much does not come back. Under an object partly covered
-/// the walk slides off it and would otherwise run every iteration, the template partly
-/// outside the window (issue 38: the Cortex-M4's frames in doubt). Of the 5,788 alignments
-/// of `experiment long-term`, `appearance` and `real-footage` that reach
-/// [`crate::processors::adapt::ALIGN`], 6 lose more than 0.05 on the way, 2 more than 0.08
-/// and 1 more than 0.1 (its score 0.53); at 0.1 none of those experiments' figures moves, at
-/// 0.05 the earring of `Megamind.avi` loses 12 vouched rows.
+/// and a walk that has lost this much has left it (it may climb again, but elsewhere: in
+/// the unit test below, to a pose turned 51 degrees and twice the size). Under an object
+/// partly covered the walk slides off it and would otherwise run every iteration, the
+/// template partly outside the window (issue 38: the Cortex-M4's frames in doubt). The
+/// scores compared may be over different pixels (those inside the window), so a drop may
+/// also be pixels leaving it. Of the 5,788 alignments of `experiment long-term`,
+/// `appearance` and `real-footage` that reach [`crate::processors::adapt::ALIGN`], 6 lose
+/// more than 0.05 on the way, 2 more than 0.08 and 1 more than 0.1 (its score 0.53). At 0.1
+/// no position, precision or recall of those experiments moves (9 more rows of the labelled
+/// clips are measured unvouched, a track in doubt held a little longer); at 0.05 the earring
+/// of `Megamind.avi` loses 12 vouched rows.
 pub const MAX_LOSS: f32 = 0.1;
 
 /// A similarity pose of a template in a window: its centre at `(x, y)` (window pixels) and
@@ -97,8 +101,10 @@ pub struct Aligned {
 
 /// The template's side of one iteration's sums over the interior pixels sampled inside the
 /// window (template values less the template's mean: small sums). Summed once per template
-/// for iterations whose samples all fall inside the window ([`SimilarityTemplate`]): each
-/// field is summed on its own and in the pixels' order, so the sum is the same to the bit.
+/// for iterations whose samples all fall inside the window ([`SimilarityTemplate`]), and
+/// for those partly outside over the pixels inside ([`LkTemplate::sums_over`]): each field is
+/// summed on its own and in the pixels' order, so the sum is the same to the bit as one
+/// summed beside the window's sums, pixel by pixel.
 #[derive(Clone, Default)]
 struct TemplateSums {
     m: f32,
@@ -370,10 +376,11 @@ impl<const P: usize> SimilarityTemplate<P> {
                 (&self.fixed, sums_inside(&self.lk, (data, stride), (w, h), &pose, t_mean)?)
             } else {
                 let seen = sums_clipped(&self.lk, (data, stride), (w, h), &pose, t_mean, &mut inside)?;
-                if clipped.as_ref().is_none_or(|(was, _)| *was != inside) {
-                    clipped = Some((inside, self.lk.sums_over(&inside)?));
-                }
-                (&clipped.as_ref()?.1, seen)
+                let fixed = match &clipped {
+                    Some((was, sums)) if *was == inside => sums,
+                    _ => &clipped.insert((inside, self.lk.sums_over(&inside)?)).1,
+                };
+                (fixed, seen)
             };
             if fixed.m < need {
                 return None;
@@ -554,34 +561,39 @@ mod tests {
         // window shows the object unturned at scale 1 (the independent reference: the pose it
         // was rendered with).
         assert_eq!(lk.align(&win, Pose::new(19.5, 17.0, 1.0, 0.0)), None);
-        // Less covered (columns 7-12), the walk keeps its match and aligns.
+        // Less covered (columns 7-12), from the same start, the walk keeps its match and aligns.
         let mut px = render(36, 36, 17.0, 17.0, 1.0, 0.0);
         for row in px.chunks_mut(36) {
             row[7..13].fill(90);
         }
         let win = WindowView::packed(&px, 36, 36).unwrap();
-        assert!(lk.align(&win, Pose::new(17.0, 17.0, 1.0, 0.0)).is_some_and(|a| a.score > 0.8));
+        assert!(lk.align(&win, Pose::new(19.5, 17.0, 1.0, 0.0)).is_some_and(|a| a.score > 0.8));
     }
 
     #[test]
     fn an_iteration_partly_outside_sums_exactly_the_template_pixels_inside() {
         // The template of the partly-outside test, centred at the window's (3.2, 11.6): its
-        // left columns fall outside. Reference: each used pixel inside or not by its mapped
-        // point against the window's sides, counted here, and the template's sums over those
-        // pixels added one by one in the pixels' order.
+        // left columns fall outside (220 of the 324 pixels inside: fewer than MIN_INSIDE asks
+        // of an alignment, which this one iteration's sums do not check). Reference: each used
+        // pixel inside or not by its mapped point against the window's sides, and both sides'
+        // sums over those pixels added one by one in the pixels' order, beside each other as
+        // the iteration summed them before it had a loop of its own.
         let tpl = render(20, 20, 9.5, 9.5, 1.0, 0.0);
         let lk = prepared(&tpl, 20);
         let px = render(24, 24, 11.8, 11.2, 1.0, 0.0);
         let pose = Pose::new(3.2, 11.6, 1.0, -0.1);
-        let (mut inside, mut want, mut want_sums) = ([0u32; MAX_SIDE], [0u32; MAX_SIDE], TemplateSums::ZERO);
+        let t_mean = lk.lk.interior().unwrap().3;
+        let (mut inside, mut want, mut want_sums, mut want_seen) = ([0u32; MAX_SIDE], [0u32; MAX_SIDE], TemplateSums::ZERO, WindowSums::default());
         lk.lk.each_used(|(j, bit), u, v, t, s| {
             let (x, y) = pose.map(u, v);
             if (0.0..=23.0).contains(&x) && (0.0..=23.0).contains(&y) {
                 want[j] |= bit;
                 want_sums.add(t, s);
+                let (x0, y0) = (x.floor() as usize, y.floor() as usize);
+                let p = |dx: usize, dy: usize| f32::from(px[(y0 + dy).min(23) * 24 + (x0 + dx).min(23)]);
+                want_seen.add(lerp2x2([p(0, 0), p(1, 0), p(0, 1), p(1, 1)], x - x0 as f32, y - y0 as f32) - t_mean, t, s);
             }
         });
-        let t_mean = lk.lk.interior().unwrap().3;
         let seen = sums_clipped(&lk.lk, (&px, 24), (24, 24), &pose, t_mean, &mut inside).unwrap();
         assert_eq!(inside, want);
         let n: u32 = want.iter().map(|r| r.count_ones()).sum();
@@ -589,7 +601,7 @@ mod tests {
         let sums = lk.lk.sums_over(&inside).unwrap();
         assert_eq!((sums.m, sums.t, sums.tt, sums.s, sums.st, sums.h), (want_sums.m, want_sums.t, want_sums.tt, want_sums.s, want_sums.st, want_sums.h));
         assert_eq!(sums.m, n as f32);
-        assert!(seen.w.is_finite() && seen.ww > 0.0);
+        assert_eq!((seen.w, seen.ww, seen.wt, seen.sw), (want_seen.w, want_seen.ww, want_seen.wt, want_seen.sw));
     }
 
     #[test]
