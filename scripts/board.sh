@@ -15,7 +15,9 @@
 #
 #   scripts/board.sh             build, run, compare
 #   scripts/board.sh --profile   also profile the COOP frames (QEMU's execution trace, through
-#                                scripts/board_profile.py) into target/board/profile.md
+#                                scripts/board_profile.py) into target/board/profile.md;
+#                                COOPWIN_PROFILE_FRAMES=K:A-B profiles only frames A to B of
+#                                replay K (2:30-44: the covered replay's frames in doubt)
 #   scripts/board.sh --figures   also profile, and regenerate docs/firmware-target.md
 #
 # Needs: apt-get install rustc-web cargo-web rust-web-src qemu-system-arm binutils-arm-none-eabi
@@ -51,7 +53,12 @@ if [ "$profile" = 1 ]; then
   fifo="$out/trace.fifo"
   rm -f "$fifo"
   mkfifo "$fifo"
-  python3 "$root/scripts/board_profile.py" "$elf" "$fifo" --lines 25 >"$out/profile.md" &
+  only=()
+  if [ -n "${COOPWIN_PROFILE_FRAMES:-}" ]; then
+    [ "$figures" = 0 ] || { echo "board.sh: --figures profiles every frame: unset COOPWIN_PROFILE_FRAMES" >&2; exit 2; }
+    only=(--frames "$COOPWIN_PROFILE_FRAMES")
+  fi
+  python3 "$root/scripts/board_profile.py" "$elf" "$fifo" --lines 25 "${only[@]}" >"$out/profile.md" &
   reader=$!
   trace=(-d exec,nochain,in_asm -D "$fifo")
 fi
@@ -162,7 +169,13 @@ margin "$root/target/board-peripheral/run.txt" peripheral_sweep
 # (docs/firmware-target.md).
 covered=$(worst_of "$stm/run.txt" coop_frame_covered)
 [ "$covered" != 0 ] || { echo "board.sh: no \`coop_frame_covered\` frame in $stm/run.txt" >&2; exit 1; }
-echo "board.sh: worst coop_frame_covered frame $covered instructions (an object in doubt: measured, not held to 5x)"
+# The frames in doubt: from the first `covered` row not vouched for (as board_figures.py finds it).
+doubt=$(awk -v limit="$limit" '
+  $1 == "covered" && at == "" && ($0 ~ / unconfirmed/ || $0 !~ / x=/) { at = $2 }
+  $1 == "#" && $2 == "icount" && $3 == "coop_frame_covered" { n[k++] = $4 }
+  END { for (i = at; at != "" && i < k; i++) { s += n[i]; m++; if (n[i] > limit) over++ }
+        if (m) printf "%d of its %d frames in doubt (from frame %d) over the line, %.0f on average", over, m, at, s / m }' "$stm/run.txt")
+echo "board.sh: worst coop_frame_covered frame $covered instructions; ${doubt:-no frame in doubt} (an object in doubt: measured, not held to 5x)"
 
 if [ "$figures" = 1 ]; then
   arm-none-eabi-size -A "$elf" >"$out/size.txt"

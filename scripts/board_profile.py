@@ -3,7 +3,7 @@
 QEMU's execution trace. Called by `scripts/board.sh --profile`; standard library and
 binutils-arm-none-eabi only.
 
-usage: board_profile.py ELF TRACE [--lines N]
+usage: board_profile.py ELF TRACE [--lines N] [--frames K:A-B]
 
 TRACE is QEMU's `-d exec,nochain,in_asm` log (a file or a FIFO): each translated block's
 instructions once (`IN:`), then a `Trace` line each time the block runs. A frame opens when
@@ -14,7 +14,8 @@ one) is profiled apart: one begins where `CoopPair::new` is entered. Library hel
 (soft-float, `memcpy`, `libm`) are charged to the function that called them. Prints, for each
 replay, a line `replay K: F frames, I instructions a frame on average, C cycles (CPI R)`, a
 markdown table of instructions per frame by function and, with `--lines N`, the N busiest
-source lines.
+source lines. With `--frames K:A-B` only frames A to B (from 0) of replay K are counted there
+(the covered replay's frames in doubt: `--frames 2:30-44`); the other replays are whole.
 
 Cycles are estimated from the executed instructions with the Cortex-M4's instruction timings
 (ARM Cortex-M4 Technical Reference Manual r0p1, 3.3.1, Table 3-1; the FPU's, 7.2.3): loads and
@@ -127,7 +128,7 @@ def short(name):
     return re.sub(r"::<.*>$", "", name)
 
 
-def profile(elf, trace):
+def profile(elf, trace, only=None):
     syms = symbols(elf)
     starts = [s[0] for s in syms]
 
@@ -144,6 +145,7 @@ def profile(elf, trace):
     by_fn = collections.Counter()    # caller (helpers folded in) -> instructions
     by_pc = collections.Counter()    # guest instruction address -> executions
     frames, open_, owner = 0, False, "?"
+    frames_skipped = set()           # the frames of the replay `only` names left out
     block = None
     with open(trace, errors="replace") as f:
         for line in f:
@@ -162,13 +164,18 @@ def profile(elf, trace):
                 if open_ and last is not None and pc != last + insns.get(last, ("", "", 0))[2]:
                     taken[last] += 1
                 if not open_ and "CoopPair>::new" in name and frames:
-                    replays.append((frames, by_fn, by_pc, taken))
+                    replays.append((frames - len(frames_skipped), by_fn, by_pc, taken))
+                    frames_skipped = set()
                     frames, by_fn, by_pc, taken = 0, collections.Counter(), collections.Counter(), collections.Counter()
                 if not open_ and "CoopPair>::frame" in name:
                     open_, frames = True, frames + 1
                 elif open_ and "suite::tracker" in name:
                     open_ = False
                 if not open_:
+                    last = None
+                    continue
+                if only and only[0] == len(replays) and not only[1] <= frames - 1 <= only[2]:
+                    frames_skipped.add(frames)
                     last = None
                     continue
                 if not any(h in name for h in HELPERS):
@@ -179,7 +186,7 @@ def profile(elf, trace):
                     by_pc[a] += 1
                 last = insns_of[-1] if insns_of else None
     if frames:
-        replays.append((frames, by_fn, by_pc, taken))
+        replays.append((frames - len(frames_skipped), by_fn, by_pc, taken))
     return replays, insns
 
 
@@ -203,14 +210,28 @@ def source_lines(elf, by_pc):
 
 
 def main():
+    usage = __doc__.split("\n\n")[1]
     args = sys.argv[1:]
-    if len(args) not in (2, 4) or (len(args) == 4 and args[2] != "--lines"):
-        sys.exit(__doc__.split("\n\n")[1])
+    if len(args) < 2 or len(args) % 2:
+        sys.exit(usage)
     elf, trace = args[:2]
-    replays, insns = profile(elf, trace)
+    opts = dict(zip(args[2::2], args[3::2]))
+    if set(opts) - {"--lines", "--frames"}:
+        sys.exit(usage)
+    lines, only = opts.get("--lines"), None
+    if "--frames" in opts:
+        m = re.fullmatch(r"(\d+):(\d+)-(\d+)", opts["--frames"])
+        if not m or int(m[2]) > int(m[3]):
+            sys.exit(f"board_profile.py: --frames wants K:A-B (replay K, its frames A to B), not {opts['--frames']!r}")
+        only = tuple(int(v) for v in m.groups())
+    replays, insns = profile(elf, trace, only)
     if not replays:
         sys.exit("board_profile.py: no COOP frame in the trace")
     for k, (frames, by_fn, by_pc, taken) in enumerate(replays):
+        if not frames:
+            print(f"replay {k}: no frame counted (--frames)")
+            print()
+            continue
         total = sum(by_fn.values())
         cyc = 0
         for a, n in by_pc.items():
@@ -225,10 +246,10 @@ def main():
         for name, n in by_fn.most_common(12):
             print(f"| `{short(name)}` | {n / frames:,.0f} | {100 * n / total:.1f} % |")
         print()
-        if len(args) == 4:
+        if lines:
             print("| source line | instructions a frame |")
             print("|---|---:|")
-            for loc, n in source_lines(elf, by_pc).most_common(int(args[3])):
+            for loc, n in source_lines(elf, by_pc).most_common(int(lines)):
                 print(f"| `{loc}` | {n / frames:,.0f} |")
             print()
 

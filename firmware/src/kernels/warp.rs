@@ -46,7 +46,8 @@ pub const MAX_SCALE: f32 = 2.0;
 /// template partly outside the window (issue 38: the Cortex-M4's frames in doubt). The
 /// scores compared may be over different pixels (those inside the window), so a drop may
 /// also be pixels leaving it. Of the 5,788 alignments of `experiment long-term`,
-/// `appearance` and `real-footage` that reach [`crate::processors::adapt::ALIGN`], 6 lose
+/// `appearance` and `real-footage` that reach [`crate::processors::adapt::ALIGN`] (a scratch
+/// build logged each one's scores), 6 lose
 /// more than 0.05 on the way, 2 more than 0.08 and 1 more than 0.1 (its score 0.53). At 0.1
 /// no position, precision or recall of those experiments moves (9 more rows of the labelled
 /// clips are measured unvouched, a track in doubt held a little longer); at 0.05 the earring
