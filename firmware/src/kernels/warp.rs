@@ -33,6 +33,10 @@ const ITERATIONS: usize = 10;
 pub const CONVERGED: f32 = 0.03;
 /// Fraction of the template's interior pixels that must sample inside the window.
 pub const MIN_INSIDE: f32 = 0.7;
+/// [`MIN_INSIDE`] for a template the frame's edge cuts (the window lies against that edge):
+/// half, as the long-term sets' truth calls a target visible while half of it is in view
+/// (issue 38). A centred template is then half in view when its target is.
+pub const MIN_IN_VIEW: f32 = 0.5;
 /// Farthest the template's centre may walk from the start before the alignment is refused
 /// (the start is a match of the translated template: a longer walk is a divergence).
 pub const MAX_WALK: f32 = 3.0;
@@ -345,10 +349,11 @@ impl<const P: usize> SimilarityTemplate<P> {
 
     /// The similarity pose of the prepared template in `win` (a full-resolution view),
     /// starting from `start`; `None` when nothing is prepared, the window is not full
-    /// resolution, fewer than [`MIN_INSIDE`] of the pixels sample inside it, the window is
-    /// flat there, `H` is singular, or the iteration walks over [`MAX_WALK`] px, out of
-    /// the scales [`MAX_SCALE`] allows or [`MAX_LOSS`] under its best score.
-    pub fn align(&self, win: &WindowView<'_>, start: Pose) -> Option<Aligned> {
+    /// resolution, fewer than `min_inside` of the pixels sample inside it ([`MIN_INSIDE`],
+    /// [`MIN_IN_VIEW`]), the window is flat there, `H` is singular, or the iteration walks
+    /// over [`MAX_WALK`] px, out of the scales [`MAX_SCALE`] allows or [`MAX_LOSS`] under its
+    /// best score.
+    pub fn align(&self, win: &WindowView<'_>, start: Pose, min_inside: f32) -> Option<Aligned> {
         let (data, stride) = win.raw()?;
         let (w, h) = (win.width(), win.height());
         let (iw, used, tg, t_mean) = self.lk.interior()?;
@@ -358,7 +363,7 @@ impl<const P: usize> SimilarityTemplate<P> {
         // The template's centre, in interior pixels: the template is `iw + 2` a side.
         let c = (iw as f32 - 1.0) / 2.0;
         let reach = sqrtf(2.0) * (c + 1.0);
-        let need = MIN_INSIDE * tg.len() as f32;
+        let need = min_inside * tg.len() as f32;
         // The interior's corners, from its centre: every pixel's sample lies within theirs,
         // as each rounding in `Pose::map` is monotonic in `u` and in `v`.
         let corners = [(-c, -c), (c, -c), (-c, used.len() as f32 - 1.0 - c), (c, used.len() as f32 - 1.0 - c)];
@@ -509,7 +514,7 @@ mod tests {
         let px = render(36, 36, 17.3, 16.6, scale, angle);
         let win = WindowView::packed(&px, 36, 36).unwrap();
         // Started as a translation-only tracker leaves it: 1 px off, no turn, no scale.
-        let found = lk.align(&win, Pose::new(16.5, 17.2, 1.0, 0.0)).expect("converges");
+        let found = lk.align(&win, Pose::new(16.5, 17.2, 1.0, 0.0), MIN_INSIDE).expect("converges");
         let p = found.pose;
         assert!((p.x - 17.3).abs() < 0.03 && (p.y - 16.6).abs() < 0.03, "{p:?}");
         assert!((p.angle() - angle).abs() < 0.3f32.to_radians(), "{}", p.angle().to_degrees());
@@ -525,7 +530,7 @@ mod tests {
         let angle = -20f32.to_radians();
         let px = render(24, 24, 11.8, 11.2, 1.0, angle);
         let win = WindowView::packed(&px, 24, 24).unwrap();
-        let p = lk.align(&win, Pose::new(11.5, 11.5, 1.0, 0.0)).expect("converges").pose;
+        let p = lk.align(&win, Pose::new(11.5, 11.5, 1.0, 0.0), MIN_INSIDE).expect("converges").pose;
         assert!((p.x - 11.8).abs() < 0.03 && (p.y - 11.2).abs() < 0.03, "{p:?}");
         assert!((p.angle() - angle).abs() < 0.3f32.to_radians(), "{}", p.angle().to_degrees());
     }
@@ -536,13 +541,13 @@ mod tests {
         let lk = prepared(&tpl, 20);
         let flat = [90u8; 36 * 36];
         let win = WindowView::packed(&flat, 36, 36).unwrap();
-        assert_eq!(lk.align(&win, Pose::new(17.0, 17.0, 1.0, 0.0)), None);
+        assert_eq!(lk.align(&win, Pose::new(17.0, 17.0, 1.0, 0.0), MIN_INSIDE), None);
         let px = render(36, 36, 17.0, 17.0, 1.0, 0.0);
         let win = WindowView::packed(&px, 36, 36).unwrap();
         // Centred on the window's corner: a quarter of the pixels inside.
-        assert_eq!(lk.align(&win, Pose::new(0.0, 0.0, 1.0, 0.0)), None);
-        assert_eq!(lk.align(&win, Pose::new(f32::NAN, 17.0, 1.0, 0.0)), None);
-        assert_eq!(SimilarityTemplate::<INTERIOR>::sized().align(&win, Pose::new(17.0, 17.0, 1.0, 0.0)), None);
+        assert_eq!(lk.align(&win, Pose::new(0.0, 0.0, 1.0, 0.0), MIN_INSIDE), None);
+        assert_eq!(lk.align(&win, Pose::new(f32::NAN, 17.0, 1.0, 0.0), MIN_INSIDE), None);
+        assert_eq!(SimilarityTemplate::<INTERIOR>::sized().align(&win, Pose::new(17.0, 17.0, 1.0, 0.0), MIN_INSIDE), None);
     }
 
     #[test]
@@ -561,14 +566,14 @@ mod tests {
         // 1.96, turned -51 degrees, with a score of 0.649, over adapt::ALIGN, where the
         // window shows the object unturned at scale 1 (the independent reference: the pose it
         // was rendered with).
-        assert_eq!(lk.align(&win, Pose::new(19.5, 17.0, 1.0, 0.0)), None);
+        assert_eq!(lk.align(&win, Pose::new(19.5, 17.0, 1.0, 0.0), MIN_INSIDE), None);
         // Less covered (columns 7-12), from the same start, the walk keeps its match and aligns.
         let mut px = render(36, 36, 17.0, 17.0, 1.0, 0.0);
         for row in px.chunks_mut(36) {
             row[7..13].fill(90);
         }
         let win = WindowView::packed(&px, 36, 36).unwrap();
-        assert!(lk.align(&win, Pose::new(19.5, 17.0, 1.0, 0.0)).is_some_and(|a| a.score > 0.8));
+        assert!(lk.align(&win, Pose::new(19.5, 17.0, 1.0, 0.0), MIN_INSIDE).is_some_and(|a| a.score > 0.8));
     }
 
     #[test]

@@ -112,12 +112,13 @@ impl<const P: usize> Adaptive<P> {
     /// The point the current template measured `at` in `win`, refined by aligning the first
     /// template there under a similarity warp ([`crate::kernels::warp`]), and the first
     /// template's pose (frame coordinates) and its score; `None` when it does not align with a score of
-    /// at least [`ALIGN`] (the object no longer looks like a turned and scaled first view).
+    /// at least [`ALIGN`] (the object no longer looks like a turned and scaled first view), or
+    /// with fewer than `min_inside` of its pixels in `win` ([`SimilarityTemplate::align`]).
     ///
     /// The first template carries no accumulated error, and the warp follows a turn or a
     /// scale that biases a translated template's match: where it aligns, its point is the
     /// drift-free one.
-    pub fn align(&mut self, win: &WindowView<'_>, at: Point) -> Option<(Point, Pose, f32)> {
+    pub fn align(&mut self, win: &WindowView<'_>, at: Point, min_inside: f32) -> Option<(Point, Pose, f32)> {
         let n = self.first.side() as f32;
         let c = (n - 1.0) / 2.0;
         let (ox, oy) = (win.origin().0 as f32, win.origin().1 as f32);
@@ -125,7 +126,7 @@ impl<const P: usize> Adaptive<P> {
         let (du, dv) = (self.first.anchor().x - c, self.first.anchor().y - c);
         let (a, b) = self.shape;
         let start = Pose { x: at.x - ox - (a * du - b * dv), y: at.y - oy - (b * du + a * dv), a, b };
-        let found = self.first_sim.align(win, start).filter(|f| f.score >= ALIGN)?;
+        let found = self.first_sim.align(win, start, min_inside).filter(|f| f.score >= ALIGN)?;
         self.shape = (found.pose.a, found.pose.b);
         let (x, y) = found.pose.map(du, dv);
         let pose = Pose { x: found.pose.x + ox, y: found.pose.y + oy, ..found.pose };

@@ -13,6 +13,7 @@ use crate::kernels::matching::{best_match_full, best_match_pyramid, blocks_match
 use crate::kernels::refine::{LkTemplate, INTERIOR};
 use crate::kernels::support::{best_match_on, Support};
 use crate::kernels::view::WindowView;
+use crate::kernels::warp::{MIN_INSIDE, MIN_IN_VIEW};
 use crate::types::{Decimation, Point, Shape, Source, WindowRequest};
 
 /// Lucas-Kanade's side of the template ([`LkTemplate`]), prepared once per template and
@@ -34,6 +35,36 @@ impl<const P: usize> LkCache<P> {
     }
 }
 
+/// The columns and rows of a template past the frame's edges where the motion puts it, at
+/// most half its side each (issue 38: a target leaving the view, still half in it, is matched
+/// by its part inside, as OpenCV's trackers pad the frame's border; `leaves`'s target was
+/// held to the frame's edge 3-15 px behind it for its last 10 visible frames).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct Cut {
+    left: usize,
+    top: usize,
+    right: usize,
+    bottom: usize,
+}
+
+impl Cut {
+    /// The cut of an `n`-pixel-square template whose top-left pixel the motion puts at
+    /// `(x, y)` (frame coordinates) in a `w x h` frame.
+    fn past_edges(x: f32, y: f32, n: usize, (w, h): (u16, u16)) -> Cut {
+        // A pixel more than the overlap: the predicted placement is then not the search's
+        // last, where the parabola has no neighbour beyond it (`leaves`'s match was held there
+        // half a pixel off).
+        let past = |by: f32| if by > 0.0 { (libm::ceilf(by) as usize + 1).min(n / 2) } else { 0 };
+        let side = n as f32;
+        Cut { left: past(-x), top: past(-y), right: past(x + side - f32::from(w)), bottom: past(y + side - f32::from(h)) }
+    }
+
+    /// The template's part inside the frame.
+    fn of<'a>(&self, tpl: &WindowView<'a>) -> Option<WindowView<'a>> {
+        tpl.sub(self.left, self.top, tpl.width().checked_sub(self.left + self.right)?, tpl.height().checked_sub(self.top + self.bottom)?)
+    }
+}
+
 /// What NCC measured in a window: the tracked point and its score, and whether the best
 /// placement lay on the window's edge (the target may be beyond it: the next window grows).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -41,13 +72,19 @@ struct NccFound {
     point: Point,
     score: f32,
     pinned: bool,
-    /// The best placement (window pixels), where the template's blocks are scored.
-    placement: (usize, usize),
+    /// The best placement (window pixels), where the template's blocks are scored; `None`
+    /// where the template was cut at the frame's edge (its blocks are not all in view).
+    placement: Option<(usize, usize)>,
     /// The parabola's placement (window pixels), where Lucas-Kanade starts.
     sub: (f32, f32),
 }
 
 impl NccFound {
+    /// Whether the whole template was matched (not cut at the frame's edge).
+    fn whole(&self) -> bool {
+        self.placement.is_some()
+    }
+
     /// The point refined by Lucas-Kanade from the parabola's placement (the parabola's own
     /// where it is refused). `lk` holds (or prepares) `tpl` over `support`.
     fn refine<const P: usize>(self, win: &WindowView<'_>, tpl: &Template, support: Option<&Support>, lk: &mut LkCache<P>) -> Self {
@@ -63,14 +100,16 @@ impl NccFound {
 /// track refines only where its first template does not align, [`Foveal::on_window_into`])
 /// and its score, or `None` if the best score is under `ncc_min` (the target has left the
 /// window, or no longer looks like the template). `lk` holds the template prepared for the
-/// refinement; an `adapting` template is matched by zero-mean NCC ([`Params::correlation`]).
+/// refinement; an `adapting` template is matched by zero-mean NCC ([`Params::correlation`]),
+/// without its `cut` past the frame's edges (and then without its support).
 #[inline(always)]
-fn ncc_track<const P: usize>(win: &WindowView<'_>, tpl: &Template, support: Option<&Support>, lk: &mut LkCache<P>, p: &Params, adapting: bool) -> (Option<NccFound>, Work) {
+fn ncc_track<const P: usize>(win: &WindowView<'_>, tpl: &Template, support: Option<&Support>, cut: Cut, lk: &mut LkCache<P>, p: &Params, adapting: bool) -> (Option<NccFound>, Work) {
     let (method, acceptance) = p.correlation(adapting);
     let n = tpl.side();
-    // The cost model counts the whole template: the support is a part of it.
+    // The cost model counts the whole template: the support is a part of it, as is a cut one.
     let work = Work::Match { method, template: (n * n) as u32, placements: placements(win, n, 1) };
-    let Some(tv) = tpl.view() else { return (None, work) };
+    let Some(tv) = tpl.view().and_then(|v| cut.of(&v)) else { return (None, work) };
+    let support = support.filter(|_| cut == Cut::default());
     // The object's part of a corner template first; the whole template where that finds no
     // placement with the object's texture (a lamp's highlight across the support).
     let on_support = support.and_then(|s| Some((best_match_on(win, &tv, s).ok()?, s)));
@@ -86,8 +125,15 @@ fn ncc_track<const P: usize>(win: &WindowView<'_>, tpl: &Template, support: Opti
     if score < acceptance {
         return (None, work);
     }
-    let pinned = m.x == 0 || m.y == 0 || m.x + n >= win.width() || m.y + n >= win.height();
-    let found = NccFound { point: tpl.point_at(m.frame_x, m.frame_y), score, pinned, placement: (m.x, m.y), sub: (m.sub_x, m.sub_y) };
+    let pinned = m.x == 0 || m.y == 0 || m.x + tv.width() >= win.width() || m.y + tv.height() >= win.height();
+    let (left, top) = (cut.left as f32, cut.top as f32);
+    let found = NccFound {
+        point: tpl.point_at(m.frame_x - left, m.frame_y - top),
+        score,
+        pinned,
+        placement: (cut == Cut::default()).then_some((m.x, m.y)),
+        sub: (m.sub_x - left, m.sub_y - top),
+    };
     (Some(if adapting { found } else { found.refine(win, tpl, support, lk) }), work)
 }
 
@@ -386,7 +432,8 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
                 let (mut found, mut work, mut by_first) = (None, Work::None, false);
                 for (k, tpl) in self.template.iter().chain(first).enumerate() {
                     let support = if k == 0 { self.support.as_ref() } else { None };
-                    let (f, w) = ncc_track(win, tpl, support, &mut self.lk, &self.params, self.adapt.is_some());
+                    let cut = self.cut(tpl);
+                    let (f, w) = ncc_track(win, tpl, support, cut, &mut self.lk, &self.params, self.adapt.is_some());
                     // The work of both searches (same template size: their placements add up).
                     match (&mut work, w) {
                         (Work::Match { placements, .. }, Work::Match { placements: more, .. }) => *placements += more,
@@ -401,11 +448,13 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
                 // An adapting track's point is the first template's, aligned under a
                 // similarity warp from the match where it aligns; where it does not, the
                 // match refined by Lucas-Kanade, as a fixed template's.
-                let aligned = self.adapt.as_mut().zip(found).and_then(|(a, f)| a.align(win, f.point));
+                let aligned = self.adapt.as_mut().zip(found).and_then(|(a, f)| a.align(win, f.point, if f.whole() { MIN_INSIDE } else { MIN_IN_VIEW }));
                 self.shape = aligned.map(|(_, pose, _)| Shape { scale: pose.scale(), angle_deg: pose.angle().to_degrees() });
                 self.sighting = match found {
-                    _ if self.first_vouches(aligned.map(|(_, _, s)| s), found.map(|f| f.score)) => Sighting::Seen,
-                    Some(f) if self.in_doubt_breaks_the_chain(f.score) && self.partly_covered(win, f.placement) => Sighting::PartlyCovered,
+                    // A template the frame's edge cuts is vouched for by its first view's
+                    // alignment alone: its match on half the template holds no chain.
+                    _ if self.first_vouches(aligned.map(|(_, _, s)| s), found.filter(NccFound::whole).map(|f| f.score)) => Sighting::Seen,
+                    Some(f) if self.in_doubt_breaks_the_chain(f.score) && f.placement.is_some_and(|at| self.partly_covered(win, at)) => Sighting::PartlyCovered,
                     _ => Sighting::Unseen,
                 };
                 let found = match (found, aligned, self.template.as_ref()) {
@@ -649,6 +698,15 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
             false => self.unconfirmed,
         };
         self.unconfirmed > self.params.track.unconfirmed_run
+    }
+
+    /// What of `tpl` an adapting track matches in the window aimed where the motion puts the
+    /// point ([`Cut`]): all of it, unless the motion puts it past the frame's edges.
+    fn cut(&self, tpl: &Template) -> Cut {
+        match self.aimed.filter(|_| self.adapt.is_some()) {
+            Some(q) => Cut::past_edges(q.x - tpl.anchor().x, q.y - tpl.anchor().y, tpl.side(), (self.params.frame_w, self.params.frame_h)),
+            None => Cut::default(),
+        }
     }
 
     /// The Foveal window after following `p` at `t`: with [`Params::adapt`], centred where
@@ -1022,6 +1080,53 @@ mod tests {
         assert!(out.vouched().is_none() && f.sighting == Sighting::Unseen, "{out:?}");
         // Out of the chain, a third covered is not vouched for: it only holds a chain.
         assert!(run(&mut f, &third, 0.16).vouched().is_none());
+    }
+
+    #[test]
+    fn a_target_leaving_the_view_is_vouched_for_while_half_its_template_is_in_it() {
+        // A 24x24 patch of random texture on flat grey moves 3 px a window (40 ms) out of the
+        // 64x64 frame, through each of its sides, tracked from its centre (31.5, 31.5) with a
+        // 16x16 template. The template fits the frame up to window 8 (7.5 px from the edge);
+        // in windows 9 and 10, 13 and 10 of its 16 columns (or rows) are in view, in window 11
+        // 7, under half. The motion is the COOP guard's: a master, its partner finding no corner.
+        let mut px = 0x2545_f491u32;
+        let patch: std::vec::Vec<u8> = (0..24 * 24)
+            .map(|_| {
+                px = px.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                40 + (px >> 24) as u8 / 2
+            })
+            .collect();
+        let scene = |(left, top): (isize, isize)| {
+            let mut f = std::vec![100u8; SIDE * SIDE];
+            for (y, row) in patch.chunks(24).enumerate() {
+                for (x, &v) in row.iter().enumerate() {
+                    let (fx, fy) = (usize::try_from(left + x as isize), usize::try_from(top + y as isize));
+                    if let (Ok(fx @ 0..SIDE), Ok(fy @ 0..SIDE)) = (fx, fy) {
+                        f[fy * SIDE + fx] = v;
+                    }
+                }
+            }
+            f
+        };
+        let at = Point { x: 31.5, y: 31.5 };
+        let tpl = Template::capture(&WindowView::packed(&scene((20, 20)), SIDE, SIDE).unwrap(), at, 16).unwrap();
+        for (dx, dy) in [(3, 0), (-3, 0), (0, 3), (0, -3)] {
+            let mut f = Foveal::new(FovealKind::CoopMaster, Params { template: 16, foveal: 24, ..params() }.adaptive(), Some(tpl.clone()));
+            let mut req = f.start_at(at).request.unwrap();
+            for k in 0..=11 {
+                let t = 0.04 * k as f64;
+                f.on_window(&cut(&scene((20 + dx * k, 20 + dy * k)), &req), t);
+                let s = f.on_message(&Msg::Result(None), t);
+                let truth = Point { x: at.x + (dx * k) as f32, y: at.y + (dy * k) as f32 };
+                match s.outcome.vouched() {
+                    // Exact copies of the patch: the point to a tenth of a pixel.
+                    Some(fix) if k <= 10 => assert!(dist(fix.at, truth) < 0.1, "({dx}, {dy}), window {k}: {fix:?}"),
+                    None if k == 11 => {}
+                    _ => panic!("({dx}, {dy}), window {k}: {:?}", s.outcome),
+                }
+                req = s.request.unwrap_or(req);
+            }
+        }
     }
 
     #[test]
