@@ -54,7 +54,7 @@ impl Cut {
         // A pixel more than the overlap: the predicted placement is then not the search's
         // last, where the parabola has no neighbour beyond it (`leaves`'s match was held there
         // half a pixel off).
-        let past = |by: f32| if by > 0.0 { (libm::ceilf(by) as usize + 1).min(n / 2) } else { 0 };
+        let past = |by: f32| if by > 0.0 { libm::ceilf(by + 1.0).min((n / 2) as f32) as usize } else { 0 };
         let side = n as f32;
         Cut { left: past(-x), top: past(-y), right: past(x + side - f32::from(w)), bottom: past(y + side - f32::from(h)) }
     }
