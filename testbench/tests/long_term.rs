@@ -19,13 +19,13 @@ use std::path::Path;
 /// (set, measured recall) of the default tracker; every set measured with no wrong `ok` 1 row
 /// and, where the target is ever hidden or gone, a TNR of 1.
 const SYNTHETIC: [(&str, f64); 10] = [
-    ("lookalike-front", 0.9786),
+    ("lookalike-front", 0.9857),
     ("lookalike-behind", 1.0),
-    ("turned-front", 0.9714),
+    ("turned-front", 0.9750),
     ("identical-behind", 1.0),
     ("leaves", 1.0),
     ("leaves-identical", 1.0),
-    ("crowd", 0.8949),
+    ("crowd", 0.9144),
     ("panel", 0.9124),
     ("partial", 1.0),
     ("clutter", 1.0),
@@ -36,11 +36,11 @@ const SYNTHETIC: [(&str, f64); 10] = [
 /// item 4).
 const CLIPS_MEASURED: [(&str, &str, usize, f64); 15] = [
     ("vtest", "coat", 0, 0.1642),
-    ("vtest", "jeans", 0, 0.0241),
-    ("vtest", "red", 0, 0.0647),
-    ("vtest", "blond", 0, 0.1010),
+    ("vtest", "jeans", 0, 0.0345),
+    ("vtest", "red", 0, 0.0686),
+    ("vtest", "blond", 0, 0.1111),
     ("vtest", "hoodie", 0, 0.1772),
-    ("vtest", "redcoat", 0, 0.1594),
+    ("vtest", "redcoat", 0, 0.1625),
     ("vtest", "stripes", 0, 0.0),
     ("Megamind", "eye", 0, 0.1690),
     ("Megamind", "earring", 0, 0.7581),
@@ -48,7 +48,7 @@ const CLIPS_MEASURED: [(&str, &str, usize, f64); 15] = [
     ("Megamind_bugy", "eye", 0, 0.1702),
     ("Megamind_bugy", "candle", 0, 0.6667),
     ("Megamind_bugy", "bridge", 0, 0.4400),
-    ("tree", "gap", 0, 0.0167),
+    ("tree", "gap", 0, 0.4667),
     ("tree", "frame", 0, 1.0),
 ];
 

@@ -1,5 +1,6 @@
 //! Hand-made inputs for the processors' unit tests: a 64x64 frame of grey 50 with a 4x4 block
-//! of 200 whose top-left pixel is chosen by the test, and the windows a request cuts from it.
+//! of 200 whose top-left pixel is chosen by the test, the windows a request cuts from it, and
+//! random texture.
 use super::params::Params;
 use super::template::Template;
 use crate::kernels::view::WindowView;
@@ -49,4 +50,15 @@ pub fn template() -> Template {
 /// A `side`x`side` window with its top-left pixel at `(x0, y0)`.
 pub fn square(x0: u16, y0: u16, side: u16, decimation: Decimation) -> WindowRequest {
     WindowRequest { x0, y0, width: side, height: side, decimation }
+}
+
+/// `len` pixels of random texture, grey `base` to `base + 127` (a linear congruential
+/// generator's high byte, halved), drawn from `state`.
+pub fn texture(state: &mut u32, len: usize, base: u8) -> Vec<u8> {
+    (0..len)
+        .map(|_| {
+            *state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            base + (*state >> 24) as u8 / 2
+        })
+        .collect()
 }
