@@ -227,7 +227,8 @@ pub struct Foveal<const N: usize = MAX_DIM, const P: usize = INTERIOR> {
     adapt: Option<Adaptive<P>>,
     /// The last NCC placement sat on the window's edge: the next window is wider.
     pinned: bool,
-    /// Adapting tracks: where the last window was aimed (the motion's prediction).
+    /// Adapting tracks: where the last window was aimed (the motion's prediction; a coasting
+    /// window's, the coast's).
     aimed: Option<Point>,
     /// Adapting tracks: the largest recent distance between where a window was aimed and
     /// where the point was found, decaying by `miss_decay` a window: the motion's surprise.
@@ -239,6 +240,9 @@ pub struct Foveal<const N: usize = MAX_DIM, const P: usize = INTERIOR> {
     sighting: Sighting,
     /// Adapting tracks: windows in a row whose point the first template did not confirm.
     unconfirmed: u8,
+    /// Adapting tracks: windows vouched for as the object coming back out since its model last
+    /// vouched for a window otherwise.
+    reappeared: u8,
     /// Adapting tracks: when a window was last vouched for, in seconds.
     vouched_at: Option<f64>,
 }
@@ -279,6 +283,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
             shape: None,
             sighting: Sighting::Unseen,
             unconfirmed: 0,
+            reappeared: 0,
             vouched_at: None,
         }
     }
@@ -342,7 +347,8 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     /// Peripheral's approximate location.
     fn start(&mut self, p: Point, exact: bool, step: &mut Step) {
         self.phase = if !exact && self.adapt.is_some() { Phase::HandedOver(p) } else { Phase::Tracking(p) };
-        (self.aimed, self.miss, self.unconfirmed, self.sighting) = (None, 0.0, 0, Sighting::Unseen);
+        // A track (re)started is vouched for first by its model: coming out needs a track.
+        (self.aimed, self.miss, self.unconfirmed, self.reappeared, self.sighting) = (None, 0.0, 0, self.params.track.rejoin_run, Sighting::Unseen);
         if !exact {
             step.outcome = Outcome::Redetected(p);
         }
@@ -460,8 +466,13 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
                     // alignment alone: its match on half the template holds no chain.
                     _ if self.first_vouches(aligned.map(|(_, _, s)| s), found.filter(NccFound::whole).map(|f| f.score)) => Sighting::Seen,
                     Some(f) if self.in_doubt_breaks_the_chain(f.score) && f.placement.is_some_and(|at| self.partly_covered(win, at)) => Sighting::PartlyCovered,
-                    Some(_) if aligned.is_some_and(|(p, _, s)| self.reappears(p, s)) => Sighting::Reappearing,
+                    Some(f) if f.whole() && aligned.is_some_and(|(p, _, s)| self.reappears(p, s)) => Sighting::Reappearing,
                     _ => Sighting::Unseen,
+                };
+                self.reappeared = match self.sighting {
+                    Sighting::Seen | Sighting::PartlyCovered => 0,
+                    Sighting::Reappearing => self.reappeared.saturating_add(1),
+                    Sighting::Unseen => self.reappeared,
                 };
                 let found = match (found, aligned, self.template.as_ref()) {
                     (Some(f), Some((point, _, _)), _) => Some(NccFound { point, ..f }),
@@ -524,7 +535,9 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
             step.outcome = Outcome::Predicted(q);
             // The next window is aimed at the coast's prediction: the object coming back
             // out is looked for there ([`Foveal::reappears`]).
-            self.aimed = Some(q);
+            if self.adapt.is_some() {
+                self.aimed = Some(q);
+            }
             self.sighting = Sighting::Unseen;
             if let Some(a) = self.adapt.as_mut() {
                 a.discard();
@@ -621,7 +634,8 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     /// `centre-combined`; a walking person's legs, an eye as the head turns), or with at least
     /// `hold_ncc` where it does not align at all (the hinge of `Megamind.avi` turns until its
     /// first view no longer aligns, matched at 0.96-0.99 a window); out of the chain, where the
-    /// first template aligns and the current one matches with at least `rejoin_ncc`; and, where
+    /// first template aligns and the current one matches with at least `rejoin_ncc` (or, where
+    /// the object comes back out from behind a cover, [`Foveal::reappears`]); and, where
     /// it cannot align (a pattern without a gradient across, the 1080p test's colour bars),
     /// where it is itself the current template and matches as the thesis's fixed template
     /// must (`confirm_ncc`). A cover breaks the chain: the panel of the long-term set `panel`
@@ -640,7 +654,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     /// Whether a window whose template matched with `score` teaches the template its look: one
     /// vouched for whole, or one in doubt whose match still holds at `learn_in_doubt` (issue 38
     /// item 1: a look-alike or a cover coming over the object drops the match); never one of a
-    /// partly covered object.
+    /// partly covered object, or of one coming back out.
     fn teaches(&self, score: f32) -> bool {
         match self.sighting {
             Sighting::Seen => true,
@@ -650,7 +664,8 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     }
 
     /// Whether an adapting window whose match scored `score` breaks the chain of vouched rows
-    /// in doubt: the chain held, and the match is under `learn_in_doubt`, so the window
+    /// in doubt: the chain held (the last row vouched for, the object whole, partly covered or
+    /// coming back out), and the match is under `learn_in_doubt`, so the window
     /// teaches the template nothing either way (where it reaches that bar the window learns in
     /// doubt, unvouched, as before; checking those too moved no figure).
     fn in_doubt_breaks_the_chain(&self, score: f32) -> bool {
@@ -673,29 +688,35 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         f32::from(matching) >= bars.cover_seen * (COVER_GRID * COVER_GRID) as f32
     }
 
-    /// Whether a track out of the chain, or whose last window saw the object reappear, sees its
-    /// object come back out from behind a cover (issue 38 item 1): its first view aligns at `p`
-    /// with `aligned`, at least
+    /// Whether a track out of the chain, or seeing its object come back out, sees it come out
+    /// from behind a cover (issue 38 item 1), at most [`FovealParams::rejoin_run`] windows
+    /// since its model last vouched for one otherwise (a track (re)started, none before it has;
+    /// a redirected one takes the Peripheral's location): its first view, matched whole, aligns at `p` with `aligned`, at least
     /// [`FovealParams::rejoin_align`], within [`FovealParams::rejoin_near`] of where the motion
     /// aimed the window. Coming out from behind lookalike-front's look-alike the target's first
     /// view aligns at 0.59-0.76, 0.07-0.53 px from the truth, while the template learnt before
     /// the cover matches at 0.48-0.68 and 1-5 of its 16 blocks (the chain's bars ask 0.9). It
     /// needs the COOP guard's motion, as the [`Cut`] does. An object going under a cover is
-    /// not judged so (the chain's bars and its blocks judge it): the same bars vouched for a row
-    /// of the crowd whose target was under half in view.
+    /// judged by the chain's bars and its blocks, not so: these bars vouched for a row of the
+    /// crowd whose target was under half in view. A template the frame's edge cuts is vouched
+    /// for by its alignment at `confirm_align` alone, as before.
     ///
     /// [`FovealParams::rejoin_align`]: super::params::FovealParams::rejoin_align
     /// [`FovealParams::rejoin_near`]: super::params::FovealParams::rejoin_near
+    /// [`FovealParams::rejoin_run`]: super::params::FovealParams::rejoin_run
     fn reappears(&self, p: Point, aligned: f32) -> bool {
         let bars = &self.params.track;
-        matches!(self.sighting, Sighting::Unseen | Sighting::Reappearing) && aligned >= bars.rejoin_align && self.aimed.is_some_and(|q| dist(p, q) <= bars.rejoin_near)
+        let coming_out = matches!(self.sighting, Sighting::Unseen | Sighting::Reappearing) && self.reappeared < bars.rejoin_run;
+        // The Peripheral's location, where a track was redirected, is taken unless the first
+        // view vouches for the track's own point at the full bar.
+        coming_out && !matches!(self.phase, Phase::Redirected(_)) && aligned >= bars.rejoin_align && self.aimed.is_some_and(|q| dist(p, q) <= bars.rejoin_near)
     }
 
     /// Whether the point followed, with NCC's `score` where NCC vouches for it, is the
     /// target's (issue 38): an adapting track's where its first template vouches for the
     /// template's match in this window ([`Foveal::first_vouches`]), or enough of the template
-    /// does where the object is partly covered ([`Foveal::partly_covered`]), and that match is
-    /// the point followed; a fixed template's where NCC scores at least `confirm_ncc`. The corner
+    /// does where the object is partly covered ([`Foveal::partly_covered`]), or it comes back
+    /// out from behind a cover ([`Foveal::reappears`]), and that match is the point followed; a fixed template's where NCC scores at least `confirm_ncc`. The corner
     /// detector alone has no model of the target: the thesis's CD tracker is vouched for as the
     /// thesis does, a COOP report of the corner alone is not.
     fn confirms(&self, score: Option<f32>) -> bool {
@@ -1169,12 +1190,23 @@ mod tests {
             }
             f
         };
+        // The object at (left, 24) with every third column of it under the cover: two thirds
+        // of it seen, in each of its blocks (none matches at the chain's 0.9).
+        let striped = |left: usize| {
+            let mut f = scene(left, 0);
+            for y in 24..40 {
+                for x in (left..left + 16).step_by(3) {
+                    f[y * SIDE + x] = cover[y * SIDE + x];
+                }
+            }
+            f
+        };
         let at = Point { x: 27.5, y: 31.5 };
         let tpl = Template::capture(&WindowView::packed(&scene(20, 0), SIDE, SIDE).unwrap(), at, 16).unwrap();
         // Where it comes out, 8 windows on, where the motion aims the window.
         let aimed = Point { x: 35.5, y: 31.5 };
         // The row of the window that shows the object coming out `moved` px right of where the
-        // motion aims.
+        // motion aims, and whether each of the next 8 windows, the object striped, is vouched.
         let coming_out = |track: FovealParams, moved: usize| {
             let p = Params { template: 16, foveal: 24, track, ..params() }.adaptive();
             let mut f = Foveal::new(FovealKind::CoopMaster, p, Some(tpl.clone()));
@@ -1191,15 +1223,23 @@ mod tests {
             for k in 4..8 {
                 assert!(matches!(run(&mut f, &scene(20 + k, 16), 0.04 * k as f64), Outcome::Predicted(_)), "window {k}");
             }
-            (run(&mut f, &scene(28 + moved, 6), 0.32), f.sighting, f.template == Some(tpl.clone()))
+            let out = run(&mut f, &scene(28 + moved, 6), 0.32);
+            let (sighting, kept) = (f.sighting, f.template == Some(tpl.clone()));
+            let next: std::vec::Vec<bool> = (9..17).map(|k| run(&mut f, &striped(20 + k + moved), 0.04 * k as f64).vouched().is_some()).collect();
+            (out, sighting, kept, next)
         };
         // Where the motion aims: vouched for, to a quarter of a pixel (the cover pulls the
         // alignment, here by 0.16 px), and the template learns nothing from the part of the
         // view that is the cover's. Were the window still aimed where the track went under
         // (4 px back) it would not be: each coasting window is aimed at the coast's prediction.
-        let (out, sighting, kept) = coming_out(FovealParams::default(), 0);
+        let (out, sighting, kept, next) = coming_out(FovealParams::default(), 0);
         assert!(out.vouched().is_some_and(|fix| dist(fix.at, aimed) < 0.25), "{out:?}");
         assert!(sighting == Sighting::Reappearing && kept);
+        // Seen no better in the windows after, it is vouched for in `rejoin_run` (4) windows in
+        // all, then no more until its model vouches for it otherwise: an object is out within a
+        // few windows. The first after is not: the guard, measuring again after its coast,
+        // aims it 4 px ahead (40.8 against 36.5).
+        assert_eq!(next, [false, true, true, true, false, false, false, false]);
         // Without the rule (no aligned score reaches 1.1), the same window is not vouched for:
         // the chain's bars, asked of the whole template, refuse it.
         let (out, ..) = coming_out(FovealParams { rejoin_align: 1.1, ..FovealParams::default() }, 0);

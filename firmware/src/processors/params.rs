@@ -143,6 +143,15 @@ pub struct FovealParams {
     /// 3 px none (and a little more recall: the gap 0.550, the redcoat 0.178), so 2 keeps a
     /// margin.
     pub rejoin_near: f32,
+    /// Windows a track may be vouched for as its object comes back out
+    /// ([`FovealParams::rejoin_align`]) before its model vouches for one otherwise (its first
+    /// view at `confirm_align`, the chain's bars or its blocks; default 4, stop 53): an object
+    /// is out within a few windows, the long-term sets' within 2, and the rule is no second
+    /// chain. A track (re)started has none until its model vouches for a window. Measured with `coopwin experiment long-term`: no other figure moves between 2 and
+    /// 8 but tree.avi's leaf gap (its first view aligns at 0.5-0.8, never confirming), vouched
+    /// for on 3 rows with 2, 15 with 4, 9 with 8, and 28 with no bound; with 2, vtest's blond
+    /// loses a row.
+    pub rejoin_run: u8,
     /// Share of an adapting template's blocks that must each still match, at `hold_ncc`, for a
     /// window whose whole match breaks the chain to be vouched for as the object partly
     /// covered (default 0.5, stop 50: at least half of it seen, as the long-term sets' truth
@@ -193,6 +202,7 @@ impl Default for FovealParams {
             rejoin_ncc: 0.9,
             rejoin_align: 0.6,
             rejoin_near: 2.0,
+            rejoin_run: 4,
             learn_in_doubt: 0.8,
             cover_seen: 0.5,
             unconfirmed_run: 8,
