@@ -533,8 +533,9 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
                 step.send(Dest::Peripheral, Msg::Coasting(q));
             }
             step.outcome = Outcome::Predicted(q);
-            // The next window is aimed at the coast's prediction: the object coming back
-            // out is looked for there ([`Foveal::reappears`]).
+            // The next window is placed at the coast's prediction (the request below), so the
+            // object coming back out is judged against that aim ([`Foveal::reappears`]), not
+            // the last one before the coast.
             if self.adapt.is_some() {
                 self.aimed = Some(q);
             }
@@ -716,9 +717,10 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     /// target's (issue 38): an adapting track's where its first template vouches for the
     /// template's match in this window ([`Foveal::first_vouches`]), or enough of the template
     /// does where the object is partly covered ([`Foveal::partly_covered`]), or it comes back
-    /// out from behind a cover ([`Foveal::reappears`]), and that match is the point followed; a fixed template's where NCC scores at least `confirm_ncc`. The corner
-    /// detector alone has no model of the target: the thesis's CD tracker is vouched for as the
-    /// thesis does, a COOP report of the corner alone is not.
+    /// out from behind a cover ([`Foveal::reappears`]), and that match is the point followed;
+    /// a fixed template's where NCC scores at least `confirm_ncc`. The corner detector alone
+    /// has no model of the target: the thesis's CD tracker is vouched for as the thesis does,
+    /// a COOP report of the corner alone is not.
     fn confirms(&self, score: Option<f32>) -> bool {
         match (self.kind, &self.adapt) {
             (FovealKind::Cd, _) => true,

@@ -130,8 +130,9 @@ pub struct FovealParams {
     /// learnt before the cover came, matches at 0.48-0.68 and 1-5 of its 16 blocks at the
     /// chain's bar, while the first view aligns at 0.59-0.80 (lookalike-front, turned-front);
     /// the rows vouched for so are 0.07-0.53 px from the truth. A zero-mean NCC of 0.6 is about
-    /// what a view 60 % the object's scores. Measured with `coopwin experiment long-term`: at
-    /// 0.65 tree.avi's leaf gap gains one row (recall 0.033 against 0.467), at 0.55
+    /// what a view 60 % the object's scores. Measured with `coopwin experiment long-term`,
+    /// before the bound of [`FovealParams::rejoin_run`]: at 0.65 tree.avi's leaf gap gains one
+    /// row (recall 0.033 against 0.467 at 0.6), at 0.55
     /// lookalike-front gets a wrong row where the target was under half in view, at 0.5
     /// turned-front too. Asked of a track still in the chain too (an object going under a
     /// cover), it vouched for such a row of the crowd, aligned at 0.645.
@@ -139,9 +140,10 @@ pub struct FovealParams {
     /// Pixels from where the motion aimed the window within which a track out of the chain
     /// may be vouched for again by its first view aligned at [`FovealParams::rejoin_align`]
     /// (default 2, stop 53): the object coming out from behind a cover is where it was going.
-    /// Measured on the long-term sets and clips: at 4 px two wrong rows on vtest's stripes; at
-    /// 3 px none (and a little more recall: the gap 0.550, the redcoat 0.178), so 2 keeps a
-    /// margin.
+    /// Measured on the long-term sets and clips, before the bound of
+    /// [`FovealParams::rejoin_run`]: at 4 px two wrong rows on vtest's stripes; at 3 px none
+    /// (and a little more recall: the gap 0.550 against 0.467 at 2 px, the redcoat 0.178
+    /// against 0.163), so 2 keeps a margin.
     pub rejoin_near: f32,
     /// Windows a track may be vouched for as its object comes back out
     /// ([`FovealParams::rejoin_align`]) before its model vouches for one otherwise (its first
