@@ -149,6 +149,11 @@ pub struct Guard {
     history: [Option<(f64, Point)>; HISTORY],
     /// Windows coasted through since the last measurement.
     coasted: u8,
+    /// When the last window was decided, and the time since the one before: the window
+    /// interval that the next window's prediction looks ahead by (the last two positions'
+    /// spacing spans a coast too).
+    last: Option<f64>,
+    interval: Option<f64>,
     /// Each source's last positions while they agree, for the thesis's SSE (4.3).
     lines: SseCoop,
     /// Running mean of each source's SSE (NCC, CD).
@@ -172,6 +177,8 @@ impl Guard {
             disagreements: 0,
             history: [None; HISTORY],
             coasted: 0,
+            last: None,
+            interval: None,
             lines: SseCoop::thesis(),
             jitter: [None; 2],
             parted: 0,
@@ -200,12 +207,16 @@ impl Guard {
     pub fn begin(&mut self, p: Point, exact: bool) {
         self.history = [None; HISTORY];
         self.coasted = 0;
+        self.last = None;
+        self.interval = None;
         self.parted = 0;
         self.start = (exact && self.offset.is_none()).then_some(p);
     }
 
     /// The position to follow for the window measured at time `t`, and its source.
     pub fn decide(&mut self, t: f64, m: Measured) -> Option<(Point, Source)> {
+        self.interval = self.last.map(|l| t - l).filter(|d| *d > 0.0).or(self.interval);
+        self.last = Some(t);
         if let Some(p0) = self.start.take() {
             if let Some(c) = m.corner.filter(|c| dist(*c, p0) <= self.params.anchor) {
                 self.offset = Some(sub(p0, c));
@@ -281,20 +292,25 @@ impl Guard {
     /// window interval ahead), or `None` when the track has coasted `coast` seconds or has
     /// no motion to go by, and is lost.
     pub fn coast(&mut self, t: f64) -> Option<Point> {
-        let (Some((t1, _)), Some((t0, _))) = (self.history[0], self.history[1]) else { return None };
-        if t - t1 > self.params.coast || t1 <= t0 {
+        let (Some((t1, _)), Some(dt)) = (self.history[0], self.moving()) else { return None };
+        if t - t1 > self.params.coast {
             return None;
         }
         self.coasted = self.coasted.saturating_add(1);
-        self.predict(t + (t1 - t0))
+        self.predict(t + dt)
     }
 
-    /// Where the followed point should be one window interval (the last two positions'
-    /// spacing) after `t`, from the positions followed; `None` before there are two.
+    /// Where the followed point should be one window interval (the time between the last
+    /// two windows) after `t`, from the positions followed; `None` before there are two.
     pub fn ahead(&self, t: f64) -> Option<Point> {
-        let (Some((t1, _)), Some((t0, _))) = (self.history[0], self.history[1]) else { return None };
         // The last few positions only: a target that speeds up is followed, not lagged.
-        (t1 > t0).then(|| line_at(&self.history[..LEAD], t + (t1 - t0))).flatten()
+        self.moving().and_then(|dt| line_at(&self.history[..LEAD], t + dt))
+    }
+
+    /// The window interval, once two positions followed at different times give the motion.
+    fn moving(&self) -> Option<f64> {
+        let (Some((t1, _)), Some((t0, _))) = (self.history[0], self.history[1]) else { return None };
+        (t1 > t0).then_some(self.interval).flatten()
     }
 
     /// Inverse-variance fusion of two agreeing measurements (see the module docs).

@@ -198,22 +198,52 @@ fn prediction_extrapolates_constant_velocity() {
     assert!((q.x - 6.0).abs() < 1e-5 && (q.y - 3.0).abs() < 1e-5, "{q:?}");
 }
 
-#[test]
-fn a_track_coasts_through_an_occlusion_and_resumes() {
-    let mut g = Guard::new(GuardParams::default());
-    let at = |k: usize| 0.01 * k as f64;
+/// Window `k`'s time: 100 windows a second.
+fn at(k: usize) -> f64 {
+    0.01 * k as f64
+}
+
+/// A guard with `params` that followed a point moving 1 px a window (x = 10 + k) in windows
+/// 0 to 7.
+fn moving(params: GuardParams) -> Guard {
+    let mut g = Guard::new(params);
     for k in 0..8 {
         g.decide(at(k), ncc(p(10.0 + k as f32, 20.0), 0.999));
     }
+    g
+}
+
+/// Where `g` looks next after each of `windows`, none of which measures anything.
+fn coast_through(g: &mut Guard, windows: core::ops::Range<usize>) -> std::vec::Vec<Point> {
+    windows
+        .map(|k| {
+            assert_eq!(g.decide(at(k), Measured::default()), None);
+            g.coast(at(k)).expect("within the coast limit")
+        })
+        .collect()
+}
+
+#[test]
+fn a_track_coasts_through_an_occlusion_and_resumes() {
+    let mut g = moving(GuardParams::default());
     // Occluded for 10 windows (0.1 s): each coasting step looks one interval ahead.
-    for k in 8..18 {
-        let q = g.coast(at(k)).expect("within the coast limit");
+    for (k, q) in (8..18).zip(coast_through(&mut g, 8..18)) {
         assert!((q.x - (11.0 + k as f32)).abs() < 1e-3 && (q.y - 20.0).abs() < 1e-3, "{q:?}");
-        assert_eq!(g.decide(at(k + 1), Measured::default()), None);
     }
-    // The object shows again 6 px from the prediction: inside the re-acquisition reach.
-    let got = g.decide(at(19), ncc(p(35.0, 20.0), 0.98));
-    assert_eq!(got, Some((p(35.0, 20.0), Source::Ncc)));
+    // The object shows again 6 px from the prediction (28): inside the re-acquisition reach.
+    let got = g.decide(at(18), ncc(p(34.0, 20.0), 0.98));
+    assert_eq!(got, Some((p(34.0, 20.0), Source::Ncc)));
+}
+
+#[test]
+fn after_a_coast_the_next_window_is_aimed_one_window_ahead() {
+    let mut g = moving(GuardParams::default());
+    coast_through(&mut g, 8..12);
+    // Back on its line at window 12. Hand calculation: the next window, 0.01 s on, finds it
+    // at 23; the last two positions lie 0.05 s apart, and looking that far ahead aimed it at 27.
+    g.decide(at(12), ncc(p(22.0, 20.0), 0.999));
+    let q = g.ahead(at(12)).expect("moving");
+    assert!((q.x - 23.0).abs() < 1e-3 && (q.y - 20.0).abs() < 1e-3, "{q:?}");
 }
 
 #[test]
@@ -223,10 +253,7 @@ fn an_adapting_track_resumes_only_on_a_trusted_or_confirmed_match() {
     // template confirms it, a trusted one taken; the thesis's parameters resume on any
     // accepted score.
     let coasting = |params| {
-        let mut g = Guard::new(params);
-        for k in 0..8 {
-            g.decide(0.01 * k as f64, ncc(p(10.0 + k as f32, 20.0), 0.999));
-        }
+        let mut g = moving(params);
         assert!(g.coast(0.08).is_some());
         g
     };
