@@ -10,8 +10,8 @@
 //! are searched by candidates ([`best_match_candidates`]) and get one look a frame, so that no
 //! frame's work exceeds a fraction of the frame period (issue 22). Once the track has been
 //! vouched for (issue 38), what it hands over must lie in a motion prior around where the
-//! track was last vouched for ([`Seen`]), and it also searches while the track is doubted
-//! ([`Msg::Doubted`]).
+//! track was last vouched for (its motion there, [`PeripheralParams::prior_radius`]), and it
+//! also searches while the track is doubted ([`Msg::Doubted`]).
 use super::coop::guard::dist;
 use super::messages::{Dest, Msg};
 use super::params::{Params, PeripheralParams};

@@ -99,6 +99,12 @@ pub struct LongTermScore {
     pub tau: f64,
     /// AUROC of the confidence, right rows against the others; `None` when all are one kind.
     pub auroc: Option<f64>,
+    /// Frames where the target is visible and the row's measured position is on it, not
+    /// vouched for: the recall the verdict withholds.
+    pub withheld: usize,
+    /// Frames where the target is visible and the row has no measured position (the track
+    /// coasting, lost or searching): the recall the tracking loses.
+    pub unmeasured: usize,
 }
 
 /// Scores `rows` against `truth` (one entry a frame; the shorter decides the frames).
@@ -138,6 +144,9 @@ pub fn score(rows: &[Row], truth: &[Truth]) -> LongTermScore {
     let (precision, recall) = pr_re(f64::NEG_INFINITY);
     let absent: Vec<bool> = rows.iter().zip(truth).filter(|(_, t)| !t.visible).map(|(r, _)| !r.ok).collect();
     let tnr = (!absent.is_empty()).then(|| absent.iter().filter(|s| **s).count() as f64 / absent.len() as f64);
+    let missed = || rows.iter().zip(truth).filter(|(r, t)| t.visible && !r.ok);
+    let withheld = missed().filter(|(r, t)| r.confidence >= 0.0 && t.is_on(r)).count();
+    let unmeasured = missed().filter(|(r, _)| r.confidence < 0.0).count();
     let judged: Vec<(f64, bool)> = rows.iter().zip(truth).map(|(r, t)| (if r.ok { r.confidence } else { -1.0 }, !right(r, t))).collect();
     LongTermScore {
         frames: n,
@@ -151,6 +160,8 @@ pub fn score(rows: &[Row], truth: &[Truth]) -> LongTermScore {
         f,
         tau: tau.max(0.0),
         auroc: auroc(&judged),
+        withheld,
+        unmeasured,
     }
 }
 
@@ -200,6 +211,18 @@ mod tests {
 
     fn row(ok: bool, confidence: f64, x: f64) -> Row {
         Row { ok, confidence, point: Some((x, 0.0)) }
+    }
+
+    #[test]
+    fn the_visible_frames_missed_are_told_apart() {
+        // Hand count: the target at x 0 in all six frames. Rows: vouched and right; measured
+        // on it, not vouched (twice); measured 6 px off, not vouched; no measured position
+        // (a prediction: confidence -1, twice).
+        let truth = [Truth::point(Some((0.0, 0.0))); 6];
+        let rows = [row(true, 0.9, 0.0), row(false, 0.6, 1.0), row(false, 0.6, 0.0), row(false, 0.6, 6.0), row(false, -1.0, 0.0), row(false, -1.0, 9.0)];
+        let s = score(&rows, &truth);
+        assert_eq!((s.withheld, s.unmeasured), (2, 2));
+        assert!((s.recall - 1.0 / 6.0).abs() < 1e-12);
     }
 
     #[test]

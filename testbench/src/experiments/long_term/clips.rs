@@ -105,9 +105,12 @@ pub fn labelled(clip: &'static str) -> Result<Vec<Labelled>, ExperimentError> {
     Ok(objects)
 }
 
-/// OpenCV's scores on `clip`'s objects from the fixtures' `summary.csv`: (tracker file part,
-/// object, precision (`None`: no `ok` row), F).
-pub fn opencv_scores(clip: &str) -> Result<Vec<(String, String, Option<f64>, f64)>, ExperimentError> {
+/// One OpenCV tracker's score on one object or set: (tracker file part, object, precision
+/// (`None`: no `ok` row), F).
+pub type OpencvScore = (String, String, Option<f64>, f64);
+
+/// OpenCV's scores on `clip`'s objects from the fixtures' `summary.csv`.
+pub fn opencv_scores(clip: &str) -> Result<Vec<OpencvScore>, ExperimentError> {
     let dir = if clip == "vtest" { folder().join("opencv") } else { folder().join("opencv").join(clip) };
     summary_scores(&dir.join("summary.csv"))
 }
@@ -118,12 +121,12 @@ pub fn opencv_sets_folder() -> PathBuf {
 }
 
 /// OpenCV's scores on the long-term sets, as [`opencv_scores`] (the object is the set).
-pub fn opencv_set_scores() -> Result<Vec<(String, String, Option<f64>, f64)>, ExperimentError> {
+pub fn opencv_set_scores() -> Result<Vec<OpencvScore>, ExperimentError> {
     summary_scores(&opencv_sets_folder().join("summary.csv"))
 }
 
 /// The rows of a `summary.csv` that `scripts/opencv_longterm.py` writes.
-fn summary_scores(path: &Path) -> Result<Vec<(String, String, Option<f64>, f64)>, ExperimentError> {
+fn summary_scores(path: &Path) -> Result<Vec<OpencvScore>, ExperimentError> {
     lines(path)?
         .into_iter()
         .map(|(line, f)| {

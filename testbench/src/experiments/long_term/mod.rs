@@ -55,15 +55,17 @@ pub fn present(frames: &LongTermFrames) -> Vec<Truth> {
 /// beside OpenCV's: writes `long-term-clips.csv` and returns the markdown.
 fn real_clips(dir: &Path, clip_dir: &Path, progress: &mut dyn FnMut(&str)) -> Result<(String, Vec<[Bin; 10]>), ExperimentError> {
     let mut bins = vec![[Bin::default(); 10]; TRACKERS.len()];
-    let mut csv = String::from("clip,object,tracker,frames,visible,vouched,wrong,wrong_run,precision,recall,tnr,f\n");
+    let mut csv = String::from("clip,object,tracker,frames,visible,vouched,wrong,wrong_run,precision,recall,tnr,f,withheld,unmeasured\n");
     let mut md = String::from(
         "\n### Real clips, labelled by hand\n\nThe objects of `fixtures/longterm/` (labelled every 5th frame as visible, hidden or gone; \
          its README gives the procedure), tracked from their start box, scored from the next frame as `scripts/opencv_longterm.py` \
          scores OpenCV's trackers: a row is right when its point is inside the labelled box or within 5 px of its centre. \
-         Run: the longest run of consecutive wrong `ok` 1 rows. OpenCV's F from `fixtures/longterm/opencv/`.\n\n",
+         Run: the longest run of consecutive wrong `ok` 1 rows. Missed: of the frames where the object is visible, those \
+         measured on it but not vouched for (the recall the verdict withholds) / those without a measured position (the track \
+         coasting, lost or searching: the recall the tracking loses). OpenCV's F from `fixtures/longterm/opencv/`.\n\n",
     );
-    let _ = writeln!(md, "| clip | object | tracker | precision | recall | TNR | F | wrong / vouched | run | {} |", clips::OPENCV.map(|o| format!("F {}", o.0)).join(" | "));
-    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|{}", "---|".repeat(clips::OPENCV.len()));
+    let _ = writeln!(md, "| clip | object | tracker | precision | recall | TNR | F | wrong / vouched | run | missed | {} |", clips::OPENCV.map(|o| format!("F {}", o.0)).join(" | "));
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|{}", "---|".repeat(clips::OPENCV.len()));
     for clip_name in clips::CLIPS {
         let objects = clips::labelled(clip_name)?;
         let opencv = clips::opencv_scores(clip_name)?;
@@ -77,11 +79,22 @@ fn real_clips(dir: &Path, clip_dir: &Path, progress: &mut dyn FnMut(&str)) -> Re
                 let opt = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:.4}"));
                 let _ = writeln!(
                     csv,
-                    "{clip_name},{name},{label},{},{},{},{},{},{:.4},{:.4},{},{:.4}", s.frames, s.visible, s.vouched, s.wrong, s.wrong_run, s.precision, s.recall, opt(s.tnr), s.f
+                    "{clip_name},{name},{label},{},{},{},{},{},{:.4},{:.4},{},{:.4},{},{}",
+                    s.frames,
+                    s.visible,
+                    s.vouched,
+                    s.wrong,
+                    s.wrong_run,
+                    s.precision,
+                    s.recall,
+                    opt(s.tnr),
+                    s.f,
+                    s.withheld,
+                    s.unmeasured
                 );
                 let _ = writeln!(
                     md,
-                    "| {clip_name} | {name} | {label} | {:.3} | {:.3} | {} | {:.3} | {} / {} | {} | {} |",
+                    "| {clip_name} | {name} | {label} | {:.3} | {:.3} | {} | {:.3} | {} / {} | {} | {} / {} | {} |",
                     s.precision,
                     s.recall,
                     s.tnr.map_or("-".into(), |v| format!("{v:.2}")),
@@ -89,6 +102,8 @@ fn real_clips(dir: &Path, clip_dir: &Path, progress: &mut dyn FnMut(&str)) -> Re
                     s.wrong,
                     s.vouched,
                     s.wrong_run,
+                    s.withheld,
+                    s.unmeasured,
                     theirs
                 );
             }
@@ -102,7 +117,7 @@ fn real_clips(dir: &Path, clip_dir: &Path, progress: &mut dyn FnMut(&str)) -> Re
 
 /// OpenCV's F on `object` (a set, or a clip's object) as the tables' cells, in
 /// [`clips::OPENCV`]'s order (`-` where the fixture has none).
-fn opencv_f(opencv: &[(String, String, Option<f64>, f64)], object: &str) -> String {
+fn opencv_f(opencv: &[clips::OpencvScore], object: &str) -> String {
     let cell = |file: &str| opencv.iter().find(|r| r.0 == file && r.1 == object).map_or("-".into(), |r| format!("{:.3}", r.3));
     clips::OPENCV.map(|(_, file)| cell(file)).join(" | ")
 }
@@ -136,23 +151,24 @@ pub fn evaluate(dir: &Path, clip_dir: &Path, progress: &mut dyn FnMut(&str)) -> 
     // Read first: a missing fixture fails before the runs.
     let opencv = clips::opencv_set_scores()?;
     let (sets, table) = run_all(progress)?;
-    let mut csv = String::from("set,tracker,frames,visible,vouched,wrong,precision,recall,tnr,f,tau,auroc\n");
+    let mut csv = String::from("set,tracker,frames,visible,vouched,wrong,precision,recall,tnr,f,tau,auroc,withheld,unmeasured\n");
     let mut md = String::from(
         "## long-term (native profile)\n\nThe target among look-alikes, behind occluders and out of the view (`frames/scene/longterm.rs`), \
          tracked from its box on frame 0 as `track --target-box` does. Precision of the `ok` 1 rows (within 5 px of the visible \
          target), OxUvA's TPR (recall) and TNR (silence while the target is hidden or gone), VOT-LT's F at the best confidence \
-         threshold, wrong `ok` 1 rows of all vouched, and the confidence's AUROC; OpenCV's F on the same frames, scored alike \
+         threshold, wrong `ok` 1 rows of all vouched, the confidence's AUROC, and the frames missed where the target is visible: \
+         measured on it but not vouched for / without a measured position; OpenCV's F on the same frames, scored alike \
          (`fixtures/longterm/opencv/sets/`, `scripts/opencv_longterm.py --sets`).\n\n",
     );
-    let _ = writeln!(md, "| set | what happens | tracker | precision | recall | TNR | F | wrong / vouched | AUROC | {} |", clips::OPENCV.map(|o| format!("F {}", o.0)).join(" | "));
-    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|{}", "---|".repeat(clips::OPENCV.len()));
+    let _ = writeln!(md, "| set | what happens | tracker | precision | recall | TNR | F | wrong / vouched | AUROC | missed | {} |", clips::OPENCV.map(|o| format!("F {}", o.0)).join(" | "));
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|{}", "---|".repeat(clips::OPENCV.len()));
     let opt = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.2}"));
     for (set, row) in sets.iter().zip(&table) {
         let theirs = opencv_f(&opencv, set.name);
         for ((label, _), (s, _, _)) in TRACKERS.iter().zip(row) {
             let _ = writeln!(
                 csv,
-                "{},{label},{},{},{},{},{:.4},{:.4},{},{:.4},{:.3},{}",
+                "{},{label},{},{},{},{},{:.4},{:.4},{},{:.4},{:.3},{},{},{}",
                 set.name,
                 s.frames,
                 s.visible,
@@ -163,12 +179,24 @@ pub fn evaluate(dir: &Path, clip_dir: &Path, progress: &mut dyn FnMut(&str)) -> 
                 s.tnr.map_or(String::new(), |v| format!("{v:.4}")),
                 s.f,
                 s.tau,
-                s.auroc.map_or(String::new(), |v| format!("{v:.4}"))
+                s.auroc.map_or(String::new(), |v| format!("{v:.4}")),
+                s.withheld,
+                s.unmeasured
             );
             let _ = writeln!(
                 md,
-                "| {} | {} | {label} | {:.3} | {:.3} | {} | {:.3} | {} / {} | {} | {theirs} |",
-                set.name, set.about, s.precision, s.recall, opt(s.tnr), s.f, s.wrong, s.vouched, opt(s.auroc)
+                "| {} | {} | {label} | {:.3} | {:.3} | {} | {:.3} | {} / {} | {} | {} / {} | {theirs} |",
+                set.name,
+                set.about,
+                s.precision,
+                s.recall,
+                opt(s.tnr),
+                s.f,
+                s.wrong,
+                s.vouched,
+                opt(s.auroc),
+                s.withheld,
+                s.unmeasured
             );
         }
     }
