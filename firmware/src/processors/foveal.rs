@@ -1239,8 +1239,8 @@ mod tests {
         assert!(sighting == Sighting::Reappearing && kept);
         // Seen no better in the windows after, it is vouched for in `rejoin_run` (4) windows in
         // all, then no more until its model vouches for it otherwise: an object is out within a
-        // few windows. The first after is aimed one window ahead, not as far as the coast's
-        // span (40.8 against 36.5, refused, before the guard looked one window interval ahead).
+        // few windows. Before stop 54 the guard aimed the first after as far ahead as the
+        // coast's span (40.8 with the object at 36.5), and it was refused.
         assert_eq!(next, [true, true, true, false, false, false, false, false]);
         // Without the rule (no aligned score reaches 1.1), the same window is not vouched for:
         // the chain's bars, asked of the whole template, refuse it.

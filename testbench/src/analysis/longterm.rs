@@ -99,11 +99,13 @@ pub struct LongTermScore {
     pub tau: f64,
     /// AUROC of the confidence, right rows against the others; `None` when all are one kind.
     pub auroc: Option<f64>,
-    /// Frames where the target is visible and the row's measured position is on it, not
-    /// vouched for: the recall the verdict withholds.
+    /// Frames where the target is visible and the row's position, measured and reported, is
+    /// on it but has `ok` 0 (not vouched for, or vouched for more than the CSV's age rule
+    /// allows before): the recall the verdict withholds.
     pub withheld: usize,
     /// Frames where the target is visible and the row has no measured position (the track
-    /// coasting, lost or searching): the recall the tracking loses.
+    /// coasting, lost or searching): the recall the tracking loses. The visible frames
+    /// neither right, withheld nor unmeasured are those measured off the target.
     pub unmeasured: usize,
 }
 

@@ -149,10 +149,11 @@ pub struct Guard {
     history: [Option<(f64, Point)>; HISTORY],
     /// Windows coasted through since the last measurement.
     coasted: u8,
-    /// When the last window was decided, and the time since the one before: the window
-    /// interval that the next window's prediction looks ahead by (the last two positions'
-    /// spacing spans a coast too).
+    /// When the last window was decided.
     last: Option<f64>,
+    /// The time between the last two windows decided, which the next window's prediction
+    /// looks ahead by (the last two positions' spacing spans a coast too); kept where a
+    /// window's time is not a finite step on.
     interval: Option<f64>,
     /// Each source's last positions while they agree, for the thesis's SSE (4.3).
     lines: SseCoop,
@@ -215,7 +216,7 @@ impl Guard {
 
     /// The position to follow for the window measured at time `t`, and its source.
     pub fn decide(&mut self, t: f64, m: Measured) -> Option<(Point, Source)> {
-        self.interval = self.last.map(|l| t - l).filter(|d| *d > 0.0).or(self.interval);
+        self.interval = self.last.map(|l| t - l).filter(|d| d.is_finite() && *d > 0.0).or(self.interval);
         self.last = Some(t);
         if let Some(p0) = self.start.take() {
             if let Some(c) = m.corner.filter(|c| dist(*c, p0) <= self.params.anchor) {

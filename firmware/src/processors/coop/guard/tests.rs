@@ -205,7 +205,7 @@ fn at(k: usize) -> f64 {
 
 /// A guard with `params` that followed a point moving 1 px a window (x = 10 + k) in windows
 /// 0 to 7.
-fn moving(params: GuardParams) -> Guard {
+fn followed_moving(params: GuardParams) -> Guard {
     let mut g = Guard::new(params);
     for k in 0..8 {
         g.decide(at(k), ncc(p(10.0 + k as f32, 20.0), 0.999));
@@ -225,7 +225,7 @@ fn coast_through(g: &mut Guard, windows: core::ops::Range<usize>) -> std::vec::V
 
 #[test]
 fn a_track_coasts_through_an_occlusion_and_resumes() {
-    let mut g = moving(GuardParams::default());
+    let mut g = followed_moving(GuardParams::default());
     // Occluded for 10 windows (0.1 s): each coasting step looks one interval ahead.
     for (k, q) in (8..18).zip(coast_through(&mut g, 8..18)) {
         assert!((q.x - (11.0 + k as f32)).abs() < 1e-3 && (q.y - 20.0).abs() < 1e-3, "{q:?}");
@@ -237,13 +237,16 @@ fn a_track_coasts_through_an_occlusion_and_resumes() {
 
 #[test]
 fn after_a_coast_the_next_window_is_aimed_one_window_ahead() {
-    let mut g = moving(GuardParams::default());
+    let mut g = followed_moving(GuardParams::default());
     coast_through(&mut g, 8..12);
     // Back on its line at window 12. Hand calculation: the next window, 0.01 s on, finds it
     // at 23; the last two positions lie 0.05 s apart, and looking that far ahead aimed it at 27.
     g.decide(at(12), ncc(p(22.0, 20.0), 0.999));
     let q = g.ahead(at(12)).expect("moving");
     assert!((q.x - 23.0).abs() < 1e-3 && (q.y - 20.0).abs() < 1e-3, "{q:?}");
+    // Hidden again at window 13: the coast looks one window ahead too (24, not 28).
+    let q = coast_through(&mut g, 13..14)[0];
+    assert!((q.x - 24.0).abs() < 1e-3 && (q.y - 20.0).abs() < 1e-3, "{q:?}");
 }
 
 #[test]
@@ -253,7 +256,7 @@ fn an_adapting_track_resumes_only_on_a_trusted_or_confirmed_match() {
     // template confirms it, a trusted one taken; the thesis's parameters resume on any
     // accepted score.
     let coasting = |params| {
-        let mut g = moving(params);
+        let mut g = followed_moving(params);
         assert!(g.coast(0.08).is_some());
         g
     };
