@@ -293,7 +293,7 @@ impl Guard {
     /// window interval ahead), or `None` when the track has coasted `coast` seconds or has
     /// no motion to go by, and is lost.
     pub fn coast(&mut self, t: f64) -> Option<Point> {
-        let (Some((t1, _)), Some(dt)) = (self.history[0], self.moving()) else { return None };
+        let (Some((t1, _)), Some(dt)) = (self.history[0], self.window_interval()) else { return None };
         if t - t1 > self.params.coast {
             return None;
         }
@@ -305,11 +305,11 @@ impl Guard {
     /// two windows) after `t`, from the positions followed; `None` before there are two.
     pub fn ahead(&self, t: f64) -> Option<Point> {
         // The last few positions only: a target that speeds up is followed, not lagged.
-        self.moving().and_then(|dt| line_at(&self.history[..LEAD], t + dt))
+        self.window_interval().and_then(|dt| line_at(&self.history[..LEAD], t + dt))
     }
 
     /// The window interval, once two positions followed at different times give the motion.
-    fn moving(&self) -> Option<f64> {
+    fn window_interval(&self) -> Option<f64> {
         let (Some((t1, _)), Some((t0, _))) = (self.history[0], self.history[1]) else { return None };
         (t1 > t0).then_some(self.interval).flatten()
     }
