@@ -34,7 +34,7 @@ fn offset_is_learnt_then_cd_carries_the_track_through_an_ncc_dropout() {
     // Moving 1 px a frame right; the corner is (-10, +2) from the tracked point.
     for k in 1..=8 {
         let x = 50.0 + k as f32;
-        let got = g.decide(0.01 * k as f64, both(p(x, 50.0), 0.995, p(x - 10.0, 52.0)));
+        let got = g.decide(at(k), both(p(x, 50.0), 0.995, p(x - 10.0, 52.0)));
         assert_eq!(got, Some((p(x, 50.0), Source::Ncc)));
     }
     let o = g.offset().expect("learnt after 8 consistent frames");
@@ -49,7 +49,7 @@ fn a_corner_far_from_the_prediction_is_refused() {
     let mut g = Guard::new(GuardParams::default());
     g.decide(0.0, ncc(p(50.0, 50.0), 0.999));
     for k in 1..=8 {
-        g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.995, p(40.0, 50.0)));
+        g.decide(at(k), both(p(50.0, 50.0), 0.995, p(40.0, 50.0)));
     }
     // CD jumps to another corner 8 px away while NCC is out: no position rather than a wrong one.
     assert_eq!(g.decide(0.09, corner(p(48.0, 50.0))), None);
@@ -60,7 +60,7 @@ fn untrusted_sources_that_disagree_are_not_believed() {
     let mut g = Guard::new(GuardParams::default());
     g.decide(0.0, ncc(p(50.0, 50.0), 0.999));
     for k in 1..=8 {
-        g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.995, p(40.0, 50.0)));
+        g.decide(at(k), both(p(50.0, 50.0), 0.995, p(40.0, 50.0)));
     }
     // A blob drags NCC 3 px (score 0.975, accepted but not trusted) and the detector
     // sees a corner of it: neither is followed, and the track coasts on the prediction.
@@ -74,7 +74,7 @@ fn untrusted_sources_that_disagree_are_not_believed() {
 fn of_two_untrusted_sources_the_one_the_motion_bears_out_is_followed() {
     let mut g = Guard::new(GuardParams::default());
     for k in 0..=8 {
-        g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.995, p(40.0, 50.0)));
+        g.decide(at(k), both(p(50.0, 50.0), 0.995, p(40.0, 50.0)));
     }
     // NCC under the lamp (score 0.975) stays 0.5 px from the still target; the corner is
     // 3 px off. NCC is followed.
@@ -87,12 +87,12 @@ fn a_corner_that_keeps_disagreeing_is_unlearnt() {
     let mut g = Guard::new(GuardParams::default());
     g.decide(0.0, ncc(p(50.0, 50.0), 0.999));
     for k in 1..=8 {
-        g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.995, p(40.0, 50.0)));
+        g.decide(at(k), both(p(50.0, 50.0), 0.995, p(40.0, 50.0)));
     }
     assert!(g.offset().is_some());
     // The detector now finds a texture corner 5 px away, three frames running.
     for k in 9..=11 {
-        let got = g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.995, p(45.0, 50.0)));
+        let got = g.decide(at(k), both(p(50.0, 50.0), 0.995, p(45.0, 50.0)));
         assert_eq!(got, Some((p(50.0, 50.0), Source::Ncc)), "trusted NCC wins");
     }
     assert_eq!(g.offset(), None);
@@ -112,7 +112,7 @@ fn a_corner_at_the_start_point_anchors_cd_and_outvotes_a_sliding_ncc() {
     let mut got = [None; 4];
     for (k, slot) in (1..=4).zip(got.iter_mut()) {
         let x = 50.0 + k as f32;
-        *slot = g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.985, p(x + 0.4, 50.0)));
+        *slot = g.decide(at(k), both(p(50.0, 50.0), 0.985, p(x + 0.4, 50.0)));
     }
     assert_eq!(got[2], Some((p(50.0, 50.0), Source::Ncc)));
     assert_eq!(got[3], Some((p(54.0, 50.0), Source::Cd)));
@@ -128,7 +128,7 @@ fn a_trusted_ncc_is_not_outvoted() {
     // Frame 1 they still agree (1 px apart) and are fused; from frame 2 they part.
     g.decide(0.01, both(p(50.0, 50.0), 0.998, p(51.4, 50.0)));
     for k in 2..=7 {
-        let got = g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.998, p(50.4 + k as f32, 50.0)));
+        let got = g.decide(at(k), both(p(50.0, 50.0), 0.998, p(50.4 + k as f32, 50.0)));
         assert_eq!(got, Some((p(50.0, 50.0), Source::Ncc)), "frame {k}");
     }
 }
@@ -138,12 +138,12 @@ fn a_corner_that_jumps_onto_clutter_does_not_outvote_ncc() {
     let mut g = Guard::new(GuardParams::default());
     g.begin(p(50.0, 50.0), true);
     for k in 0..6 {
-        g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.999, p(50.0, 50.0)));
+        g.decide(at(k), both(p(50.0, 50.0), 0.999, p(50.0, 50.0)));
     }
     // The detector jumps 2.5 px onto a blob's corner and stays there: it disagrees every
     // frame, but its own track broke, so NCC keeps the track.
     for k in 6..12 {
-        let got = g.decide(0.01 * k as f64, both(p(50.0, 50.0), 0.999, p(52.5, 50.0)));
+        let got = g.decide(at(k), both(p(50.0, 50.0), 0.999, p(52.5, 50.0)));
         assert_eq!(got, Some((p(50.0, 50.0), Source::Ncc)), "frame {k}");
     }
 }
@@ -177,7 +177,7 @@ fn agreeing_sources_are_fused_by_their_steadiness() {
     g.decide(0.0, both(p(50.0, 50.0), 0.999, p(50.0, 50.0)));
     for k in 1..=40 {
         let s = if k % 2 == 0 { 1.0 } else { -1.0 };
-        g.decide(0.01 * k as f64, both(p(50.0 + 0.4 * s, 50.0), 0.995, p(50.0 - 0.1 * s, 50.0)));
+        g.decide(at(k), both(p(50.0 + 0.4 * s, 50.0), 0.995, p(50.0 - 0.1 * s, 50.0)));
     }
     // Hand calculation: each source's SSE about its own line through 4 alternating points
     // is 4 a^2 (a = 0.4, 0.1), so the weights are 1/0.64 and 1/0.04 and CD's share
