@@ -140,6 +140,16 @@ impl TrackOptions {
         }
     }
 
+    /// A note for a `--target-box` the template does not cover (wider or taller than it):
+    /// the track follows the part of the object under the template, not the whole box.
+    pub fn box_note(&self) -> Option<String> {
+        let Target::Box(x, y, w, h) = self.target else { return None };
+        let n = u32::from(self.template_side());
+        (w > n || h > n).then(|| {
+            format!("note: --target-box {x},{y},{w},{h} is larger than the {n}x{n} template cut at its centre: that part of the object is tracked (and vouched for), not the whole box, and it is the box's centre that the CSV reports")
+        })
+    }
+
     /// The point to track: the point, or the box's centre.
     fn target_point(&self) -> Option<(f64, f64)> {
         match self.target {

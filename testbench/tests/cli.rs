@@ -226,6 +226,26 @@ fn errors_name_the_option_given_and_a_missing_input_is_no_such_file() {
     assert!(err.contains("missing.avi: no such file or folder") && !err.contains("folder missing.avi"), "{err}");
 }
 
+/// A box the template does not cover is noted, once, with the template's side (the box's
+/// shorter side up to 32, as `--help` says); a box it covers is not. The closing line counts
+/// the rows vouched for apart from those tracked.
+#[test]
+fn a_box_larger_than_the_template_is_noted() {
+    let (d, frames) = triangle_scene("cli_box_note", 4);
+    let (f, csv) = (frames.to_str().unwrap(), d.join("t.csv"));
+    let track = |bbox: &str| coopwin_env(&["track", "--frames", f, "--target-box", bbox, "--out", csv.to_str().unwrap()], &[]);
+    let (code, out, err) = track("100,100,40,60");
+    assert_eq!(code, Some(0), "{err}");
+    assert_eq!(err.matches("note: --target-box 100,100,40,60 is larger than the 32x32 template cut at its centre").count(), 1, "{err}");
+    assert!(out.contains("4 frames, ") && out.contains(" vouched for (the CSV's ok 1"), "{out}");
+    let (code, _, err) = track("100,100,20,30");
+    assert_eq!(code, Some(0), "{err}");
+    assert!(err.contains("larger than the 20x20 template"), "{err}");
+    let (code, _, err) = track("100,100,24,24");
+    assert_eq!(code, Some(0), "{err}");
+    assert!(!err.contains("note:"), "{err}");
+}
+
 #[test]
 fn end_frame_stops_before_the_frame_named() {
     let (d, frames) = triangle_scene("cli_end_frame", 20);

@@ -184,7 +184,11 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
     let files = TrackFiles::check(&args)?;
     let to_stdout = files.csv_to_stdout();
     let say = |line: String| if to_stdout { eprintln!("{line}") } else { println!("{line}") };
-    let mut run = TrackRun::open(&args.frames, &args.options(), &interrupt::requested)?;
+    let options = args.options();
+    let mut run = TrackRun::open(&args.frames, &options, &interrupt::requested)?;
+    if let Some(note) = options.box_note() {
+        eprintln!("{note}");
+    }
     if let Some(damage) = run.input.damage() {
         eprintln!("warning: {}: {damage}", args.frames.display());
     }

@@ -49,13 +49,14 @@ pub fn summary_table(rows: &[(&str, Summary)]) -> String {
 }
 
 /// The lines `coopwin track` closes with for `log`: the HDL simulator's share (clocked units),
-/// frames tracked and the wall-clock rate against the simulated camera's, the lock-on, and
+/// frames tracked and vouched for and the wall-clock rate against the simulated camera's, the lock-on, and
 /// the log's losses and refusals. `secs` is the whole command's wall-clock time,
 /// `tracking_secs` the run's; `first` the source's number of the run's frame 0.
 pub fn run_lines(log: &RunLog, secs: f64, tracking_secs: f64, first: usize) -> Vec<String> {
     let mut lines = Vec::new();
     let secs = secs.max(1e-9);
     let tracked = log.frames.iter().filter(|r| r.point.is_some()).count();
+    let vouched = log.frames.iter().filter(|r| r.vouched()).count();
     if log.hdl_clocks > 0 {
         lines.push(format!(
             "window units: {} pixel clocks, {:.2} M clocks/s over the run, about {:.0}% of the time in the HDL simulator",
@@ -66,7 +67,7 @@ pub fn run_lines(log: &RunLog, secs: f64, tracking_secs: f64, first: usize) -> V
     }
     let n = log.frames.len();
     lines.push(format!(
-        "{n} frames, {tracked} tracked, {} position reports; {:.0} frames/s wall-clock ({secs:.1} s on this machine); simulated: the camera, window units and processors in simulated time, at the source's {:.2} frames/s ({:.2} s of camera time)",
+        "{n} frames, {tracked} tracked, {vouched} vouched for (the CSV's ok 1: a robot may follow them), {} position reports; {:.0} frames/s wall-clock ({secs:.1} s on this machine); simulated: the camera, window units and processors in simulated time, at the source's {:.2} frames/s ({:.2} s of camera time)",
         log.reports.len(),
         n as f64 / secs,
         1.0 / log.frame_period,
@@ -87,4 +88,34 @@ pub fn run_lines(log: &RunLog, secs: f64, tracking_secs: f64, first: usize) -> V
         }
     }
     lines
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::system::{FrameRecord, TrackState};
+    use coopwin_firmware::processors::Mode;
+
+    /// The closing line counts the frames a robot may follow as the CSV's `ok` does
+    /// ([`FrameRecord::vouched`]); reference: three frames counted by hand.
+    #[test]
+    fn the_closing_line_counts_the_vouched_frames_apart_from_the_tracked() {
+        let record = |frame: usize, measured: Option<usize>, state: TrackState| FrameRecord {
+            frame,
+            point: measured.map(|_| (10.0, 10.0)),
+            measured_frame: measured,
+            mode: Mode::Track,
+            source: None,
+            score: None,
+            shape: None,
+            box_shape: None,
+            state,
+            estimate: None,
+        };
+        // Vouched for; measured but not vouched for; vouched for but 3 frames old (MAX_AGE 2).
+        let frames = vec![record(0, Some(0), TrackState::Tracking), record(1, Some(1), TrackState::Unconfirmed), record(4, Some(1), TrackState::Tracking)];
+        let log = RunLog { frames, frame_period: 0.1, ..RunLog::default() };
+        let line = &run_lines(&log, 1.0, 1.0, 0)[0];
+        assert!(line.starts_with("3 frames, 3 tracked, 1 vouched for (the CSV's ok 1"), "{line}");
+    }
 }
