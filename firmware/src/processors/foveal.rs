@@ -9,7 +9,7 @@ use super::params::Params;
 use super::step::{placements, Fix, Mode, Outcome, Step, Work};
 use super::template::Template;
 use crate::kernels::corner::{CornerDetector, CornerParams, MAX_DIM};
-use crate::kernels::matching::{best_match_full, best_match_pyramid, blocks_matching};
+use crate::kernels::matching::{best_match_full, best_match_pyramid, blocks_matching, score_at, Method};
 use crate::kernels::refine::{LkTemplate, INTERIOR};
 use crate::kernels::support::{best_match_on, Support};
 use crate::kernels::view::WindowView;
@@ -167,7 +167,9 @@ pub enum FovealKind {
 enum Sighting {
     /// Not the object, as far as its model can tell (or the row was not vouched for).
     Unseen,
-    /// The object: its first template vouches for the point ([`Foveal::first_vouches`]).
+    /// The object: its first template vouches for the point ([`Foveal::first_vouches`]), or,
+    /// out of the chain, its first view aligns and the look last vouched for matches
+    /// ([`Foveal::vouched_look_matches`]).
     Seen,
     /// The object partly covered: the window's whole match breaks the chain, but at least
     /// half its template still matches, block by block ([`Foveal::partly_covered`]). Vouched
@@ -245,6 +247,10 @@ pub struct Foveal<const N: usize = MAX_DIM, const P: usize = INTERIOR> {
     reappeared: u8,
     /// Adapting tracks: when a window was last vouched for, in seconds.
     vouched_at: Option<f64>,
+    /// Adapting tracks: the template that matched the last window its model vouched for
+    /// ([`Sighting::Seen`]), unless that was the first: a look of the object that nothing
+    /// learnt in doubt has touched ([`Foveal::vouched_look_matches`]).
+    vouched_look: Option<Template>,
 }
 
 impl Foveal {
@@ -285,6 +291,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
             unconfirmed: 0,
             reappeared: 0,
             vouched_at: None,
+            vouched_look: None,
         }
     }
 
@@ -313,6 +320,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         let adapts = self.params.adapt && self.support.is_none() && matches!(self.kind, FovealKind::Ncc | FovealKind::CoopMaster);
         self.adapt = adapts.then(|| Adaptive::new(&tpl));
         self.template = Some(tpl);
+        self.vouched_look = None;
     }
 
     /// Takes the adapted template `tpl` (one with no support) in place of the current one.
@@ -465,6 +473,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
                     // A template the frame's edge cuts is vouched for by its first view's
                     // alignment alone: its match on half the template holds no chain.
                     _ if self.first_vouches(aligned.map(|(_, _, s)| s), found.filter(NccFound::whole).map(|f| f.score)) => Sighting::Seen,
+                    Some(f) if self.sighting == Sighting::Unseen && aligned.is_some() && f.placement.is_some_and(|at| self.vouched_look_matches(win, at)) => Sighting::Seen,
                     Some(f) if self.in_doubt_breaks_the_chain(f.score) && f.placement.is_some_and(|at| self.partly_covered(win, at)) => Sighting::PartlyCovered,
                     Some(f) if f.whole() && aligned.is_some_and(|(p, _, s)| self.reappears(p, s)) => Sighting::Reappearing,
                     _ => Sighting::Unseen,
@@ -580,6 +589,9 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         if !confirmed {
             self.sighting = Sighting::Unseen;
         }
+        if confirmed && score.is_some() && self.sighting == Sighting::Seen && !self.adapt.as_ref().is_some_and(Adaptive::on_first) {
+            self.vouched_look.clone_from(&self.template);
+        }
         let astray = self.astray(confirmed);
         let learns = score.is_some_and(|s| self.teaches(s));
         if let Some(a) = self.adapt.as_mut() {
@@ -664,6 +676,20 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         }
     }
 
+    /// Whether the look of the last window vouched for ([`Foveal::vouched_look`]) matches at
+    /// the placement `at` (window pixels) where the current template matched best, by zero-mean
+    /// NCC at [`FovealParams::vouched_look_ncc`]: out of the chain, with the first view
+    /// aligned, the object as the chain last saw it (issue 38 items 1 and 3). After the chain
+    /// breaks the current template goes on learning in doubt (`learn_in_doubt`) and drifts
+    /// from the object's look; this one does not: vtest's redcoat walks away with her first
+    /// view aligning at 0.5-0.8 and is vouched for on 36 more frames, none wrong.
+    ///
+    /// [`FovealParams::vouched_look_ncc`]: super::params::FovealParams::vouched_look_ncc
+    fn vouched_look_matches(&self, win: &WindowView<'_>, at: (usize, usize)) -> bool {
+        let Some(look) = self.vouched_look.as_ref().and_then(Template::view) else { return false };
+        score_at(Method::Zncc, win, &look, at).is_ok_and(|s| s as f32 >= self.params.track.vouched_look_ncc)
+    }
+
     /// Whether an adapting window whose match scored `score` breaks the chain of vouched rows
     /// in doubt: the chain held (the last row vouched for, the object whole, partly covered or
     /// coming back out), and the match is under `learn_in_doubt`, so the window
@@ -715,7 +741,8 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
 
     /// Whether the point followed, with NCC's `score` where NCC vouches for it, is the
     /// target's (issue 38): an adapting track's where its first template vouches for the
-    /// template's match in this window ([`Foveal::first_vouches`]), or enough of the template
+    /// template's match in this window ([`Foveal::first_vouches`]) or the look last vouched for
+    /// matches it ([`Foveal::vouched_look_matches`]), or enough of the template
     /// does where the object is partly covered ([`Foveal::partly_covered`]), or it comes back
     /// out from behind a cover ([`Foveal::reappears`]), and that match is the point followed;
     /// a fixed template's where NCC scores at least `confirm_ncc`. The corner detector alone
@@ -1126,6 +1153,59 @@ mod tests {
         assert!(out.vouched().is_none() && f.sighting == Sighting::Unseen, "{out:?}");
         // Out of the chain, a third covered is not vouched for: it only holds a chain.
         assert!(run(&mut f, &third, 0.16).vouched().is_none());
+    }
+
+    #[test]
+    fn out_of_the_chain_the_look_last_vouched_for_vouches_again_where_the_first_view_aligns() {
+        // A 16x16 object of random texture at the centre of the 64x64 frame, tracked by NCC
+        // alone (no motion: nothing is vouched for as coming out). Its look has changed: other
+        // texture over its left 6 columns of 16, so its first view aligns under
+        // `confirm_align` (a hand calculation: ZNCC of a view 10/16 the object's, about 0.6).
+        // The current template is that look with its right 3 columns learnt from something
+        // else (13/16 the look: about 0.8, under `rejoin_ncc`).
+        let mut px = 0x2545_f491u32;
+        let scene = texture(&mut px, SIDE * SIDE, 60);
+        let other = texture(&mut px, SIDE * SIDE, 60);
+        let over = |img: &[u8], cols: core::ops::Range<usize>| {
+            let mut f = img.to_vec();
+            for y in 24..40 {
+                f[y * SIDE + 24 + cols.start..y * SIDE + 24 + cols.end].copy_from_slice(&other[y * SIDE + 24 + cols.start..y * SIDE + 24 + cols.end]);
+            }
+            f
+        };
+        let at = Point { x: 31.5, y: 31.5 };
+        let view = |img: &[u8]| Template::capture(&WindowView::packed(img, SIDE, SIDE).unwrap(), at, 16).unwrap();
+        let looks = over(&scene, 0..6);
+        let (first, look, drifted) = (view(&scene), view(&looks), view(&over(&looks, 13..16)));
+        let p = Params { template: 16, foveal: 24, ..params() }.adaptive();
+        for (kept, vouched) in [(None, false), (Some(view(&other)), false), (Some(look.clone()), true)] {
+            let mut f = Foveal::new(FovealKind::Ncc, p, Some(first.clone()));
+            let req = f.start_at(at).request.unwrap();
+            f.adopt(drifted.clone());
+            f.vouched_look = kept;
+            let out = f.on_window(&cut(&looks, &req), 0.04).outcome;
+            assert_eq!(out.vouched().is_some(), vouched, "{out:?}");
+            assert!(out.fix().is_some_and(|fix| dist(fix.at, at) < 0.5), "{out:?}");
+        }
+        // The look kept is the template that matched a window the model vouched for: not the
+        // first (its own view vouches for it), then the one that window taught the track.
+        let mut f = Foveal::new(FovealKind::Ncc, p, Some(first));
+        let req = f.start_at(at).request.unwrap();
+        let vouched_window = |f: &mut Foveal| {
+            f.sighting = Sighting::Seen;
+            f.follow(&mut Step::new(Work::None), 0.04, Some(at), Source::Ncc, Some(0.95));
+        };
+        f.adapt.as_mut().unwrap().propose(&cut(&looks, &req), at, 0.95, 16, false);
+        vouched_window(&mut f);
+        let learnt = f.template.clone();
+        assert!(f.vouched_look.is_none() && learnt.as_ref().is_some_and(|t| t != f.adapt.as_ref().unwrap().first()));
+        vouched_window(&mut f);
+        assert_eq!(f.vouched_look, learnt);
+        // A window not vouched for keeps it.
+        f.adapt.as_mut().unwrap().propose(&cut(&scene, &req), at, 0.95, 16, false);
+        f.sighting = Sighting::Unseen;
+        f.follow(&mut Step::new(Work::None), 0.08, Some(at), Source::Ncc, Some(0.95));
+        assert_eq!(f.vouched_look, learnt);
     }
 
     #[test]

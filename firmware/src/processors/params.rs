@@ -164,6 +164,17 @@ pub struct FovealParams {
     /// (lookalike-front 0.982), nor at 0.5 with the blocks' bar at 0.8; at 0.375 with the bar
     /// at 0.8 one on lookalike-front, at 0.25 with 0.7 eight on four sets.
     pub cover_seen: f32,
+    /// Zero-mean NCC from which the look the template had where the last window was vouched
+    /// for (`Foveal`'s `vouched_look`), matched where the current template matched best,
+    /// vouches again for a window out of the chain whose first view aligns (default 0.7, stop
+    /// 55). That look learns nothing in doubt, so what the current template has learnt since
+    /// (a walking person's changing look, or a cover) is not in it. Measured with `coopwin
+    /// experiment long-term`: vtest's redcoat 0.163 -> 0.275, the blond 0.111 -> 0.123, no
+    /// row wrong, no other figure moved; at 0.65 none wrong either (the jeans, the red and
+    /// tree.avi's gap gain a row or more each), at 0.6 one on lookalike-front, whose recall
+    /// falls. Taking the look as the chain broke (the template the last vouched window taught)
+    /// instead vouched for a wrong row on vtest's coat at 0.7.
+    pub vouched_look_ncc: f32,
     /// Windows in a row an adapting track may follow a point its first template does not
     /// confirm before it is taken to have gone astray and lost (default 8, issue 38): a
     /// look-alike that crossed in front, an occluder the template learnt. Measured on the
@@ -207,6 +218,7 @@ impl Default for FovealParams {
             rejoin_run: 4,
             learn_in_doubt: 0.8,
             cover_seen: 0.5,
+            vouched_look_ncc: 0.7,
             unconfirmed_run: 8,
             prior_seconds: 3.0,
             coast_margin: 6,
