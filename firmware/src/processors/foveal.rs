@@ -167,10 +167,13 @@ pub enum FovealKind {
 enum Sighting {
     /// Not the object, as far as its model can tell (or the row was not vouched for).
     Unseen,
-    /// The object: its first template vouches for the point ([`Foveal::first_vouches`]), or,
-    /// out of the chain, its first view aligns and the look last vouched for matches
-    /// ([`Foveal::vouched_look_matches`]).
+    /// The object: its first template vouches for the point ([`Foveal::first_vouches`]).
     Seen,
+    /// The object as the chain last saw it: out of the chain, its first view aligns and the
+    /// look last vouched for matches ([`Foveal::vouched_look_matches`]). Vouched for, and
+    /// teaches the template as [`Sighting::Seen`] does; the look kept stays (the template
+    /// that matched is one learnt in doubt).
+    Recalled,
     /// The object partly covered: the window's whole match breaks the chain, but at least
     /// half its template still matches, block by block ([`Foveal::partly_covered`]). Vouched
     /// for; the window teaches the template nothing (the cover is not the object).
@@ -357,6 +360,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         self.phase = if !exact && self.adapt.is_some() { Phase::HandedOver(p) } else { Phase::Tracking(p) };
         // A track (re)started is vouched for first by its model: coming out needs a track.
         (self.aimed, self.miss, self.unconfirmed, self.reappeared, self.sighting) = (None, 0.0, 0, self.params.track.rejoin_run, Sighting::Unseen);
+        self.vouched_look = None;
         if !exact {
             step.outcome = Outcome::Redetected(p);
         }
@@ -473,13 +477,13 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
                     // A template the frame's edge cuts is vouched for by its first view's
                     // alignment alone: its match on half the template holds no chain.
                     _ if self.first_vouches(aligned.map(|(_, _, s)| s), found.filter(NccFound::whole).map(|f| f.score)) => Sighting::Seen,
-                    Some(f) if self.sighting == Sighting::Unseen && aligned.is_some() && f.placement.is_some_and(|at| self.vouched_look_matches(win, at)) => Sighting::Seen,
                     Some(f) if self.in_doubt_breaks_the_chain(f.score) && f.placement.is_some_and(|at| self.partly_covered(win, at)) => Sighting::PartlyCovered,
                     Some(f) if f.whole() && aligned.is_some_and(|(p, _, s)| self.reappears(p, s)) => Sighting::Reappearing,
+                    Some(f) if aligned.is_some() && f.placement.is_some_and(|at| self.recalls(win, at)) => Sighting::Recalled,
                     _ => Sighting::Unseen,
                 };
                 self.reappeared = match self.sighting {
-                    Sighting::Seen | Sighting::PartlyCovered => 0,
+                    Sighting::Seen | Sighting::PartlyCovered | Sighting::Recalled => 0,
                     Sighting::Reappearing => self.reappeared.saturating_add(1),
                     Sighting::Unseen => self.reappeared,
                 };
@@ -589,8 +593,13 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         if !confirmed {
             self.sighting = Sighting::Unseen;
         }
-        if confirmed && score.is_some() && self.sighting == Sighting::Seen && !self.adapt.as_ref().is_some_and(Adaptive::on_first) {
-            self.vouched_look.clone_from(&self.template);
+        // The look kept: the template that matched, where the model vouched for the window;
+        // none where that was the first (its own view vouches for it).
+        if confirmed && score.is_some() && self.sighting == Sighting::Seen {
+            match self.adapt.as_ref().is_some_and(Adaptive::on_first) {
+                true => self.vouched_look = None,
+                false => self.vouched_look.clone_from(&self.template),
+            }
         }
         let astray = self.astray(confirmed);
         let learns = score.is_some_and(|s| self.teaches(s));
@@ -670,7 +679,7 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     /// partly covered object, or of one coming back out.
     fn teaches(&self, score: f32) -> bool {
         match self.sighting {
-            Sighting::Seen => true,
+            Sighting::Seen | Sighting::Recalled => true,
             Sighting::PartlyCovered | Sighting::Reappearing => false,
             Sighting::Unseen => score >= self.params.track.learn_in_doubt,
         }
@@ -682,12 +691,21 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     /// aligned, the object as the chain last saw it (issue 38 items 1 and 3). After the chain
     /// breaks the current template goes on learning in doubt (`learn_in_doubt`) and drifts
     /// from the object's look; this one does not: vtest's redcoat walks away with her first
-    /// view aligning at 0.5-0.8 and is vouched for on 36 more frames, none wrong.
+    /// view aligning at 0.5-0.8 and is vouched for on 34 more frames, none wrong.
     ///
     /// [`FovealParams::vouched_look_ncc`]: super::params::FovealParams::vouched_look_ncc
     fn vouched_look_matches(&self, win: &WindowView<'_>, at: (usize, usize)) -> bool {
         let Some(look) = self.vouched_look.as_ref().and_then(Template::view) else { return false };
         score_at(Method::Zncc, win, &look, at).is_ok_and(|s| s as f32 >= self.params.track.vouched_look_ncc)
+    }
+
+    /// Whether a track out of the chain recalls its object as the chain last saw it
+    /// ([`Sighting::Recalled`]): the look last vouched for matches at `at`
+    /// ([`Foveal::vouched_look_matches`]). Not where the Peripheral redirected the track (its
+    /// location is taken unless the first view vouches at the full bar, as for
+    /// [`Foveal::reappears`]).
+    fn recalls(&self, win: &WindowView<'_>, at: (usize, usize)) -> bool {
+        self.sighting == Sighting::Unseen && !matches!(self.phase, Phase::Redirected(_)) && self.vouched_look_matches(win, at)
     }
 
     /// Whether an adapting window whose match scored `score` breaks the chain of vouched rows
@@ -1178,14 +1196,21 @@ mod tests {
         let looks = over(&scene, 0..6);
         let (first, look, drifted) = (view(&scene), view(&looks), view(&over(&looks, 13..16)));
         let p = Params { template: 16, foveal: 24, ..params() }.adaptive();
-        for (kept, vouched) in [(None, false), (Some(view(&other)), false), (Some(look.clone()), true)] {
+        // (the look kept, the Peripheral's location in flight, vouched for).
+        for (kept, redirected, vouched) in [(None, false, false), (Some(view(&other)), false, false), (Some(look.clone()), true, false), (Some(look.clone()), false, true)] {
             let mut f = Foveal::new(FovealKind::Ncc, p, Some(first.clone()));
             let req = f.start_at(at).request.unwrap();
             f.adopt(drifted.clone());
-            f.vouched_look = kept;
+            f.vouched_look = kept.clone();
+            if redirected {
+                f.phase = Phase::Redirected(Point { x: 10.0, y: 10.0 });
+            }
             let out = f.on_window(&cut(&looks, &req), 0.04).outcome;
             assert_eq!(out.vouched().is_some(), vouched, "{out:?}");
-            assert!(out.fix().is_some_and(|fix| dist(fix.at, at) < 0.5), "{out:?}");
+            assert!(out.fix().is_some_and(|fix| dist(fix.at, at) < 0.5) || redirected, "{out:?}");
+            // The window the look recalled does not replace it with the template learnt in
+            // doubt; a track restarted where the Peripheral found the object keeps none.
+            assert_eq!((f.sighting == Sighting::Recalled, &f.vouched_look), (vouched, if redirected { &None } else { &kept }));
         }
         // The look kept is the template that matched a window the model vouched for: not the
         // first (its own view vouches for it), then the one that window taught the track.

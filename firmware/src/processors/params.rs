@@ -169,11 +169,12 @@ pub struct FovealParams {
     /// vouches again for a window out of the chain whose first view aligns (default 0.7, stop
     /// 55). That look learns nothing in doubt, so what the current template has learnt since
     /// (a walking person's changing look, or a cover) is not in it. Measured with `coopwin
-    /// experiment long-term`: vtest's redcoat 0.163 -> 0.275, the blond 0.111 -> 0.123, no
-    /// row wrong, no other figure moved; at 0.65 none wrong either (the jeans, the red and
-    /// tree.avi's gap gain a row or more each), at 0.6 one on lookalike-front, whose recall
-    /// falls. Taking the look as the chain broke (the template the last vouched window taught)
-    /// instead vouched for a wrong row on vtest's coat at 0.7.
+    /// experiment long-term`: vtest's redcoat 0.163 -> 0.269, the blond 0.111 -> 0.123, the
+    /// red 0.069 -> 0.075, tree.avi's gap 0.250 -> 0.267, no row wrong, no other figure moved.
+    /// In a first version (a recalled window could replace the look; docs/results.md): at
+    /// 0.65 none wrong either, at 0.6 one on lookalike-front, whose recall fell; taking the
+    /// look as the chain broke (the template the last vouched window taught) instead, a wrong
+    /// row on vtest's coat at 0.7.
     pub vouched_look_ncc: f32,
     /// Windows in a row an adapting track may follow a point its first template does not
     /// confirm before it is taken to have gone astray and lost (default 8, issue 38): a

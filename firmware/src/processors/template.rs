@@ -121,11 +121,8 @@ impl Template {
 mod tests {
     use super::*;
 
-    /// Equality as the derived one would have it over every byte (reference: the fields
-    /// compared by hand): a captured template equals the same side, anchor and pixels sent
-    /// over a link, and differs in any one of them.
-    /// A copy into a template in place equals a fresh clone, byte for byte (reference: the
-    /// derived clone's fields), from a larger template into a smaller one and back.
+    /// A copy into a template in place equals a fresh clone, byte for byte (reference: a clone's
+    /// fields), from a larger template into a smaller one and back.
     #[test]
     fn a_copy_in_place_equals_a_clone_byte_for_byte() {
         let frame: [u8; 64] = core::array::from_fn(|k| (k * 37 % 251) as u8 + 1);
@@ -138,6 +135,9 @@ mod tests {
         assert_eq!((t.px, t.n, t.anchor), (large.px, large.n, large.anchor));
     }
 
+    /// Equality as the derived one would have it over every byte (reference: the fields
+    /// compared by hand): a captured template equals the same side, anchor and pixels sent
+    /// over a link, and differs in any one of them.
     #[test]
     fn equal_templates_have_equal_sides_anchors_and_pixels() {
         let frame: [u8; 64] = core::array::from_fn(|k| (k * 37 % 251) as u8);

@@ -22,15 +22,15 @@ fn corner(c: Point) -> Measured {
 fn cd_is_not_followed_before_its_offset_is_learnt() {
     // The template's point sits 10 px right of the corner: a raw corner is 10 px off.
     let mut g = Guard::new(GuardParams::default());
-    g.decide(0.0, ncc(p(50.0, 50.0), 0.999));
-    let got = g.decide(0.01, corner(p(40.0, 50.0)));
+    g.decide(at(0), ncc(p(50.0, 50.0), 0.999));
+    let got = g.decide(at(1), corner(p(40.0, 50.0)));
     assert_eq!(got, None, "no offset yet: CD alone is not the tracked point");
 }
 
 #[test]
 fn offset_is_learnt_then_cd_carries_the_track_through_an_ncc_dropout() {
     let mut g = Guard::new(GuardParams::default());
-    g.decide(0.0, ncc(p(50.0, 50.0), 0.999));
+    g.decide(at(0), ncc(p(50.0, 50.0), 0.999));
     // Moving 1 px a frame right; the corner is (-10, +2) from the tracked point.
     for k in 1..=8 {
         let x = 50.0 + k as f32;
@@ -40,33 +40,33 @@ fn offset_is_learnt_then_cd_carries_the_track_through_an_ncc_dropout() {
     let o = g.offset().expect("learnt after 8 consistent frames");
     assert!((o.x - 10.0).abs() < 1e-4 && (o.y + 2.0).abs() < 1e-4, "{o:?}");
     // NCC drops out (occluder): the CD candidate, corner + offset, is followed.
-    let got = g.decide(0.09, corner(p(49.0, 52.0)));
+    let got = g.decide(at(9), corner(p(49.0, 52.0)));
     assert_eq!(got, Some((p(59.0, 50.0), Source::Cd)));
 }
 
 #[test]
 fn a_corner_far_from_the_prediction_is_refused() {
     let mut g = Guard::new(GuardParams::default());
-    g.decide(0.0, ncc(p(50.0, 50.0), 0.999));
+    g.decide(at(0), ncc(p(50.0, 50.0), 0.999));
     for k in 1..=8 {
         g.decide(at(k), both(p(50.0, 50.0), 0.995, p(40.0, 50.0)));
     }
     // CD jumps to another corner 8 px away while NCC is out: no position rather than a wrong one.
-    assert_eq!(g.decide(0.09, corner(p(48.0, 50.0))), None);
+    assert_eq!(g.decide(at(9), corner(p(48.0, 50.0))), None);
 }
 
 #[test]
 fn untrusted_sources_that_disagree_are_not_believed() {
     let mut g = Guard::new(GuardParams::default());
-    g.decide(0.0, ncc(p(50.0, 50.0), 0.999));
+    g.decide(at(0), ncc(p(50.0, 50.0), 0.999));
     for k in 1..=8 {
         g.decide(at(k), both(p(50.0, 50.0), 0.995, p(40.0, 50.0)));
     }
     // A blob drags NCC 3 px (score 0.975, accepted but not trusted) and the detector
     // sees a corner of it: neither is followed, and the track coasts on the prediction.
-    let got = g.decide(0.09, both(p(53.0, 50.0), 0.975, p(41.0, 50.0)));
+    let got = g.decide(at(9), both(p(53.0, 50.0), 0.975, p(41.0, 50.0)));
     assert_eq!(got, None);
-    let q = g.coast(0.09).expect("coasting");
+    let q = g.coast(at(9)).expect("coasting");
     assert!(dist(q, p(50.0, 50.0)) < 1e-3, "the target stood still: {q:?}");
 }
 
@@ -78,14 +78,14 @@ fn of_two_untrusted_sources_the_one_the_motion_bears_out_is_followed() {
     }
     // NCC under the lamp (score 0.975) stays 0.5 px from the still target; the corner is
     // 3 px off. NCC is followed.
-    let got = g.decide(0.09, both(p(50.5, 50.0), 0.975, p(43.0, 50.0)));
+    let got = g.decide(at(9), both(p(50.5, 50.0), 0.975, p(43.0, 50.0)));
     assert_eq!(got, Some((p(50.5, 50.0), Source::Ncc)));
 }
 
 #[test]
 fn a_corner_that_keeps_disagreeing_is_unlearnt() {
     let mut g = Guard::new(GuardParams::default());
-    g.decide(0.0, ncc(p(50.0, 50.0), 0.999));
+    g.decide(at(0), ncc(p(50.0, 50.0), 0.999));
     for k in 1..=8 {
         g.decide(at(k), both(p(50.0, 50.0), 0.995, p(40.0, 50.0)));
     }
@@ -103,7 +103,7 @@ fn a_corner_at_the_start_point_anchors_cd_and_outvotes_a_sliding_ncc() {
     let mut g = Guard::new(GuardParams::default());
     g.begin(p(50.0, 50.0), true);
     // First window: the detector's corner is 0.4 px from the start point.
-    let got = g.decide(0.0, both(p(50.0, 50.0), 1.0, p(50.4, 50.0)));
+    let got = g.decide(at(0), both(p(50.0, 50.0), 1.0, p(50.4, 50.0)));
     assert_eq!(got, Some((p(50.0, 50.0), Source::Ncc)));
     assert!(g.anchored());
     // The object moves 1 px a frame; NCC sticks to the background at (50, 50), its score
@@ -124,9 +124,9 @@ fn a_trusted_ncc_is_not_outvoted() {
     // template's support, crate::support, does not slide), so the parting corner is wrong.
     let mut g = Guard::new(GuardParams::default());
     g.begin(p(50.0, 50.0), true);
-    g.decide(0.0, both(p(50.0, 50.0), 1.0, p(50.4, 50.0)));
+    g.decide(at(0), both(p(50.0, 50.0), 1.0, p(50.4, 50.0)));
     // Frame 1 they still agree (1 px apart) and are fused; from frame 2 they part.
-    g.decide(0.01, both(p(50.0, 50.0), 0.998, p(51.4, 50.0)));
+    g.decide(at(1), both(p(50.0, 50.0), 0.998, p(51.4, 50.0)));
     for k in 2..=7 {
         let got = g.decide(at(k), both(p(50.0, 50.0), 0.998, p(50.4 + k as f32, 50.0)));
         assert_eq!(got, Some((p(50.0, 50.0), Source::Ncc)), "frame {k}");
@@ -152,10 +152,10 @@ fn a_corner_that_jumps_onto_clutter_does_not_outvote_ncc() {
 fn a_single_detector_outlier_does_not_take_the_track() {
     let mut g = Guard::new(GuardParams::default());
     g.begin(p(50.0, 50.0), true);
-    g.decide(0.0, both(p(50.0, 50.0), 1.0, p(50.0, 50.0)));
-    g.decide(0.01, both(p(50.0, 50.0), 0.999, p(50.0, 50.0)));
+    g.decide(at(0), both(p(50.0, 50.0), 1.0, p(50.0, 50.0)));
+    g.decide(at(1), both(p(50.0, 50.0), 0.999, p(50.0, 50.0)));
     // The corner jumps 2.5 px for one frame: NCC is kept.
-    let got = g.decide(0.02, both(p(50.0, 50.0), 0.999, p(52.5, 50.0)));
+    let got = g.decide(at(2), both(p(50.0, 50.0), 0.999, p(52.5, 50.0)));
     assert_eq!(got, Some((p(50.0, 50.0), Source::Ncc)));
 }
 
@@ -163,7 +163,7 @@ fn a_single_detector_outlier_does_not_take_the_track() {
 fn a_corner_away_from_the_start_point_does_not_anchor() {
     let mut g = Guard::new(GuardParams::default());
     g.begin(p(50.0, 50.0), true);
-    g.decide(0.0, both(p(50.0, 50.0), 1.0, p(40.0, 50.0)));
+    g.decide(at(0), both(p(50.0, 50.0), 1.0, p(40.0, 50.0)));
     assert!(!g.anchored());
     assert_eq!(g.offset(), None, "one frame is not enough to learn an offset");
 }
@@ -171,10 +171,10 @@ fn a_corner_away_from_the_start_point_does_not_anchor() {
 #[test]
 fn agreeing_sources_are_fused_by_their_steadiness() {
     let mut g = Guard::new(GuardParams::default());
-    g.decide(0.0, ncc(p(50.0, 50.0), 0.999));
+    g.decide(at(0), ncc(p(50.0, 50.0), 0.999));
     // A static target seen by an anchored CD; NCC jitters by +-0.4 px, CD by +-0.1 px.
     g.begin(p(50.0, 50.0), true);
-    g.decide(0.0, both(p(50.0, 50.0), 0.999, p(50.0, 50.0)));
+    g.decide(at(0), both(p(50.0, 50.0), 0.999, p(50.0, 50.0)));
     for k in 1..=40 {
         let s = if k % 2 == 0 { 1.0 } else { -1.0 };
         g.decide(at(k), both(p(50.0 + 0.4 * s, 50.0), 0.995, p(50.0 - 0.1 * s, 50.0)));
@@ -182,7 +182,7 @@ fn agreeing_sources_are_fused_by_their_steadiness() {
     // Hand calculation: each source's SSE about its own line through 4 alternating points
     // is 4 a^2 (a = 0.4, 0.1), so the weights are 1/0.64 and 1/0.04 and CD's share
     // k = 25 / (25 + 1.5625) = 0.94: 50.4 + 0.94 * (49.9 - 50.4) = 49.93.
-    let (q, src) = g.decide(0.41, both(p(50.4, 50.0), 0.995, p(49.9, 50.0))).expect("agreeing");
+    let (q, src) = g.decide(at(41), both(p(50.4, 50.0), 0.995, p(49.9, 50.0))).expect("agreeing");
     assert_eq!(src, Source::Cd);
     assert!((q.x - 49.93).abs() < 0.02, "fused {q:?}");
 }
@@ -190,7 +190,7 @@ fn agreeing_sources_are_fused_by_their_steadiness() {
 #[test]
 fn prediction_extrapolates_constant_velocity() {
     let mut g = Guard::new(GuardParams::default());
-    g.decide(0.0, ncc(p(0.0, 0.0), 0.999));
+    g.decide(at(0), ncc(p(0.0, 0.0), 0.999));
     g.decide(1.0, ncc(p(2.0, 1.0), 0.999));
     g.decide(2.0, ncc(p(4.0, 2.0), 0.999));
     // Hand calculation: the points lie on (2t, t), so at t = 3: (6, 3).
@@ -257,17 +257,17 @@ fn an_adapting_track_resumes_only_on_a_trusted_or_confirmed_match() {
     // accepted score.
     let coasting = |params| {
         let mut g = followed_moving(params);
-        assert!(g.coast(0.08).is_some());
+        assert!(g.coast(at(8)).is_some());
         g
     };
-    let resumed = |params, score, confirmed| coasting(params).decide(0.09, Measured { confirmed, ..ncc(p(19.0, 20.0), score) });
+    let resumed = |params, score, confirmed| coasting(params).decide(at(9), Measured { confirmed, ..ncc(p(19.0, 20.0), score) });
     let on_ncc = Some((p(19.0, 20.0), Source::Ncc));
     assert_eq!(resumed(GuardParams::adapting(), 0.6, false), None);
     assert_eq!(resumed(GuardParams::adapting(), 0.6, true), on_ncc);
     assert_eq!(resumed(GuardParams::adapting(), 0.9, false), on_ncc);
     assert_eq!(resumed(GuardParams::default(), 0.6, false), on_ncc);
     // Confirmed or not, a match beyond `reacquire` (8 px) of the prediction is refused.
-    let far = coasting(GuardParams::adapting()).decide(0.09, Measured { confirmed: true, ..ncc(p(29.0, 20.0), 0.6) });
+    let far = coasting(GuardParams::adapting()).decide(at(9), Measured { confirmed: true, ..ncc(p(29.0, 20.0), 0.6) });
     assert_eq!(far, None);
 }
 
@@ -275,7 +275,7 @@ fn an_adapting_track_resumes_only_on_a_trusted_or_confirmed_match() {
 fn coasting_ends_after_its_limit() {
     let params = GuardParams { coast: 1.5, ..GuardParams::default() };
     let mut g = Guard::new(params);
-    g.decide(0.0, ncc(p(0.0, 0.0), 0.999));
+    g.decide(at(0), ncc(p(0.0, 0.0), 0.999));
     g.decide(1.0, ncc(p(1.0, 0.0), 0.999));
     // Last position at t = 1 s: coasting holds until 1.5 s later.
     assert!(g.coast(1.0).is_some() && g.coast(2.5).is_some());
