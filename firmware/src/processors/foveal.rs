@@ -170,9 +170,9 @@ enum Sighting {
     /// The object: its first template vouches for the point ([`Foveal::first_vouches`]).
     Seen,
     /// The object as the chain last saw it: out of the chain, its first view aligns and the
-    /// look last vouched for matches ([`Foveal::vouched_look_matches`]). Vouched for, and
-    /// teaches the template as [`Sighting::Seen`] does; the look kept stays (the template
-    /// that matched is one learnt in doubt).
+    /// look kept from the last window its model vouched for matches ([`Foveal::recalls`]).
+    /// Vouched for, and teaches the template as [`Sighting::Seen`] does; the look kept stays
+    /// (the template that matched has learnt in doubt since).
     Recalled,
     /// The object partly covered: the window's whole match breaks the chain, but at least
     /// half its template still matches, block by block ([`Foveal::partly_covered`]). Vouched
@@ -251,8 +251,8 @@ pub struct Foveal<const N: usize = MAX_DIM, const P: usize = INTERIOR> {
     /// Adapting tracks: when a window was last vouched for, in seconds.
     vouched_at: Option<f64>,
     /// Adapting tracks: the template that matched the last window its model vouched for
-    /// ([`Sighting::Seen`]), unless that was the first: a look of the object that nothing
-    /// learnt in doubt has touched ([`Foveal::vouched_look_matches`]).
+    /// ([`Sighting::Seen`]), unless that was the first: a look of the object that learns
+    /// nothing in doubt once it is kept ([`Foveal::vouched_look_matches`]).
     vouched_look: Option<Template>,
 }
 
@@ -685,12 +685,13 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
         }
     }
 
-    /// Whether the look of the last window vouched for ([`Foveal::vouched_look`]) matches at
+    /// Whether the look kept from the last window the model vouched for ([`Sighting::Seen`],
+    /// [`Foveal::vouched_look`]) matches at
     /// the placement `at` (window pixels) where the current template matched best, by zero-mean
     /// NCC at [`FovealParams::vouched_look_ncc`]: out of the chain, with the first view
     /// aligned, the object as the chain last saw it (issue 38 items 1 and 3). After the chain
     /// breaks the current template goes on learning in doubt (`learn_in_doubt`) and drifts
-    /// from the object's look; this one does not: vtest's redcoat walks away with her first
+    /// from the object's look; the look kept does not: vtest's redcoat walks away with her first
     /// view aligning at 0.5-0.8 and is vouched for on 34 more frames, none wrong.
     ///
     /// [`FovealParams::vouched_look_ncc`]: super::params::FovealParams::vouched_look_ncc
@@ -709,8 +710,8 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
     }
 
     /// Whether an adapting window whose match scored `score` breaks the chain of vouched rows
-    /// in doubt: the chain held (the last row vouched for, the object whole, partly covered or
-    /// coming back out), and the match is under `learn_in_doubt`, so the window
+    /// in doubt: the chain held (the last row vouched for, the object whole, recalled, partly
+    /// covered or coming back out), and the match is under `learn_in_doubt`, so the window
     /// teaches the template nothing either way (where it reaches that bar the window learns in
     /// doubt, unvouched, as before; checking those too moved no figure).
     fn in_doubt_breaks_the_chain(&self, score: f32) -> bool {
@@ -759,8 +760,9 @@ impl<const N: usize, const P: usize> Foveal<N, P> {
 
     /// Whether the point followed, with NCC's `score` where NCC vouches for it, is the
     /// target's (issue 38): an adapting track's where its first template vouches for the
-    /// template's match in this window ([`Foveal::first_vouches`]) or the look last vouched for
-    /// matches it ([`Foveal::vouched_look_matches`]), or enough of the template
+    /// template's match in this window ([`Foveal::first_vouches`]), or, out of the chain, the
+    /// first view aligns and the look last vouched for matches ([`Foveal::recalls`]), or
+    /// enough of the template
     /// does where the object is partly covered ([`Foveal::partly_covered`]), or it comes back
     /// out from behind a cover ([`Foveal::reappears`]), and that match is the point followed;
     /// a fixed template's where NCC scores at least `confirm_ncc`. The corner detector alone
@@ -1214,8 +1216,9 @@ mod tests {
         }
         // The look kept is the template that matched a window the model vouched for: not the
         // first (its own view vouches for it), then the one that window taught the track.
-        let mut f = Foveal::new(FovealKind::Ncc, p, Some(first));
+        let mut f = Foveal::new(FovealKind::Ncc, p, Some(first.clone()));
         let req = f.start_at(at).request.unwrap();
+        f.vouched_look = Some(view(&other));
         let vouched_window = |f: &mut Foveal| {
             f.sighting = Sighting::Seen;
             f.follow(&mut Step::new(Work::None), 0.04, Some(at), Source::Ncc, Some(0.95));
@@ -1226,11 +1229,22 @@ mod tests {
         assert!(f.vouched_look.is_none() && learnt.as_ref().is_some_and(|t| t != f.adapt.as_ref().unwrap().first()));
         vouched_window(&mut f);
         assert_eq!(f.vouched_look, learnt);
-        // A window not vouched for keeps it.
+        // A window not vouched for keeps it, whatever template matched.
+        f.adopt(view(&other));
         f.adapt.as_mut().unwrap().propose(&cut(&scene, &req), at, 0.95, 16, false);
         f.sighting = Sighting::Unseen;
         f.follow(&mut Step::new(Work::None), 0.08, Some(at), Source::Ncc, Some(0.95));
         assert_eq!(f.vouched_look, learnt);
+        // An object coming out where the motion aimed the window (here from an alignment of
+        // 0.5) is judged so first: vouched for, teaching nothing, the look kept as it was.
+        let coming_out = Params { track: FovealParams { rejoin_align: 0.5, ..p.track }, ..p };
+        let mut f = Foveal::new(FovealKind::Ncc, coming_out, Some(first));
+        let req = f.start_at(at).request.unwrap();
+        f.adopt(drifted.clone());
+        (f.vouched_look, f.aimed, f.reappeared) = (Some(look.clone()), Some(at), 0);
+        let out = f.on_window(&cut(&looks, &req), 0.04).outcome;
+        assert!(out.vouched().is_some() && f.sighting == Sighting::Reappearing, "{out:?}");
+        assert!(f.template == Some(drifted) && f.vouched_look == Some(look));
     }
 
     #[test]

@@ -164,8 +164,8 @@ pub struct FovealParams {
     /// (lookalike-front 0.982), nor at 0.5 with the blocks' bar at 0.8; at 0.375 with the bar
     /// at 0.8 one on lookalike-front, at 0.25 with 0.7 eight on four sets.
     pub cover_seen: f32,
-    /// Zero-mean NCC from which the look the template had where the last window was vouched
-    /// for (`Foveal`'s `vouched_look`), matched where the current template matched best,
+    /// Zero-mean NCC from which the look the template had where its model last vouched for a
+    /// window (`Foveal`'s `vouched_look`), matched where the current template matched best,
     /// vouches again for a window out of the chain whose first view aligns (default 0.7, stop
     /// 55). That look learns nothing in doubt, so what the current template has learnt since
     /// (a walking person's changing look, or a cover) is not in it. Measured with `coopwin
