@@ -186,9 +186,6 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
     let say = |line: String| if to_stdout { eprintln!("{line}") } else { println!("{line}") };
     let options = args.options();
     let mut run = TrackRun::open(&args.frames, &options, &interrupt::requested)?;
-    if let Some(note) = options.box_note() {
-        eprintln!("{note}");
-    }
     if let Some(damage) = run.input.damage() {
         eprintln!("warning: {}: {damage}", args.frames.display());
     }
@@ -202,6 +199,10 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
     done.written.into_iter().for_each(say);
     for line in report::run_lines(&log, started.elapsed().as_secs_f64(), done.tracking_secs, range.start) {
         say(line);
+    }
+    // After the run: a run that fails says so in one line.
+    if let Some(note) = options.box_note() {
+        eprintln!("{note}");
     }
     if let Some(t) = &truth {
         let s = metrics::summarise(&log, t);
