@@ -210,9 +210,9 @@ impl FrameRun {
             .name("coopwin-tracker".into())
             .spawn(move || {
                 let mut fed = fed;
-                let period = Clocks::for_frames(&fed, cfg.jitter).period() as f64 / cfg.pixel_clock_hz;
+                let period = cfg.frame_period(&fed);
                 let info = FrameInfo { period, ..FrameInfo::default() };
-                let shape = options.csv_box();
+                let shape = options.csv_box((w, h));
                 let out = track_frames(&mut fed, &cfg, None, &|| false, &mut |_| {}, &mut |r| {
                     let _ = to_caller.send(Ok(csv::track_row(r, info, shape)));
                 });

@@ -128,3 +128,18 @@ def test_tracker_holds_the_writes_as_the_cli_does(coopwin_bin, vtest, tmp_path):
     steady = coopwin.Tracker(frames[0], BOX, fps=10)
     plain = tracked_rows(steady, frames[1:8])
     assert plain != got, "--write-phase changed nothing"
+
+
+def test_a_large_box_is_binned_as_the_cli_bins_it(coopwin_bin, vtest, tmp_path):
+    # vtest's man in the black coat, 44x80: both bin the frames 2x2 unasked (the CLI's rule,
+    # 22 px across binned), and neither with bin=1. Reference: the CLI's rows.
+    frames = read_frames(vtest, 5)
+    folder = write_frames(tmp_path / "frames", frames)
+    coat = (642, 240, 44, 80)
+    runs = []
+    for options, keywords in (((), {}), (("--bin", "1"), {"bin": 1})):
+        expected = cli_rows(coopwin_bin, tmp_path, folder, "--target-box=642,240,44,80", *options)
+        got = tracked_rows(coopwin.Tracker(frames[0], coat, **keywords), frames[1:])
+        assert [without_file(r) for r in got] == [without_file(r) for r in expected]
+        runs.append(got)
+    assert runs[0] != runs[1], "binning changed nothing"

@@ -2,6 +2,7 @@
 //! run's configuration made from them, and the run. The CLI's `track` (which parses the
 //! options and writes and prints the results) and the Python package's `Tracker` and
 //! `track_video` all run it, so they check alike and give the same rows.
+use crate::frames::binned::{self, Binned};
 use crate::frames::input::{Input, InputError, RowFacts};
 use crate::frames::video::VideoError;
 use crate::frames::{FrameError, FrameSource, Interruptible, Skip};
@@ -38,6 +39,8 @@ pub struct TrackOptions {
     pub strategy: Strategy,
     /// `--template`: the template side, else the box's shorter side (up to 32) or 20.
     pub template: Option<u16>,
+    /// `--bin`: the camera's binning, else chosen from the box.
+    pub bin: Option<usize>,
     /// `--target` or `--target-box`.
     pub target: Target,
     /// `--start-frame`.
@@ -131,23 +134,42 @@ impl TrackError {
 }
 
 impl TrackOptions {
-    /// The template side: `--template`, the target box's shorter side (at most 32), or 20.
-    fn template_side(&self) -> u16 {
+    /// The camera's binning on frames of `size`: `--bin`; else, for a `--target-box` whose
+    /// template is not given, the largest that keeps the box 22 px across and 32 along
+    /// ([`binned::factor_for_box`]); else 1.
+    pub fn bin(&self, size: (usize, usize)) -> usize {
+        match (self.bin, self.template, self.target) {
+            (Some(k), ..) => k,
+            (None, None, Target::Box(_, _, w, h)) => binned::factor_for_box((w, h), size),
+            _ => 1,
+        }
+    }
+
+    /// The template side on frames binned `k` x `k`: `--template`, the target box's shorter
+    /// side binned (at most 32), or 20.
+    fn template_side(&self, k: usize) -> u16 {
         match (self.template, self.target) {
             (Some(n), _) => n,
-            (None, Target::Box(_, _, w, h)) => w.min(h).min(32) as u16,
+            (None, Target::Box(_, _, w, h)) => box_template((w, h), k),
             (None, _) => 20,
         }
     }
 
-    /// A note for a `--target-box` the template does not cover (wider or taller than it):
-    /// the track follows the part of the object under the template, not the whole box.
-    pub fn box_note(&self) -> Option<String> {
-        let Target::Box(x, y, w, h) = self.target else { return None };
-        let n = u32::from(self.template_side());
-        (w > n || h > n).then(|| {
-            format!("note: --target-box {x},{y},{w},{h} is larger than the {n}x{n} template cut at its centre: that part of the object is tracked (and vouched for), not the whole box, and it is the box's centre that the CSV reports")
-        })
+    /// The notes on a `--target-box` on frames of `size`: the frames binned for it, and a box
+    /// the template does not cover (the track follows the part of the object under the
+    /// template, not the whole box).
+    pub fn box_notes(&self, size: (usize, usize)) -> Vec<String> {
+        let Target::Box(x, y, w, h) = self.target else { return Vec::new() };
+        let k = self.bin(size);
+        let n = u32::from(self.template_side(k));
+        let span = n * k as u32;
+        let binned = (k > 1).then(|| {
+            format!("note: the frames are binned {k}x{k} for --target-box {x},{y},{w},{h} (each pixel the mean of a {k}x{k} block, as a sensor bins; --bin 1 tracks them unbinned): its {n}x{n} template spans {span}x{span} of the frames' pixels, and the CSV's positions are in the frames' pixels")
+        });
+        let larger = (w > span || h > span).then(|| {
+            format!("note: --target-box {x},{y},{w},{h} is larger than the {span}x{span} template cut at its centre: that part of the object is tracked (and vouched for), not the whole box, and it is the box's centre that the CSV reports")
+        });
+        binned.into_iter().chain(larger).collect()
     }
 
     /// The point to track: the point, or the box's centre.
@@ -159,22 +181,24 @@ impl TrackOptions {
         }
     }
 
-    /// The box the CSV and the overlay draw around each position.
-    pub fn csv_box(&self) -> CsvBox {
-        let n = usize::from(self.template_side());
+    /// The box the CSV and the overlay draw around each position on frames of `size`.
+    pub fn csv_box(&self, size: (usize, usize)) -> CsvBox {
+        let k = self.bin(size);
+        let n = usize::from(self.template_side(k)) * k;
         let size = match self.target {
             Target::Box(_, _, w, h) => (w as usize, h as usize),
             _ => (n, n),
         };
-        let p = self.params();
+        let p = self.params(k);
         CsvBox { size, acceptance: p.correlation(p.adapt).1 }
     }
 
-    /// The processors' parameters: the template side, the search margin, and the template
-    /// adapting unless kept fixed. Only guarded cooperation adapts it: SSE's and Kalman's
-    /// deciders weigh positions measured against the first template's look.
-    fn params(&self) -> Params {
-        let n = self.template_side();
+    /// The processors' parameters on frames binned `k` x `k`: the template side, the search
+    /// margin, and the template adapting unless kept fixed. Only guarded cooperation adapts
+    /// it: SSE's and Kalman's deciders weigh positions measured against the first template's
+    /// look.
+    fn params(&self, k: usize) -> Params {
+        let n = self.template_side(k);
         let p = Params { target_boxed: matches!(self.target, Target::Box(..)), ..Params::sized(n, self.search) };
         if self.fixed_template || self.policy != CoopPolicy::Guarded {
             p
@@ -186,8 +210,10 @@ impl TrackOptions {
     /// The run the options ask for on frames of `size` from a source of `fps` frames per
     /// second (the pixel clock that gives this rate with the camera's blanking), if known.
     pub fn config(&self, size: (usize, usize), fps: Option<f64>) -> SystemConfig {
+        let k = self.bin(size);
         let cfg = SystemConfig {
-            params: self.params(),
+            params: self.params(k),
+            bin: k,
             coop_n: self.coop_n,
             target: self.target_point(),
             backend: self.backend,
@@ -199,7 +225,7 @@ impl TrackOptions {
             ..SystemConfig::thesis(self.strategy, self.cost, None)
         };
         match fps {
-            Some(fps) => SystemConfig { pixel_clock_hz: Clocks::camera_timing(size).frame_clocks() as f64 * fps, ..cfg },
+            Some(fps) => SystemConfig { pixel_clock_hz: Clocks::camera_timing(binned::binned_size(size, k)).frame_clocks() as f64 * fps, ..cfg },
             None => cfg,
         }
     }
@@ -236,10 +262,19 @@ impl TrackOptions {
             Target::Point(x, y) if !inside(x, y) => return bad(format!("--target {x},{y} is outside {extent}")),
             _ => {}
         }
+        let k = self.bin((w, h));
+        let (bw, bh) = binned::binned_size((w, h), k);
+        if bw < binned::MIN_SIDE || bh < binned::MIN_SIDE {
+            return bad(format!("--bin {k}: {extent} binned {k}x{k} are {bw}x{bh}, under the {0}x{0} the window units take", binned::MIN_SIDE));
+        }
+        if let (Target::Box(_, _, bw, bh), n @ 0..=3) = (self.target, self.template_side(k)) {
+            return bad(format!("--bin {k}: the --target-box's {bw}x{bh} binned {k}x{k} leaves a {n}x{n} template, under the least (4x4): a smaller --bin, or --template"));
+        }
         if let Some(phase) = self.write_phase {
-            let clocks = Clocks::camera_timing((w, h)).frame_clocks() as u64;
+            let clocks = Clocks::camera_timing((bw, bh)).frame_clocks() as u64;
             if phase >= clocks {
-                return bad(format!("--write-phase {phase}: a {w}x{h} frame has {clocks} clocks (0..{})", clocks - 1));
+                let binned = if k > 1 { format!(" (binned {k}x{k})") } else { String::new() };
+                return bad(format!("--write-phase {phase}: a {bw}x{bh} frame{binned} has {clocks} clocks (0..{})", clocks - 1));
             }
         }
         if let Some(r) = self.vcd_frames.as_ref().filter(|r| r.end > n) {
@@ -247,6 +282,12 @@ impl TrackOptions {
         }
         Ok(())
     }
+}
+
+/// The template side `--target-box` takes for a `w` x `h` box on frames binned `k` x `k`: the
+/// box's shorter side binned, up to 32.
+pub fn box_template((w, h): (u32, u32), k: usize) -> u16 {
+    (w.min(h) / k.max(1) as u32).min(32) as u16
 }
 
 /// The facts of `facts` for the CSV's rows, frames `period` seconds apart where no timestamp
@@ -283,7 +324,8 @@ impl TrackRun {
         let fps = options.fps.or(input.declared_fps());
         let cfg = options.config(input.size(), fps);
         let facts = RowFacts::of(&input);
-        Ok(TrackRun { input, range, cfg, fps, shape: options.csv_box(), facts })
+        let shape = options.csv_box(input.size());
+        Ok(TrackRun { input, range, cfg, fps, shape, facts })
     }
 
     /// Tracks the frames, handing each frame's record and its CSV row to `on_row` as the
@@ -297,8 +339,7 @@ impl TrackRun {
     ) -> Result<RunLog, TrackError> {
         let mut all = self.input.frames()?;
         let mut frames = tracked(&mut all, self.range.clone())?;
-        // The run's frame period, as the run computes it.
-        let period = Clocks::for_frames(&frames, self.cfg.jitter).period() as f64 / self.cfg.pixel_clock_hz;
+        let period = self.cfg.frame_period(&frames);
         let info = row_info(&self.facts, period, self.range.start);
         let shape = self.shape;
         track_frames(&mut frames, &self.cfg, vcd, stop, progress, &mut |r| on_row(r, csv::track_row(r, info, shape)))
@@ -316,7 +357,9 @@ pub fn tracked(all: &mut dyn FrameSource, range: Range<usize>) -> Result<Skip<'_
 /// for NCC to match, as on a clip's black first frame); `None` without a target or where the
 /// template has texture.
 fn flat_target(frames: &mut dyn FrameSource, cfg: &SystemConfig) -> Result<Option<u8>, TrackError> {
-    let Some((x, y)) = cfg.target else { return Ok(None) };
+    let Some(target) = cfg.target else { return Ok(None) };
+    let (x, y) = binned::to_binned(target, cfg.bin);
+    let mut frames = Binned::new(frames, cfg.bin);
     let (w, h) = frames.size();
     let frame0 = frames.frame(0)?;
     let view = WindowView::packed(frame0, w, h).map_err(|e| TrackError::FirstFrame(e.to_string()))?;

@@ -246,6 +246,50 @@ fn a_box_larger_than_the_template_is_noted() {
     assert!(!err.contains("note:"), "{err}");
 }
 
+/// `--bin 2` tracks the frames binned 2x2 and reports in the frames' pixels. Reference: the
+/// scene's ground truth (the renderer's exact centre); a position left in the binned frames'
+/// pixels would be half of it, 36-40 px off. A binning the frames or the box cannot take is
+/// refused, naming `--bin`; a box larger than the template is binned unasked, and says so.
+#[test]
+fn a_binned_run_reports_in_the_frames_pixels() {
+    let (d, frames) = triangle_scene("cli_bin", 20);
+    let (f, csv) = (frames.to_str().unwrap(), d.join("t.csv"));
+    let truth = std::fs::read_to_string(frames.join("groundtruth.csv")).unwrap();
+    let truth: Vec<Vec<f64>> = truth.lines().skip(1).map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect();
+    let target = format!("{},{}", truth[0][1], truth[0][2]);
+    let track = |extra: &[&str]| {
+        let mut args = vec!["track", "--frames", f, "--out", csv.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        coopwin_env(&args, &[])
+    };
+    let (code, _, err) = track(&["--target", &target, "--bin", "2"]);
+    assert_eq!(code, Some(0), "{err}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let rows: Vec<Vec<&str>> = text.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 20);
+    for (r, t) in rows.iter().zip(&truth) {
+        assert_eq!(r[12], "1", "{r:?}");
+        let (x, y): (f64, f64) = (r[1].parse().unwrap(), r[2].parse().unwrap());
+        // Within a binned pixel of the truth (the unbinned run: within 0.4 px).
+        assert!((x - t[1]).hypot(y - t[2]) < 1.0, "frame {}: ({x}, {y}) against ({}, {})", r[0], t[1], t[2]);
+        // The default template's 20x20 spans 40x40 of the frames' pixels (times the scale the
+        // adapting track measures, 0.98-1.00 here).
+        assert!((r[9].parse::<f64>().unwrap() - 40.0).abs() < 1.0, "{r:?}");
+    }
+    let (code, _, err) = track(&["--target", &target, "--bin", "8"]);
+    assert_eq!(code, Some(2), "{err}");
+    one_error_line(&err);
+    assert!(err.contains("--bin 8: the 256x256 frames (X 0..255, Y 0..255) binned 8x8 are 32x32, under the 64x64"), "{err}");
+    let (code, _, err) = track(&["--target-box", "60,60,12,12", "--bin", "4"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("--bin 4: the --target-box's 12x12 binned 4x4 leaves a 3x3 template"), "{err}");
+    // 48x80: binned 2x2 (24x40), its 24x24 template spanning 48x48, so the box is noted too.
+    let (code, _, err) = track(&["--target-box", "50,40,48,80"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(err.contains("note: the frames are binned 2x2 for --target-box 50,40,48,80") && err.contains("its 24x24 template spans 48x48"), "{err}");
+    assert!(err.contains("larger than the 48x48 template cut at its centre"), "{err}");
+}
+
 #[test]
 fn end_frame_stops_before_the_frame_named() {
     let (d, frames) = triangle_scene("cli_end_frame", 20);

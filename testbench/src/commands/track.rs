@@ -6,6 +6,7 @@ use super::progress::progress_line;
 use super::track_files::TrackFiles;
 use super::{interrupt, CliError};
 use crate::analysis::metrics;
+use crate::frames::binned;
 use crate::frames::folder::FolderFrames;
 use crate::frames::groundtruth;
 use crate::report::overlay::OverlayError;
@@ -27,6 +28,14 @@ pub struct TrackArgs {
     /// Template side N (4..32) [default: 20, or the --target-box's shorter side up to 32]
     #[arg(long, value_parser = args::parse_in::<u16>(4, 32, "a template side"))]
     pub template: Option<u16>,
+    /// Bin the frames K x K before the window units (each pixel the mean of a K x K block, as
+    /// a sensor bins; 1..8), so that an object larger than the template is tracked whole; the
+    /// CSV's positions stay in the frames' pixels, --template is in the binned frames'
+    /// [default: for a --target-box without --template, the largest K at which the box
+    /// binned is still 22 px across and 32 along (a 44x80 person: 2; 85x146 at 1080p: 3),
+    /// else 1]
+    #[arg(long, value_name = "K", value_parser = args::parse_in::<usize>(1, binned::MAX_BIN, "a binning"))]
+    pub bin: Option<usize>,
     /// Point to track as X,Y (pixel centres at integers); default: lock on to motion
     #[arg(long, value_parser = args::parse_point, allow_hyphen_values = true, conflicts_with = "target_box")]
     pub target: Option<(f64, f64)>,
@@ -133,6 +142,7 @@ impl TrackArgs {
         TrackOptions {
             strategy: self.strategy.into(),
             template: self.template,
+            bin: self.bin,
             target,
             start_frame: self.start_frame,
             end_frame: self.end_frame,
@@ -201,7 +211,7 @@ fn track(args: TrackArgs) -> Result<(), CliError> {
         say(line);
     }
     // After the run: a run that fails says so in one line.
-    if let Some(note) = options.box_note() {
+    for note in options.box_notes(run.input.size()) {
         eprintln!("{note}");
     }
     if let Some(t) = &truth {

@@ -115,7 +115,7 @@ impl TrackFiles {
         }
         if let Some((kind, o)) = &self.overlay {
             let points = truth.map(|t| metrics::true_points(&log, t));
-            let painter = Painter::new(&log, points.as_deref(), run.shape.size).numbered_from(range.start);
+            let painter = Painter::new(&log, points.as_deref(), run.shape.size).numbered_from(range.start).binned(run.cfg.bin);
             let mut all = run.input.frames().map_err(TrackError::from)?;
             let mut frames = tracking::tracked(&mut all, range.clone())?;
             let (stream, reduced) = kind.write(o.stream()?, &mut Interruptible(&mut frames, &interrupt::requested), painter, run.fps.unwrap_or(1.0 / log.frame_period))?;

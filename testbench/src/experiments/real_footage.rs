@@ -15,11 +15,13 @@
 //! - agreement with CSRT: the mean distance to CSRT's position, and the frames within 5 px of
 //!   it, over the frames where both report.
 use super::ExperimentError;
+use crate::frames::binned;
 use crate::frames::video::{self, VideoFrames};
 use crate::frames::{FrameError, FrameSource};
 use crate::report::plot::{self, Bars, Chart, Series};
 use crate::system::cost::CostModel;
 use crate::system::{self, RunLog, Strategy, SystemConfig};
+use crate::tracking;
 use crate::units::clocks::Clocks;
 use coopwin_firmware::processors::Params;
 use std::fmt::Write as _;
@@ -59,9 +61,12 @@ impl Object {
         (f64::from(x) + (f64::from(w) - 1.0) / 2.0, f64::from(y) + (f64::from(h) - 1.0) / 2.0)
     }
 
-    /// The template side `track --target-box` takes: the box's shorter side, up to 32.
-    pub fn side(&self) -> u16 {
-        self.bbox.2.min(self.bbox.3).min(32) as u16
+    /// The binning and the template side `track --target-box` takes for the box on frames of
+    /// `size`.
+    pub fn binned_template(&self, size: (usize, usize)) -> (usize, u16) {
+        let wh = (self.bbox.2, self.bbox.3);
+        let k = binned::factor_for_box(wh, size);
+        (k, tracking::box_template(wh, k))
     }
 }
 
@@ -171,21 +176,21 @@ impl Clip {
         Ok(Clip { frames, size: scan.size, fps: scan.fps.unwrap_or(30.0) })
     }
 
-    /// `track --target-box`'s run on `frames` (indices into the clip) from the box centred on
-    /// `start`, with a template of `side`, adapting (the default) or fixed
-    /// (`--fixed-template`), as its log.
-    pub fn simulate(&self, frames: impl Iterator<Item = usize>, start: (f64, f64), side: u16, adapt: bool) -> Result<RunLog, ExperimentError> {
+    /// `track --target-box`'s run on `frames` (indices into the clip) from `o`'s box centred
+    /// on `start`, adapting (the default) or fixed (`--fixed-template`), as its log.
+    pub fn simulate(&self, frames: impl Iterator<Item = usize>, start: (f64, f64), o: &Object, adapt: bool) -> Result<RunLog, ExperimentError> {
         let mut source = Frames { frames: frames.filter_map(|k| self.frames.get(k).map(Vec::as_slice)).collect(), size: self.size };
+        let (bin, side) = o.binned_template(self.size);
         let params = Params { adapt, target_boxed: true, ..Params::sized(side, 2) };
-        let mut cfg = SystemConfig { params, target: Some(start), ..SystemConfig::thesis(Strategy::Coop, CostModel::NATIVE, None) };
-        cfg.pixel_clock_hz = Clocks::camera_timing(self.size).frame_clocks() as f64 * self.fps;
+        let mut cfg = SystemConfig { params, bin, target: Some(start), ..SystemConfig::thesis(Strategy::Coop, CostModel::NATIVE, None) };
+        cfg.pixel_clock_hz = Clocks::camera_timing(binned::binned_size(self.size, bin)).frame_clocks() as f64 * self.fps;
         system::simulate(&cfg, &mut source, &mut |_| {}).map_err(ExperimentError::Run)
     }
 
     /// `track`'s forward run on `o`, as its log.
     pub fn forward_log(&self, o: &Object) -> Result<RunLog, ExperimentError> {
         let (first, last) = o.frames;
-        self.simulate(first..=last, o.centre(), o.side(), true)
+        self.simulate(first..=last, o.centre(), o, true)
     }
 
     /// `track`'s forward and backward runs on `o`.
@@ -200,7 +205,7 @@ impl Clip {
         let forward = measured(forward);
         let backward = match forward.last().copied().flatten() {
             Some(end) => {
-                let mut back = measured(&self.simulate((first..=last).rev(), end, o.side(), true)?);
+                let mut back = measured(&self.simulate((first..=last).rev(), end, o, true)?);
                 back.reverse();
                 back
             }

@@ -3,6 +3,7 @@
 //! and their ground truth.
 //!
 //! Thesis 2.4 and 4.4: the experiments' scenes, here synthetic with an exact ground truth.
+pub mod binned;
 pub mod folder;
 pub mod gray;
 pub mod groundtruth;

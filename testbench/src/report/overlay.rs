@@ -278,17 +278,24 @@ pub struct Painter<'a> {
     windows: std::iter::Peekable<std::slice::Iter<'a, (usize, usize, coopwin_firmware::types::WindowRequest)>>,
     /// The source's number of the run's frame 0 (`track --start-frame`), for the labels.
     first: usize,
+    /// The camera's binning: the windows are drawn over the sensor's pixels they cover.
+    bin: usize,
 }
 
 impl<'a> Painter<'a> {
     /// A painter of `log`'s frames, with the true points `truth` when known.
     pub fn new(log: &'a RunLog, truth: Option<&'a [(f64, f64)]>, size: (usize, usize)) -> Self {
-        Painter { log, truth, size, windows: log.windows_delivered.iter().peekable(), first: 0 }
+        Painter { log, truth, size, windows: log.windows_delivered.iter().peekable(), first: 0, bin: 1 }
     }
 
     /// The same painter, labelling the run's frame 0 as the source's frame `first`.
     pub fn numbered_from(self, first: usize) -> Self {
         Painter { first, ..self }
+    }
+
+    /// The same painter, for a run over the frames binned `bin` x `bin`.
+    pub fn binned(self, bin: usize) -> Self {
+        Painter { bin: bin.max(1), ..self }
     }
 
     /// Draws every `step`-th record of the log over its frame from `frames` at `size` (the
@@ -318,8 +325,9 @@ impl<'a> Painter<'a> {
                 (Some(Role::FovealCd), _) => Colour::Magenta,
                 _ => Colour::Green,
             };
-            let (x0, y0) = (i64::from(req.x0), i64::from(req.y0));
-            c.rect(x0, y0, x0 + i64::from(req.width) - 1, y0 + i64::from(req.height) - 1, colour);
+            let k = self.bin as i64;
+            let (x0, y0) = (i64::from(req.x0) * k, i64::from(req.y0) * k);
+            c.rect(x0, y0, x0 + i64::from(req.width) * k - 1, y0 + i64::from(req.height) * k - 1, colour);
         }
         if let Some(&(tx, ty)) = self.truth.and_then(|t| t.get(rec.frame)) {
             c.saltire(tx, ty, 3, Colour::Cyan);

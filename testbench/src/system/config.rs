@@ -1,6 +1,9 @@
 //! A run's configuration: the strategy, the processors' speeds, the window units, COOP's
 //! decision policy and the faults to inject (thesis 2.3-2.6, 4.2-4.3, 5.2).
 use super::cost::CostModel;
+use crate::frames::binned;
+use crate::frames::FrameSource;
+use crate::units::clocks::Clocks;
 use crate::units::UnitBackend;
 use coopwin_firmware::processors::Params;
 use coopwin_hdl::sim::camera::Jitter;
@@ -110,6 +113,10 @@ pub struct SystemConfig {
     /// compare backends window for window. Off unless asked: it hashes the Watch's whole frame
     /// every frame, about 8 % of a tracking run's host time.
     pub fingerprint_windows: bool,
+    /// The camera bins its sensor's pixels `bin` x `bin` ([`crate::frames::binned`]; 1: not
+    /// binned): `target`, `model` and the log's positions are in the sensor's pixels, the
+    /// windows and `pixel_clock_hz` the binned frames'.
+    pub bin: usize,
 }
 
 impl SystemConfig {
@@ -134,6 +141,14 @@ impl SystemConfig {
             jitter: None,
             write_phase: None,
             fingerprint_windows: false,
+            bin: 1,
         }
+    }
+
+    /// The frame period of a run over `source`, seconds: its camera's raster (of the frames
+    /// binned) at the pixel clock.
+    pub fn frame_period(&self, source: &dyn FrameSource) -> f64 {
+        let raster = Clocks::camera_timing(binned::binned_size(source.size(), self.bin));
+        Clocks::new(raster, source.len(), self.jitter).period() as f64 / self.pixel_clock_hz
     }
 }

@@ -1,6 +1,7 @@
 //! What a run records: a record per frame, the position reports (also framed onto the robot
 //! controller's link, thesis 2.6), losses, windows, writes, faults and the units' timings.
 use super::SimError;
+use crate::frames::binned;
 use crate::units::RequestRefused;
 use coopwin_firmware::ports::position::{FramedPositionSink, PositionSink, PositionUpdate};
 use coopwin_firmware::types::{Point, Shape, Source, WindowRequest};
@@ -49,6 +50,12 @@ impl FrameRecord {
     /// the firmware vouched for ([`Outcome::Measured`]).
     pub fn vouched(&self) -> bool {
         self.fresh().is_some() && self.state == TrackState::Tracking
+    }
+
+    /// The record of a run over frames binned `k` x `k`, its positions in the sensor's pixels.
+    pub fn to_sensor(&self, k: usize) -> FrameRecord {
+        let sensor = |p| binned::to_sensor(p, k);
+        FrameRecord { point: self.point.map(sensor), estimate: self.estimate.map(sensor), ..*self }
     }
 }
 
@@ -168,6 +175,25 @@ pub struct RunLog {
     pub refused: Vec<(usize, u64, RequestRefused)>,
     /// With a VCD of chosen frames: per unit, the sets taken before the trace began.
     pub sets_before_trace: Vec<usize>,
+}
+
+impl RunLog {
+    /// The log of a run over frames binned `k` x `k`, its positions (frames, reports, the
+    /// reference and the lock-on) mapped to the sensor's pixels; the requests, the windows and
+    /// the robot link stay as the units and the firmware had them, in the binned frames'.
+    pub fn to_sensor(&mut self, k: usize) {
+        let sensor = |p| binned::to_sensor(p, k);
+        for r in &mut self.frames {
+            *r = r.to_sensor(k);
+        }
+        for r in &mut self.reports {
+            let (x, y) = sensor((f64::from(r.point.x), f64::from(r.point.y)));
+            r.point = Point { x: x as f32, y: y as f32 };
+        }
+        for (_, p) in self.reference.iter_mut().chain(self.locked_on.iter_mut()) {
+            *p = sensor(*p);
+        }
+    }
 }
 
 /// Where a track stands between the firmware's outcomes.

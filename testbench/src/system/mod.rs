@@ -22,6 +22,7 @@ pub use config::{CoopPolicy, MpdfWatch, Strategy, SystemConfig};
 pub use event_loop::simulate_with;
 pub use log::{FrameRecord, Report, Role, RunLog, TrackState, MAX_AGE};
 
+use crate::frames::binned::{self, Binned};
 use crate::frames::{FrameError, FrameSource};
 use crate::units::clocked::Trace;
 use crate::units::clocks::Clocks;
@@ -41,7 +42,8 @@ pub fn simulate(cfg: &SystemConfig, source: &mut dyn FrameSource, progress: &mut
 
 /// [`simulate`], calling `on_record` with each frame's record as the frame ends (see
 /// [`simulate_with`]), and with a VCD of every window unit (for `vcd`'s frames) when the
-/// units are rust-hdl's.
+/// units are rust-hdl's. A binning camera (`cfg.bin`) runs over the binned frames, its
+/// target taken and its positions given back in the sensor's pixels.
 pub fn simulate_traced(
     cfg: &SystemConfig,
     source: &mut dyn FrameSource,
@@ -49,6 +51,14 @@ pub fn simulate_traced(
     on_record: &mut dyn FnMut(&FrameRecord),
     vcd: Option<Trace>,
 ) -> Result<RunLog, SimError> {
+    let k = cfg.bin;
+    if k > 1 {
+        let in_bins = |p| binned::to_binned(p, k);
+        let cfg = SystemConfig { bin: 1, target: cfg.target.map(in_bins), model: cfg.model.map(|(f, p)| (f, in_bins(p))), ..cfg.clone() };
+        let mut log = simulate_traced(&cfg, &mut Binned::new(source, k), progress, &mut |r| on_record(&r.to_sensor(k)), vcd)?;
+        log.to_sensor(k);
+        return Ok(log);
+    }
     let clocks = Clocks::for_frames(source, cfg.jitter);
     let mut units = units::open(cfg.backend, clocks, cfg.unit_pixel_bits, cfg.strategy.units(), vcd)?;
     let mut log = simulate_with(cfg, source, units.as_mut(), progress, on_record)?;

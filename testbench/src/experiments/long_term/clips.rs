@@ -147,7 +147,7 @@ pub fn score_object(clip: &Clip, labelled: &Labelled) -> Result<Vec<(LongTermSco
     TRACKERS
         .iter()
         .map(|&(_, adapt)| {
-            let log = clip.simulate(first..=last, o.centre(), o.side(), adapt)?;
+            let log = clip.simulate(first..=last, o.centre(), o, adapt)?;
             let rows = rows(&log, Params::default().correlation(adapt).1);
             let (rows, truth) = (rows.get(1..).unwrap_or(&[]), labelled.truth.get(1..).unwrap_or(&[]));
             Ok((longterm::score(rows, truth), longterm::reliability(rows, truth)))
