@@ -141,8 +141,8 @@ class Tracker:
     the CLI converts colour PNG frames); ``ok, box = tracker.update(next_frame)`` follows
     it. The keyword options are ``coopwin track``'s (``template``, ``bin``, ``search``,
     ``strategy``, ``policy``, ``profile``, ``fixed_template``, ``coop_n``, ``watch``; see
-    ``coopwin track --help``): a box much larger than the template is tracked on the frames
-    binned as the CLI bins them, and ``bin=1`` turns that off. ``fps`` is the frames' rate; without it, the rate of the thesis camera's 8 MHz
+    ``coopwin track --help``): a box much larger than the template is tracked on the
+    frames binned as the CLI bins them, and ``bin=1`` turns that off. ``fps`` is the frames' rate; without it, the rate of the thesis camera's 8 MHz
     pixel clock over the frames' raster, ``8e6 / ((H + 2) * (W + 16) + 16)``: 114 frames/s
     at 256x256, but 17.65 at 768x576. For a video, give its own rate
     (``fps=cap.get(cv2.CAP_PROP_FPS)``), as ``coopwin track`` takes a video's.

@@ -132,7 +132,8 @@ def test_tracker_holds_the_writes_as_the_cli_does(coopwin_bin, vtest, tmp_path):
 
 def test_a_large_box_is_binned_as_the_cli_bins_it(coopwin_bin, vtest, tmp_path):
     # vtest's man in the black coat, 44x80: both bin the frames 2x2 unasked (the CLI's rule,
-    # 22 px across binned), and neither with bin=1. Reference: the CLI's rows.
+    # 22 px across binned; bin=2 gives the same rows), and neither with bin=1. Reference: the
+    # CLI's rows.
     frames = read_frames(vtest, 5)
     folder = write_frames(tmp_path / "frames", frames)
     coat = (642, 240, 44, 80)
@@ -143,3 +144,4 @@ def test_a_large_box_is_binned_as_the_cli_bins_it(coopwin_bin, vtest, tmp_path):
         assert [without_file(r) for r in got] == [without_file(r) for r in expected]
         runs.append(got)
     assert runs[0] != runs[1], "binning changed nothing"
+    assert tracked_rows(coopwin.Tracker(frames[0], coat, bin=2), frames[1:]) == runs[0]

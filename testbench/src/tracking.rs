@@ -37,7 +37,8 @@ pub enum Target {
 pub struct TrackOptions {
     /// `--strategy`.
     pub strategy: Strategy,
-    /// `--template`: the template side, else the box's shorter side (up to 32) or 20.
+    /// `--template`: the template side (in the binned frames' pixels), else the box's shorter
+    /// side binned (up to 32) or 20.
     pub template: Option<u16>,
     /// `--bin`: the camera's binning, else chosen from the box.
     pub bin: Option<usize>,
@@ -88,7 +89,7 @@ pub enum TrackError {
     Run(SimError),
     /// The target's template is flat on the first frame tracked.
     FlatTarget {
-        /// The template's side.
+        /// The template's side, in the frames' pixels (binned: the binned side times K).
         side: u16,
         /// The target.
         at: (f64, f64),
@@ -150,7 +151,7 @@ impl TrackOptions {
     fn template_side(&self, k: usize) -> u16 {
         match (self.template, self.target) {
             (Some(n), _) => n,
-            (None, Target::Box(_, _, w, h)) => box_template((w, h), k),
+            (None, Target::Box(_, _, w, h)) => binned::box_template((w, h), k),
             (None, _) => 20,
         }
     }
@@ -225,7 +226,7 @@ impl TrackOptions {
             ..SystemConfig::thesis(self.strategy, self.cost, None)
         };
         match fps {
-            Some(fps) => SystemConfig { pixel_clock_hz: Clocks::camera_timing(binned::binned_size(size, k)).frame_clocks() as f64 * fps, ..cfg },
+            Some(fps) => SystemConfig { pixel_clock_hz: Clocks::camera_timing(size).frame_clocks() as f64 * fps, ..cfg },
             None => cfg,
         }
     }
@@ -250,8 +251,16 @@ impl TrackOptions {
     /// run's `n` frames, naming the option the user gave.
     pub fn check_against(&self, (w, h): (usize, usize), n: usize) -> Result<(), TrackError> {
         let bad = |m: String| Err(TrackError::Option(m));
-        let inside = |x: f64, y: f64| x <= (w - 1) as f64 && y <= (h - 1) as f64;
-        let extent = format!("the {w}x{h} frames (X 0..{}, Y 0..{})", w - 1, h - 1);
+        let k = self.bin((w, h));
+        let (kw, kh) = binned::binned_size((w, h), k);
+        if kw < binned::MIN_SIDE || kh < binned::MIN_SIDE {
+            return bad(format!("--bin {k}: the {w}x{h} frames binned {k}x{k} are {kw}x{kh}, under the {0}x{0} the window units take", binned::MIN_SIDE));
+        }
+        // Binning drops the right and bottom columns and rows that make no whole block.
+        let (uw, uh) = (kw * k, kh * k);
+        let inside = |x: f64, y: f64| x <= (uw - 1) as f64 && y <= (uh - 1) as f64;
+        let blocks = if k > 1 { format!(" binned {k}x{k}") } else { String::new() };
+        let extent = format!("the {w}x{h} frames{blocks} (X 0..{}, Y 0..{})", uw - 1, uh - 1);
         match self.target {
             Target::Box(x, y, bw, bh) => {
                 let (cx, cy) = self.target_point().unwrap_or_default();
@@ -262,19 +271,13 @@ impl TrackOptions {
             Target::Point(x, y) if !inside(x, y) => return bad(format!("--target {x},{y} is outside {extent}")),
             _ => {}
         }
-        let k = self.bin((w, h));
-        let (bw, bh) = binned::binned_size((w, h), k);
-        if bw < binned::MIN_SIDE || bh < binned::MIN_SIDE {
-            return bad(format!("--bin {k}: {extent} binned {k}x{k} are {bw}x{bh}, under the {0}x{0} the window units take", binned::MIN_SIDE));
-        }
         if let (Target::Box(_, _, bw, bh), n @ 0..=3) = (self.target, self.template_side(k)) {
             return bad(format!("--bin {k}: the --target-box's {bw}x{bh} binned {k}x{k} leaves a {n}x{n} template, under the least (4x4): a smaller --bin, or --template"));
         }
         if let Some(phase) = self.write_phase {
-            let clocks = Clocks::camera_timing((bw, bh)).frame_clocks() as u64;
+            let clocks = Clocks::camera_timing((kw, kh)).frame_clocks() as u64;
             if phase >= clocks {
-                let binned = if k > 1 { format!(" (binned {k}x{k})") } else { String::new() };
-                return bad(format!("--write-phase {phase}: a {bw}x{bh} frame{binned} has {clocks} clocks (0..{})", clocks - 1));
+                return bad(format!("--write-phase {phase}: a {kw}x{kh} frame{blocks} has {clocks} clocks (0..{})", clocks - 1));
             }
         }
         if let Some(r) = self.vcd_frames.as_ref().filter(|r| r.end > n) {
@@ -282,12 +285,6 @@ impl TrackOptions {
         }
         Ok(())
     }
-}
-
-/// The template side `--target-box` takes for a `w` x `h` box on frames binned `k` x `k`: the
-/// box's shorter side binned, up to 32.
-pub fn box_template((w, h): (u32, u32), k: usize) -> u16 {
-    (w.min(h) / k.max(1) as u32).min(32) as u16
 }
 
 /// The facts of `facts` for the CSV's rows, frames `period` seconds apart where no timestamp
@@ -384,7 +381,7 @@ pub fn track_frames(
     on_record: &mut dyn FnMut(&FrameRecord),
 ) -> Result<RunLog, TrackError> {
     if let (Some(value), Some(at)) = (flat_target(frames, cfg)?, cfg.target) {
-        return Err(TrackError::FlatTarget { side: cfg.params.template, at, value });
+        return Err(TrackError::FlatTarget { side: cfg.params.template * cfg.bin as u16, at, value });
     }
     Ok(system::simulate_traced(cfg, &mut Interruptible(frames, stop), progress, on_record, vcd)?)
 }

@@ -33,7 +33,7 @@ const SYNTHETIC: [(&str, f64); 10] = [
 
 /// (clip, object, measured wrong `ok` 1 rows, measured recall) of the default tracker. Most of
 /// vtest's people are tracked as 32x32 patches of clothing, vouched for on a few frames only;
-/// the coat and the redcoat, binned 2x2, whole (issue 38, item 4).
+/// the coat and the redcoat binned 2x2, their template spanning more of them (issue 38, item 4).
 const CLIPS_MEASURED: [(&str, &str, usize, f64); 15] = [
     ("vtest", "coat", 0, 0.5373),
     ("vtest", "jeans", 0, 0.0345),
@@ -99,6 +99,7 @@ fn on_the_hand_labelled_clips_no_more_wrong_ok_rows_than_measured() {
         common::missing_tool("opencv-doc's clips", "apt-get install -y opencv-doc");
         return;
     }
+    let mut binned = 0;
     for clip_name in CLIPS {
         let clip = Clip::decode(&dir.join(format!("{clip_name}.avi"))).expect("decodes");
         for o in labelled(clip_name).expect("fixtures read") {
@@ -108,6 +109,19 @@ fn on_the_hand_labelled_clips_no_more_wrong_ok_rows_than_measured() {
             eprintln!("{clip_name} {name}: {s:?}");
             assert!(s.wrong <= wrong, "{clip_name} {name}: {} wrong ok rows of {}, measured {wrong}", s.wrong, s.vouched);
             assert!(s.recall >= 0.9 * recall, "{clip_name} {name}: recall {:.4}, measured {recall}", s.recall);
+            // The issue's bar: the binned coat and redcoat are vouched for on a few frames
+            // labelled hidden, partly behind another person (0.98); every other object 1.
+            assert!(s.tnr.is_none_or(|t| t >= 0.95), "{clip_name} {name}: TNR {:?}", s.tnr);
+            if o.object.binned_template(clip.size()).0 > 1 {
+                // A binned run's robot link carries its reports vouched for, in the clip's pixels.
+                let log = clip.forward_log(&o.object).expect("runs");
+                let vouched: Vec<_> = log.reports.iter().filter(|r| r.vouched).map(|r| (r.point.x, r.point.y)).collect();
+                let sent: Vec<_> = link_updates(&log).iter().map(|u| (u.x, u.y)).collect();
+                assert!(!sent.is_empty() && sent == vouched, "{clip_name} {name}: the robot link of a binned run");
+                binned += 1;
+            }
         }
     }
+    // The coat (44x80) and the redcoat (48x96), binned 2x2.
+    assert_eq!(binned, 2);
 }

@@ -25,12 +25,14 @@ pub struct TrackArgs {
     /// Windowing strategy
     #[arg(long, value_enum, default_value_t = StrategyArg::Coop)]
     pub strategy: StrategyArg,
-    /// Template side N (4..32) [default: 20, or the --target-box's shorter side up to 32]
+    /// Template side N (4..32) [default: 20, or the --target-box's shorter side (binned, see
+    /// --bin) up to 32]
     #[arg(long, value_parser = args::parse_in::<u16>(4, 32, "a template side"))]
     pub template: Option<u16>,
     /// Bin the frames K x K before the window units (each pixel the mean of a K x K block, as
-    /// a sensor bins; 1..8), so that an object larger than the template is tracked whole; the
-    /// CSV's positions stay in the frames' pixels, --template is in the binned frames'
+    /// a sensor bins; 1..8), so that the template covers more of an object larger than it;
+    /// the CSV's positions and the frame rate stay the frames', --template and --search are
+    /// in the binned frames' pixels
     /// [default: for a --target-box without --template, the largest K at which the box
     /// binned is still 22 px across and 32 along (a 44x80 person: 2; 85x146 at 1080p: 3),
     /// else 1]

@@ -8,7 +8,7 @@ use super::track::TrackArgs;
 use super::{interrupt, io_error, CliError};
 use crate::analysis::audit::requests;
 use crate::analysis::metrics;
-use crate::frames::{groundtruth::Truth, Interruptible};
+use crate::frames::{binned, groundtruth::Truth, Interruptible};
 use crate::report::csv;
 use crate::report::overlay::{OverlayKind, Painter};
 use crate::system::RunLog;
@@ -138,7 +138,7 @@ impl TrackFiles {
 
     /// The VCD's stream, and the frames it traces, with a warning when they are many.
     fn vcd_stream(v: &OutFile, run: &TrackRun, frames: Range<usize>) -> Result<(Shared, Range<usize>), CliError> {
-        let mb = tracking::vcd_megabytes_a_frame(run.input.size(), run.cfg.strategy.units());
+        let mb = tracking::vcd_megabytes_a_frame(binned::binned_size(run.input.size(), run.cfg.bin), run.cfg.strategy.units());
         if frames.len() > 4 {
             eprintln!(
                 "warning: --vcd traces {} frames, about {mb:.0} MB each ({:.1} GB); --vcd-frames FIRST..END traces fewer",

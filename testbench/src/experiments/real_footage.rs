@@ -21,7 +21,6 @@ use crate::frames::{FrameError, FrameSource};
 use crate::report::plot::{self, Bars, Chart, Series};
 use crate::system::cost::CostModel;
 use crate::system::{self, RunLog, Strategy, SystemConfig};
-use crate::tracking;
 use crate::units::clocks::Clocks;
 use coopwin_firmware::processors::Params;
 use std::fmt::Write as _;
@@ -66,7 +65,7 @@ impl Object {
     pub fn binned_template(&self, size: (usize, usize)) -> (usize, u16) {
         let wh = (self.bbox.2, self.bbox.3);
         let k = binned::factor_for_box(wh, size);
-        (k, tracking::box_template(wh, k))
+        (k, binned::box_template(wh, k))
     }
 }
 
@@ -176,6 +175,11 @@ impl Clip {
         Ok(Clip { frames, size: scan.size, fps: scan.fps.unwrap_or(30.0) })
     }
 
+    /// The frames' width and height.
+    pub fn size(&self) -> (usize, usize) {
+        self.size
+    }
+
     /// `track --target-box`'s run on `frames` (indices into the clip) from `o`'s box centred
     /// on `start`, adapting (the default) or fixed (`--fixed-template`), as its log.
     pub fn simulate(&self, frames: impl Iterator<Item = usize>, start: (f64, f64), o: &Object, adapt: bool) -> Result<RunLog, ExperimentError> {
@@ -183,7 +187,7 @@ impl Clip {
         let (bin, side) = o.binned_template(self.size);
         let params = Params { adapt, target_boxed: true, ..Params::sized(side, 2) };
         let mut cfg = SystemConfig { params, bin, target: Some(start), ..SystemConfig::thesis(Strategy::Coop, CostModel::NATIVE, None) };
-        cfg.pixel_clock_hz = Clocks::camera_timing(binned::binned_size(self.size, bin)).frame_clocks() as f64 * self.fps;
+        cfg.pixel_clock_hz = Clocks::camera_timing(self.size).frame_clocks() as f64 * self.fps;
         system::simulate(&cfg, &mut source, &mut |_| {}).map_err(ExperimentError::Run)
     }
 

@@ -1,7 +1,7 @@
 //! A binning camera (issue 38 item 4): each K x K block of the sensor's pixels read out as
-//! their mean, as a sensor bins, so that an object larger than the firmware's template is
-//! tracked whole at a coarser scale rather than as a patch of it. Targets and positions stay
-//! in the sensor's pixels; the window units and the processors see the binned frames.
+//! their mean, as a sensor bins, so that the firmware's template (32x32 at most) covers more
+//! of an object larger than it, at a coarser scale. Targets, positions and the frame rate stay
+//! the sensor's; the window units and the processors see the binned frames.
 use super::{FrameError, FrameSource};
 
 /// The largest binning `track` chooses or takes.
@@ -14,12 +14,12 @@ pub const MAX_BIN: usize = 8;
 /// coat's and the redcoat's 22 and 24 gave none (stop 56).
 pub const BINNED_SHORT_SIDE: u32 = 22;
 
-/// The binned box's longer side, at least (px): the largest template, so that a box the
-/// template already spans is not binned (the footage's 32x32 boxes, the long-term sets' 48x48).
+/// The binned box's longer side, at least (px): the largest template, so that a box under
+/// twice its side along is not binned (the footage's 32x32 boxes, the long-term sets' 48x48).
 pub const BINNED_LONG_SIDE: u32 = 32;
 
 /// The smallest binned frame side: the least the input and the window units take.
-pub const MIN_SIDE: usize = 64;
+pub const MIN_SIDE: usize = *super::folder::SIDES.start();
 
 /// The binning for a target box `w` x `h` on frames of `size`: the largest K at which the
 /// box binned is still [`BINNED_SHORT_SIDE`] across and [`BINNED_LONG_SIDE`] along, and the
@@ -28,6 +28,12 @@ pub fn factor_for_box((w, h): (u32, u32), size: (usize, usize)) -> usize {
     let k = (w.min(h) / BINNED_SHORT_SIDE).min(w.max(h) / BINNED_LONG_SIDE) as usize;
     let fits = |k: usize| size.0 / k >= MIN_SIDE && size.1 / k >= MIN_SIDE;
     (1..=k.clamp(1, MAX_BIN)).rev().find(|&k| fits(k)).unwrap_or(1)
+}
+
+/// The template side `--target-box` takes for a `w` x `h` box on frames binned `k` x `k`: the
+/// box's shorter side binned, up to the firmware's 32.
+pub fn box_template((w, h): (u32, u32), k: usize) -> u16 {
+    (w.min(h) / k.max(1) as u32).min(32) as u16
 }
 
 /// Frames of `size` binned `k` x `k`: the right and bottom remainders are dropped.
@@ -57,9 +63,10 @@ pub struct Binned<'a> {
 }
 
 impl<'a> Binned<'a> {
-    /// Bins `source`'s frames `k` x `k` (`k` at least 1).
+    /// Bins `source`'s frames `k` x `k` (`k` from 1 to the frames' shorter side).
     pub fn new(source: &'a mut dyn FrameSource, k: usize) -> Self {
-        let k = k.max(1);
+        let (w, h) = source.size();
+        let k = k.clamp(1, w.min(h).max(1));
         let size = binned_size(source.size(), k);
         Binned { source, k, size, px: vec![0; size.0 * size.1], held: None }
     }

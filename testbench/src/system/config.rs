@@ -114,8 +114,8 @@ pub struct SystemConfig {
     /// every frame, about 8 % of a tracking run's host time.
     pub fingerprint_windows: bool,
     /// The camera bins its sensor's pixels `bin` x `bin` ([`crate::frames::binned`]; 1: not
-    /// binned): `target`, `model` and the log's positions are in the sensor's pixels, the
-    /// windows and `pixel_clock_hz` the binned frames'.
+    /// binned): `target`, `model`, `pixel_clock_hz` and the log's positions are the sensor's,
+    /// the windows the binned frames'.
     pub bin: usize,
 }
 
@@ -145,10 +145,17 @@ impl SystemConfig {
         }
     }
 
+    /// The pixel clock of the camera binning frames of `size`: binning reads out fewer pixels
+    /// in the sensor's frame period, so the frame rate is the sensor's.
+    pub fn binned_pixel_clock(&self, size: (usize, usize)) -> f64 {
+        let clocks = |s| Clocks::camera_timing(s).frame_clocks() as f64;
+        self.pixel_clock_hz * clocks(binned::binned_size(size, self.bin)) / clocks(size)
+    }
+
     /// The frame period of a run over `source`, seconds: its camera's raster (of the frames
-    /// binned) at the pixel clock.
+    /// binned, with any jitter) at its pixel clock.
     pub fn frame_period(&self, source: &dyn FrameSource) -> f64 {
         let raster = Clocks::camera_timing(binned::binned_size(source.size(), self.bin));
-        Clocks::new(raster, source.len(), self.jitter).period() as f64 / self.pixel_clock_hz
+        Clocks::new(raster, source.len(), self.jitter).period() as f64 / self.binned_pixel_clock(source.size())
     }
 }

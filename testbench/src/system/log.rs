@@ -179,21 +179,35 @@ pub struct RunLog {
 
 impl RunLog {
     /// The log of a run over frames binned `k` x `k`, its positions (frames, reports, the
-    /// reference and the lock-on) mapped to the sensor's pixels; the requests, the windows and
-    /// the robot link stay as the units and the firmware had them, in the binned frames'.
-    pub fn to_sensor(&mut self, k: usize) {
+    /// reference, the lock-on) mapped to the sensor's pixels, and the robot link framed anew
+    /// from the reports so mapped, as a robot needs them (the firmware itself does not know
+    /// the binning); the requests and the windows stay as the units had them, binned.
+    pub fn to_sensor(&mut self, k: usize) -> Result<(), SimError> {
         let sensor = |p| binned::to_sensor(p, k);
         for r in &mut self.frames {
             *r = r.to_sensor(k);
         }
+        let mut robot = FramedPositionSink::new(VecDeque::new());
         for r in &mut self.reports {
             let (x, y) = sensor((f64::from(r.point.x), f64::from(r.point.y)));
             r.point = Point { x: x as f32, y: y as f32 };
+            if r.vouched {
+                emit(&mut robot, r)?;
+            }
         }
+        self.robot_link = robot.into_inner().into();
         for (_, p) in self.reference.iter_mut().chain(self.locked_on.iter_mut()) {
             *p = sensor(*p);
         }
+        Ok(())
     }
+}
+
+/// Sends a report to the robot controller through the firmware's position sink.
+fn emit(robot: &mut FramedPositionSink<VecDeque<u8>>, r: &Report) -> Result<(), SimError> {
+    let source = if r.algo == Source::Cd { Source::Cd } else { Source::Ncc };
+    let update = PositionUpdate { t_us: (r.t.max(0.0) * 1e6) as u32, x: r.point.x, y: r.point.y, source };
+    robot.emit(&update).map_err(SimError::RobotLink)
 }
 
 /// Where a track stands between the firmware's outcomes.
@@ -249,7 +263,7 @@ impl Recorder {
                 let r = Report { t, frame, point: fix.at, algo: fix.source, score: fix.score, shape: fix.shape, vouched };
                 // A robot follows what the link carries: only what the firmware vouched for.
                 if vouched {
-                    self.emit(&r)?;
+                    emit(&mut self.robot, &r)?;
                 }
                 self.log.reports.push(r);
                 self.track = Track::Reported(r);
@@ -265,13 +279,6 @@ impl Recorder {
             Outcome::Silent => {}
         }
         Ok(())
-    }
-
-    /// Sends a report to the robot controller through the firmware's position sink.
-    fn emit(&mut self, r: &Report) -> Result<(), SimError> {
-        let source = if r.algo == Source::Cd { Source::Cd } else { Source::Ncc };
-        let update = PositionUpdate { t_us: (r.t.max(0.0) * 1e6) as u32, x: r.point.x, y: r.point.y, source };
-        self.robot.emit(&update).map_err(SimError::RobotLink)
     }
 
     /// The record of `frame`, at the end of its period, the system in `mode`.

@@ -54,9 +54,11 @@ pub fn simulate_traced(
     let k = cfg.bin;
     if k > 1 {
         let in_bins = |p| binned::to_binned(p, k);
-        let cfg = SystemConfig { bin: 1, target: cfg.target.map(in_bins), model: cfg.model.map(|(f, p)| (f, in_bins(p))), ..cfg.clone() };
-        let mut log = simulate_traced(&cfg, &mut Binned::new(source, k), progress, &mut |r| on_record(&r.to_sensor(k)), vcd)?;
-        log.to_sensor(k);
+        let pixel_clock_hz = cfg.binned_pixel_clock(source.size());
+        let cfg = SystemConfig { bin: 1, pixel_clock_hz, target: cfg.target.map(in_bins), model: cfg.model.map(|(f, p)| (f, in_bins(p))), ..cfg.clone() };
+        let mut binned = Binned::new(source, k);
+        let mut log = simulate_traced(&cfg, &mut binned, progress, &mut |r| on_record(&r.to_sensor(k)), vcd).map_err(|e| e.into_sensor(k))?;
+        log.to_sensor(k)?;
         return Ok(log);
     }
     let clocks = Clocks::for_frames(source, cfg.jitter);
@@ -159,5 +161,15 @@ impl std::fmt::Display for SimError {
 }
 
 impl std::error::Error for SimError {}
+
+impl SimError {
+    /// The error of a run over frames binned `k` x `k`, its template and point the sensor's.
+    fn into_sensor(self, k: usize) -> SimError {
+        match self {
+            SimError::TemplateDoesNotFit { side, at } => SimError::TemplateDoesNotFit { side: side * k as u16, at: binned::to_sensor(at, k) },
+            e => e,
+        }
+    }
+}
 
 wrap_errors!(SimError { Units(UnitError), Frame(FrameError) });

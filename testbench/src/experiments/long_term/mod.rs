@@ -5,6 +5,7 @@
 //! of the `ok` 1 rows, their recall, and the silence (TNR) while the target is hidden or gone.
 use super::ExperimentError;
 use crate::analysis::longterm::{self, Bin, LongTermScore, Row, Truth};
+use crate::frames::{binned, FrameSource};
 use crate::frames::scene::longterm::{sets, LongTermFrames, LongTermSet, Presence};
 use crate::report::csv;
 use crate::report::plot::{self, Chart, Series};
@@ -26,11 +27,12 @@ pub const TRACKERS: [(&str, bool); 2] = [("COOP (default)", true), ("COOP --fixe
 /// The run of `track --target-box` on `set`'s frames, the template adapting when `adapt`.
 pub fn run(set: &LongTermSet, frames: &mut LongTermFrames, adapt: bool) -> Result<(RunLog, f32), SimError> {
     let (x, y, w, h) = set.start_box();
-    let n = w.min(h).min(32) as u16;
+    let bin = binned::factor_for_box((w, h), frames.size());
+    let n = binned::box_template((w, h), bin);
     let centre = (f64::from(x) + (f64::from(w) - 1.0) / 2.0, f64::from(y) + (f64::from(h) - 1.0) / 2.0);
     let params = Params { target_boxed: true, ..Params::sized(n, SEARCH) };
     let params = if adapt { params.adaptive() } else { params };
-    let cfg = SystemConfig { params, policy: CoopPolicy::Guarded, ..SystemConfig::thesis(Strategy::Coop, CostModel::NATIVE, Some(centre)) };
+    let cfg = SystemConfig { params, bin, policy: CoopPolicy::Guarded, ..SystemConfig::thesis(Strategy::Coop, CostModel::NATIVE, Some(centre)) };
     let log = system::simulate(&cfg, frames, &mut |_| {})?;
     Ok((log, params.correlation(adapt).1))
 }
