@@ -87,7 +87,8 @@ def main():
                     x, y = float(row["x"]), float(row["y"])
                     right = False
                     if b is not None:
-                        bx, by, bw, bh = b[0] * sx, b[1] * sy, b[2] * sx, b[3] * sy
+                        # Pixel centres at integers: pixel x of the clip covers x - 0.5..x + 0.5.
+                        bx, by, bw, bh = (b[0] + 0.5) * sx - 0.5, (b[1] + 0.5) * sy - 0.5, b[2] * sx, b[3] * sy
                         cx, cy = bx + (bw - 1) / 2, by + (bh - 1) / 2
                         right = (bx <= x <= bx + bw - 1 and by <= y <= by + bh - 1) or ((x - cx) ** 2 + (y - cy) ** 2) ** 0.5 <= 5
                     wrong += not right

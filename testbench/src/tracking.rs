@@ -254,7 +254,7 @@ impl TrackOptions {
         let k = self.bin((w, h));
         let (kw, kh) = binned::binned_size((w, h), k);
         if kw < binned::MIN_SIDE || kh < binned::MIN_SIDE {
-            return bad(format!("--bin {k}: the {w}x{h} frames binned {k}x{k} are {kw}x{kh}, under the {0}x{0} the window units take", binned::MIN_SIDE));
+            return bad(format!("--bin {k}: the {w}x{h} frames binned {k}x{k} are {kw}x{kh}, under the least frame, {0}x{0}", binned::MIN_SIDE));
         }
         // Binning drops the right and bottom columns and rows that make no whole block.
         let (uw, uh) = (kw * k, kh * k);
@@ -277,7 +277,8 @@ impl TrackOptions {
         if let Some(phase) = self.write_phase {
             let clocks = Clocks::camera_timing((kw, kh)).frame_clocks() as u64;
             if phase >= clocks {
-                return bad(format!("--write-phase {phase}: a {kw}x{kh} frame{blocks} has {clocks} clocks (0..{})", clocks - 1));
+                let binned = if k > 1 { format!(" (the frames binned {k}x{k})") } else { String::new() };
+                return bad(format!("--write-phase {phase}: a {kw}x{kh} frame{binned} has {clocks} clocks (0..{})", clocks - 1));
             }
         }
         if let Some(r) = self.vcd_frames.as_ref().filter(|r| r.end > n) {

@@ -283,7 +283,11 @@ fn a_binned_run_reports_in_the_frames_pixels() {
     let (code, _, err) = track(&["--target", &target, "--bin", "8"]);
     assert_eq!(code, Some(2), "{err}");
     one_error_line(&err);
-    assert!(err.contains("--bin 8: the 256x256 frames binned 8x8 are 32x32, under the 64x64"), "{err}");
+    assert!(err.contains("--bin 8: the 256x256 frames binned 8x8 are 32x32, under the least frame, 64x64"), "{err}");
+    // A target in the last column, which 3x3 blocks (85 of them, 255 columns) drop, is refused.
+    let (code, _, err) = track(&["--target", "255,100", "--bin", "3"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("--target 255,100 is outside the 256x256 frames binned 3x3 (X 0..254, Y 0..254)"), "{err}");
     // A template that does not fit is named in the frames' pixels: 20x20 binned is 40x40.
     let (code, _, err) = track(&["--target", "255,100", "--bin", "2"]);
     assert_eq!(code, Some(1), "{err}");

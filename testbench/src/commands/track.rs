@@ -32,7 +32,7 @@ pub struct TrackArgs {
     /// Bin the frames K x K before the window units (each pixel the mean of a K x K block, as
     /// a sensor bins; 1..8), so that the template covers more of an object larger than it;
     /// the CSV's positions and the frame rate stay the frames', --template and --search are
-    /// in the binned frames' pixels
+    /// in the binned frames' pixels, --blank-jitter and --write-phase in their raster's clocks
     /// [default: for a --target-box without --template, the largest K at which the box
     /// binned is still 22 px across and 32 along (a 44x80 person: 2; 85x146 at 1080p: 3),
     /// else 1]

@@ -115,7 +115,7 @@ pub struct SystemConfig {
     pub fingerprint_windows: bool,
     /// The camera bins its sensor's pixels `bin` x `bin` ([`crate::frames::binned`]; 1: not
     /// binned): `target`, `model`, `pixel_clock_hz` and the log's positions are the sensor's,
-    /// the windows the binned frames'.
+    /// the windows, `jitter` and `write_phase` (clocks of the binned raster) the binned frames'.
     pub bin: usize,
 }
 
@@ -148,6 +148,9 @@ impl SystemConfig {
     /// The pixel clock of the camera binning frames of `size`: binning reads out fewer pixels
     /// in the sensor's frame period, so the frame rate is the sensor's.
     pub fn binned_pixel_clock(&self, size: (usize, usize)) -> f64 {
+        if self.bin <= 1 {
+            return self.pixel_clock_hz;
+        }
         let clocks = |s| Clocks::camera_timing(s).frame_clocks() as f64;
         self.pixel_clock_hz * clocks(binned::binned_size(size, self.bin)) / clocks(size)
     }
