@@ -8,6 +8,7 @@ labelled hidden or gone count against TNR).
 
     python3 scripts/vtest_scaled.py --size 1920x1080            # the default binning
     python3 scripts/vtest_scaled.py --size 1920x1080 -- --bin 1  # extra `track` options
+    python3 scripts/vtest_scaled.py --size 512x384 --flags area  # FFmpeg's area averaging
 
 docs/results.md ("Objects larger than the template") quotes its output. Needs ffmpeg and a
 release build (`cargo build --release`); about 20-60 s a person at 1080p.
@@ -47,6 +48,7 @@ def truth(keys, frame):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--size", required=True, help="WxH to scale vtest.avi's 768x576 to")
+    parser.add_argument("--flags", help="FFmpeg's scaling algorithm (e.g. area; default: FFmpeg's bicubic)")
     parser.add_argument("--clip", type=pathlib.Path, default=CLIP)
     parser.add_argument("--coopwin", type=pathlib.Path, default=ROOT / "target" / "release" / "coopwin")
     parser.add_argument("track", nargs="*", help="extra `coopwin track` options, after --")
@@ -55,7 +57,8 @@ def main():
     sx, sy = width / 768, height / 576
     with tempfile.TemporaryDirectory() as tmp:
         video = pathlib.Path(tmp) / "scaled.mkv"
-        subprocess.run(["ffmpeg", "-loglevel", "error", "-i", str(args.clip), "-vf", f"scale={width}:{height}", "-c:v", "ffv1", str(video)], check=True)
+        scale = f"scale={width}:{height}" + (f":flags={args.flags}" if args.flags else "")
+        subprocess.run(["ffmpeg", "-loglevel", "error", "-i", str(args.clip), "-vf", scale, "-c:v", "ffv1", str(video)], check=True)
         print("| person | box | visible | vouched | wrong | longest wrong run | vouched where hidden or gone | binning |")
         print("|---|---|---|---|---|---|---|---|")
         with open(LABELS / "objects.csv") as f:

@@ -63,9 +63,7 @@ impl Object {
     /// The binning and the template side `track --target-box` takes for the box on frames of
     /// `size`.
     pub fn binned_template(&self, size: (usize, usize)) -> (usize, u16) {
-        let wh = (self.bbox.2, self.bbox.3);
-        let k = binned::factor_for_box(wh, size);
-        (k, binned::box_template(wh, k))
+        binned::for_box((self.bbox.2, self.bbox.3), size)
     }
 }
 

@@ -36,6 +36,13 @@ pub fn box_template((w, h): (u32, u32), k: usize) -> u16 {
     (w.min(h) / k.max(1) as u32).min(32) as u16
 }
 
+/// The binning and the template side `--target-box` takes for a `w` x `h` box on frames of
+/// `size`: [`factor_for_box`] and [`box_template`] at it.
+pub fn for_box(wh: (u32, u32), size: (usize, usize)) -> (usize, u16) {
+    let k = factor_for_box(wh, size);
+    (k, box_template(wh, k))
+}
+
 /// Frames of `size` binned `k` x `k`: the right and bottom remainders are dropped.
 pub fn binned_size((w, h): (usize, usize), k: usize) -> (usize, usize) {
     (w / k.max(1), h / k.max(1))

@@ -27,8 +27,7 @@ pub const TRACKERS: [(&str, bool); 2] = [("COOP (default)", true), ("COOP --fixe
 /// The run of `track --target-box` on `set`'s frames, the template adapting when `adapt`.
 pub fn run(set: &LongTermSet, frames: &mut LongTermFrames, adapt: bool) -> Result<(RunLog, f32), SimError> {
     let (x, y, w, h) = set.start_box();
-    let bin = binned::factor_for_box((w, h), frames.size());
-    let n = binned::box_template((w, h), bin);
+    let (bin, n) = binned::for_box((w, h), frames.size());
     let centre = (f64::from(x) + (f64::from(w) - 1.0) / 2.0, f64::from(y) + (f64::from(h) - 1.0) / 2.0);
     let params = Params { target_boxed: true, ..Params::sized(n, SEARCH) };
     let params = if adapt { params.adaptive() } else { params };
